@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// VTK-free parser for the ASCII Object File Format (OFF) and its Geomview variants.
+//
+// What it reads
+//   Header keyword [ST][C][N]OFF in any letter order (OFF, COFF, NOFF, CNOFF, NCOFF, STOFF,
+//   STCOFF, STCNOFF, ...), followed by "nVertices nFaces [nEdges]" on the keyword line or on a
+//   later line. The keyword itself is optional (Geomview allows that): a file whose first
+//   token is an integer is read as plain OFF. nEdges is parsed and ignored; it may be omitted.
+//   Then one vertex per line:  x y z [nx ny nz if N] [r g b [a] if C] [s t if ST]
+//   and one face per line:     n i_0 ... i_{n-1} [colour]
+//   where the optional face colour is 3 or 4 components (r g b [a]) or a single Geomview
+//   colour-map index. Vertex indices are 0-based.
+//   `#` starts a comment anywhere (to end of line); blank lines, tabs and CRLF line endings
+//   are accepted; a UTF-8 byte-order mark is skipped; a leading '+' on numbers is accepted.
+//
+// Colours (vertex and face): a colour whose components are all integer literals is read as
+//   0-255 (so "1 0 0" is almost black, not red); otherwise the components are floats in
+//   [0, 1] scaled by 255 and rounded. Out-of-range values are clamped; NaN/Inf is an error.
+//   A missing alpha is 255. Faces without a colour in a file where some face has one get
+//   kOFFDefaultFaceColor. A colour-map index is not resolved (no colour map is available)
+//   and counts as "no colour".
+//
+// Output (OFFMesh): points, and when present normals and RGBA colours, as flat arrays; faces as
+//   offsets + connectivity (n-gons kept as they are, no triangulation). Every index is in
+//   [0, vertex count), every coordinate and normal is finite, every face has >= 3 vertices.
+//   Texture coordinates (ST) are checked to be numbers and dropped.
+//
+// Errors: every problem throws OFFParseError whose message starts with "line N: " (the
+//   1-based line of the file) and states the reason in one line. Never a crash, a hang or an
+//   allocation larger than a small multiple of the input size: the header counts are
+//   checked against the bytes that follow (a vertex needs at least 2 bytes per value, a face
+//   at least 8 bytes) before anything is allocated. Rejected:
+//   - empty / comment-only input, binary garbage, an unknown header keyword;
+//   - 4OFF / nOFF (4-D and n-D) and "OFF BINARY": "not supported";
+//   - negative counts, counts too large for a 64-bit integer, counts that cannot fit the file;
+//   - a missing vertex or face line (truncated file);
+//   - a vertex line with the wrong number of values, a non-numeric token, NaN/Inf or
+//     out-of-double-range coordinates or normals;
+//   - a face with fewer than 3 vertices, a face size larger than the indices on its line,
+//     a non-integer or out-of-range (negative or >= vertex count) index, a colour of 2 or
+//     more than 4 components.
+//   Accepted on purpose (lenient): anything after the declared vertices and faces is ignored
+//   (many writers append blank lines or comments, some append garbage); faces that repeat a
+//   vertex (zero area) are kept, downstream filters handle degenerate faces.
+//
+// Limits (documented, not errors to fix): each vertex and each face must be on one line
+//   (elements spanning several lines are not supported); old Mac CR-only line endings are
+//   not supported (the file reads as one line and is rejected).
+//
+// Speed: one pass over an in-memory buffer with std::from_chars, no iostreams; the 52k-face
+//   armadillo parses in a few milliseconds.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace shapediameter
+{
+
+/// Malformed, truncated, unsupported or unreadable OFF input.
+/// what() is "[source: ]line N: reason" ("[source: ]reason" when no line applies).
+class OFFParseError : public std::runtime_error
+{
+public:
+  /// line: 1-based line of the input, or 0 when the error is not tied to a line.
+  /// source: prefix naming the input (e.g. the file path), or empty.
+  OFFParseError(std::int64_t line, const std::string& reason, const std::string& source = {});
+
+  /// 1-based line number, 0 when not tied to a line (e.g. the file cannot be opened).
+  std::int64_t Line() const noexcept { return this->LineNumber; }
+  /// The reason without the source and line prefix.
+  const std::string& Reason() const noexcept { return this->ReasonText; }
+
+private:
+  std::int64_t LineNumber;
+  std::string ReasonText;
+};
+
+/// RGBA given to faces without a colour in a file where some face has one: opaque light grey
+/// (the grey the CGAL sample COFF files use for their vertices).
+inline constexpr std::array<std::uint8_t, 4> kOFFDefaultFaceColor = { 192, 192, 192, 255 };
+
+/// A polygon mesh as read from an OFF file. Sizes: V vertices, F faces.
+struct OFFMesh
+{
+  std::vector<double> points;             ///< 3 * V: x y z per vertex
+  std::vector<double> vertexNormals;      ///< 3 * V when the header has N (NOFF), else empty
+  std::vector<std::uint8_t> vertexColors; ///< 4 * V RGBA when the header has C (COFF), else empty
+  std::vector<std::int64_t> faceOffsets;  ///< F + 1, starts at 0; face f is [offsets[f], offsets[f+1])
+  std::vector<std::int64_t> faceConnectivity; ///< vertex indices of all faces, in [0, V)
+  std::vector<std::uint8_t> faceColors;   ///< 4 * F RGBA when any face has a colour, else empty
+
+  std::size_t VertexCount() const noexcept { return this->points.size() / 3; }
+  std::size_t FaceCount() const noexcept
+  {
+    return this->faceOffsets.empty() ? 0 : this->faceOffsets.size() - 1;
+  }
+};
+
+/// Parses a whole OFF file held in memory (data need not be NUL-terminated; data may be null
+/// when size is 0). Throws OFFParseError on any malformed input (see the header comment).
+OFFMesh ParseOFF(const char* data, std::size_t size);
+
+/// Reads the file at path and parses it. Throws OFFParseError when the file cannot be opened
+/// or read, and on malformed content; the message is then prefixed with the path.
+OFFMesh ReadOFFFile(const std::string& path);
+
+} // namespace shapediameter

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The one threading primitive of the core.
+//
+// Core algorithms take a ParallelFor and never create threads themselves: the VTK
+// adapters pass one backed by vtkSMPTools, tests pass SerialFor or ThreadedFor.
+// Every core algorithm must give bit-identical results whatever the split of
+// [0, count) into ranges: each index writes only its own outputs and reductions
+// are done serially afterwards in index order.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <functional>
+#include <thread>
+#include <vector>
+
+namespace shapediameter
+{
+
+/// body(begin, end) processes the indices [begin, end).
+using RangeBody = std::function<void(std::size_t begin, std::size_t end)>;
+/// Calls body over disjoint ranges covering [0, count), possibly concurrently.
+using ParallelFor = std::function<void(std::size_t count, const RangeBody& body)>;
+
+/// Reports the fraction of work done in [0, 1]; returns false to request an abort.
+using ProgressCallback = std::function<bool(double fraction)>;
+
+inline void SerialFor(std::size_t count, const RangeBody& body)
+{
+  if (count > 0)
+  {
+    body(0, count);
+  }
+}
+
+/// A std::thread implementation for tests and VTK-free users.
+inline ParallelFor ThreadedFor(unsigned threadCount)
+{
+  return [threadCount](std::size_t count, const RangeBody& body) {
+    const std::size_t threads = std::max<std::size_t>(1, std::min<std::size_t>(threadCount, count));
+    if (threads <= 1)
+    {
+      SerialFor(count, body);
+      return;
+    }
+    std::vector<std::thread> workers;
+    const std::size_t chunk = (count + threads - 1) / threads;
+    for (std::size_t begin = 0; begin < count; begin += chunk)
+    {
+      workers.emplace_back([&body, begin, end = std::min(count, begin + chunk)] { body(begin, end); });
+    }
+    for (auto& worker : workers)
+    {
+      worker.join();
+    }
+  };
+}
+
+} // namespace shapediameter

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "SurfaceConversion.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+
+#include <cmath>
+#include <sstream>
+#include <thread>
+
+namespace shapediameter::adapter
+{
+namespace
+{
+// Appends the triangles of one polygon (fan) or one strip; returns how many.
+std::int64_t AppendTriangles(
+  const vtkIdType* ids, vtkIdType count, bool isStrip, std::vector<std::int64_t>& triangles)
+{
+  std::int64_t added = 0;
+  for (vtkIdType i = 0; i + 2 < count; ++i, ++added)
+  {
+    if (isStrip)
+    {
+      const bool flip = (i % 2) == 1;
+      triangles.insert(triangles.end(),
+        { ids[i], flip ? ids[i + 2] : ids[i + 1], flip ? ids[i + 1] : ids[i + 2] });
+    }
+    else
+    {
+      triangles.insert(triangles.end(), { ids[0], ids[i + 1], ids[i + 2] });
+    }
+  }
+  return added;
+}
+} // namespace
+
+std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
+{
+  const vtkIdType cellCount = input->GetNumberOfCells();
+  const vtkIdType firstPolygon = input->GetNumberOfVerts() + input->GetNumberOfLines();
+  if (input->GetNumberOfPolys() + input->GetNumberOfStrips() == 0 || !input->GetPoints())
+  {
+    return "the input has no polygons or triangle strips";
+  }
+
+  std::vector<std::int64_t> triangles;
+  triangles.reserve(static_cast<std::size_t>(input->GetNumberOfPolys()) * 3);
+  surface.TriangleCell.clear();
+  surface.CellFirstTriangle.assign(static_cast<std::size_t>(cellCount) + 1, 0);
+
+  vtkIdType cellId = firstPolygon;
+  std::int64_t triangleCount = 0;
+  for (vtkCellArray* cells : { input->GetPolys(), input->GetStrips() })
+  {
+    const bool isStrip = cells == input->GetStrips();
+    auto iterator = vtk::TakeSmartPointer(cells->NewIterator());
+    for (iterator->GoToFirstCell(); !iterator->IsDoneWithTraversal(); iterator->GoToNextCell(), ++cellId)
+    {
+      vtkIdType count;
+      const vtkIdType* ids;
+      iterator->GetCurrentCell(count, ids);
+      const std::int64_t added = AppendTriangles(ids, count, isStrip, triangles);
+      surface.TriangleCell.insert(surface.TriangleCell.end(), static_cast<std::size_t>(added), cellId);
+      triangleCount += added;
+      surface.CellFirstTriangle[static_cast<std::size_t>(cellId) + 1] = triangleCount;
+    }
+  }
+  // Cells after the last polygon (none) and before the first (verts, lines) own no triangle.
+  for (std::size_t c = static_cast<std::size_t>(cellId) + 1; c < surface.CellFirstTriangle.size(); ++c)
+  {
+    surface.CellFirstTriangle[c] = triangleCount;
+  }
+
+  const vtkIdType pointCount = input->GetNumberOfPoints();
+  surface.Points.resize(pointCount, 3);
+  for (vtkIdType p = 0; p < pointCount; ++p)
+  {
+    input->GetPoints()->GetPoint(p, surface.Points.row(p).data());
+  }
+  surface.Triangles = Eigen::Map<const TriangleMatrix>(triangles.data(), triangleCount, 3);
+  for (const std::int64_t id : triangles)
+  {
+    if (id < 0 || id >= pointCount)
+    {
+      std::ostringstream reason;
+      reason << "a polygon references point " << id << " but the input has " << pointCount << " points";
+      return reason.str();
+    }
+    if (!surface.Points.row(id).allFinite())
+    {
+      std::ostringstream reason;
+      reason << "point " << id << " used by a polygon has a non-finite coordinate";
+      return reason.str();
+    }
+  }
+  return {};
+}
+
+ParallelFor MakeSMPParallelFor(int threads)
+{
+  return [threads](std::size_t count, const RangeBody& body) {
+    vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads, "STDThread", false }, [&]() {
+      vtkSMPTools::For(0, static_cast<vtkIdType>(count), [&](vtkIdType begin, vtkIdType end) {
+        body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end));
+      });
+    });
+  };
+}
+
+ProgressCallback MakeProgress(vtkAlgorithm* algorithm, double begin, double end)
+{
+  // Progress events reach observers (and Python) that are not thread-safe: only the
+  // thread that created the callback reports progress; every thread may read the abort flag.
+  return [algorithm, begin, end, owner = std::this_thread::get_id()](double fraction) {
+    if (std::this_thread::get_id() == owner)
+    {
+      algorithm->UpdateProgress(begin + (end - begin) * std::min(1.0, std::max(0.0, fraction)));
+    }
+    return !algorithm->GetAbortExecute();
+  };
+}
+
+} // namespace shapediameter::adapter

@@ -1,0 +1,21 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# Sources of the VTK module ShapeDiameter::Filters (included from the generated
+# module directory, see the top-level CMakeLists.txt).
+set(_filters_dir "${CMAKE_CURRENT_LIST_DIR}")
+set(_classes
+  vtkOFFReader)
+
+set(_classes_abs)
+foreach (_class IN LISTS _classes)
+  list(APPEND _classes_abs "${_filters_dir}/${_class}")
+endforeach ()
+
+vtk_module_add_module(ShapeDiameter::Filters
+  CLASSES ${_classes_abs}
+  SOURCES "${_filters_dir}/SurfaceConversion.cxx" $<TARGET_OBJECTS:ShapeDiameterCore>
+  PRIVATE_HEADERS "${_filters_dir}/SurfaceConversion.h")
+vtk_module_include(ShapeDiameter::Filters
+  PUBLIC "$<BUILD_INTERFACE:${_filters_dir}>"
+  PRIVATE "${_filters_dir}/Core")
+vtk_module_link(ShapeDiameter::Filters PRIVATE embree Eigen3::Eigen Threads::Threads)
+vtk_module_compile_options(ShapeDiameter::Filters PRIVATE -Wall -Wextra)

@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkOFFReader.h"
+
+#include "OFFParser.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <fstream>
+
+vtkStandardNewMacro(vtkOFFReader);
+
+namespace
+{
+template <typename ArrayT, typename ValueT>
+vtkNew<ArrayT> MakeTupleArray(const char* name, int components, const std::vector<ValueT>& values)
+{
+  vtkNew<ArrayT> array;
+  array->SetName(name);
+  array->SetNumberOfComponents(components);
+  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / components));
+  std::copy(values.begin(), values.end(), array->GetPointer(0));
+  return array;
+}
+
+vtkNew<vtkIdTypeArray> MakeIdArray(const std::vector<std::int64_t>& values)
+{
+  vtkNew<vtkIdTypeArray> array;
+  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+  std::copy(values.begin(), values.end(), array->GetPointer(0));
+  return array;
+}
+} // namespace
+
+vtkOFFReader::vtkOFFReader()
+{
+  this->SetNumberOfInputPorts(0);
+}
+
+vtkOFFReader::~vtkOFFReader() = default;
+
+int vtkOFFReader::CanReadFile(const char* fileName)
+{
+  std::ifstream file(fileName ? fileName : "", std::ios::binary);
+  std::string keyword;
+  while (file >> keyword)
+  {
+    if (keyword[0] == '#')
+    {
+      std::getline(file, keyword);
+      continue;
+    }
+    return keyword.find("OFF") != std::string::npos ? 1 : 0;
+  }
+  return 0;
+}
+
+int vtkOFFReader::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  outputVector->GetInformationObject(0)->Set(CAN_HANDLE_PIECE_REQUEST(), 1);
+  return 1;
+}
+
+int vtkOFFReader::RequestData(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkPolyData* output = vtkPolyData::GetData(outInfo);
+  const int piece = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    : 0;
+  if (piece > 0)
+  {
+    return 1; // the whole file goes to piece 0 (documented)
+  }
+  if (this->FileName.empty())
+  {
+    vtkErrorMacro("No FileName set.");
+    return 0;
+  }
+
+  shapediameter::OFFMesh mesh;
+  try
+  {
+    mesh = shapediameter::ReadOFFFile(this->FileName);
+  }
+  catch (const std::exception& error)
+  {
+    vtkErrorMacro("Cannot read OFF file " << error.what());
+    return 0;
+  }
+  this->UpdateProgress(0.5);
+
+  vtkNew<vtkPoints> points;
+  points->SetData(MakeTupleArray<vtkDoubleArray>("Points", 3, mesh.points));
+  output->SetPoints(points);
+
+  vtkNew<vtkCellArray> polygons;
+  polygons->SetData(MakeIdArray(mesh.faceOffsets), MakeIdArray(mesh.faceConnectivity));
+  output->SetPolys(polygons);
+
+  if (!mesh.vertexColors.empty())
+  {
+    output->GetPointData()->SetScalars(
+      MakeTupleArray<vtkUnsignedCharArray>("Colors", 4, mesh.vertexColors));
+  }
+  if (!mesh.vertexNormals.empty())
+  {
+    output->GetPointData()->SetNormals(
+      MakeTupleArray<vtkDoubleArray>("Normals", 3, mesh.vertexNormals));
+  }
+  if (!mesh.faceColors.empty())
+  {
+    output->GetCellData()->SetScalars(
+      MakeTupleArray<vtkUnsignedCharArray>("Colors", 4, mesh.faceColors));
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkOFFReader::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << this->FileName << "\n";
+}

@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class   vtkOFFReader
+ * @brief   Reads Object File Format (OFF) polygon meshes into vtkPolyData.
+ *
+ * OFF is the format of CGAL's, the Princeton Segmentation Benchmark's and most
+ * research meshes; VTK 9.2 and ParaView 5.11 have no reader for it.
+ *
+ * Supported: `OFF`, `COFF` (per-vertex colours), `NOFF` (per-vertex normals),
+ * `CNOFF`, `STOFF` (texture coordinates are read and dropped), `#` comments,
+ * blank lines, the header counts on the keyword line or the next one, polygons
+ * of any size (n-gons are kept as polygons, not triangulated) and optional
+ * per-face colours (integers 0-255 or floats in [0, 1]).
+ *
+ * Output arrays:
+ * - point array `Colors` (unsigned char, 4 components) for COFF files;
+ * - point array `Normals` (double, 3 components) for NOFF files;
+ * - cell array `Colors` (unsigned char, 4 components) when face lines carry colours.
+ *
+ * Parsing happens in the VTK-free core (`shapediameter::ParseOFF`), which
+ * validates the declared counts against the file size before allocating
+ * anything. A missing, truncated or malformed file is reported with
+ * vtkErrorMacro (with the line number) and produces an empty output; the
+ * reader never crashes or allocates from an unchecked count. Binary OFF and
+ * 4-D OFF are rejected with an error.
+ *
+ * Parallel pieces: the whole file is read on piece 0; other pieces produce an
+ * empty output (redistribute with RedistributeDataSet when running under MPI).
+ */
+#ifndef vtkOFFReader_h
+#define vtkOFFReader_h
+
+#include "ShapeDiameterFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <string>
+
+class SHAPEDIAMETERFILTERS_EXPORT vtkOFFReader : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkOFFReader* New();
+  vtkTypeMacro(vtkOFFReader, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The OFF file to read.
+  vtkSetStdStringFromCharMacro(FileName);
+  vtkGetCharFromStdStringMacro(FileName);
+  ///@}
+
+  /// Returns 1 when the file starts with an OFF header keyword (cheap check, for reader factories).
+  static int CanReadFile(const char* fileName);
+
+protected:
+  vtkOFFReader();
+  ~vtkOFFReader() override;
+
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+private:
+  vtkOFFReader(const vtkOFFReader&) = delete;
+  void operator=(const vtkOFFReader&) = delete;
+
+  std::string FileName;
+};
+
+#endif

@@ -1,0 +1,216 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""The ShapeDiameter pipeline command (run through Plugin/sdf-pipeline, in pvpython).
+
+Reads each mesh, runs the stages the plugin provides (SDF, smoothing, partition,
+skeleton), writes <name>.vtp, the PNG renderings and <name>_timings.json into
+--output-dir. Errors: one line on stderr and a non-zero exit code.
+"""
+import argparse
+import json
+import os
+import re
+import sys
+import time
+
+PROG = "sdf-pipeline"
+READABLE = (".off", ".ply", ".obj", ".stl", ".vtp", ".vtk")
+
+
+class PipelineError(Exception):
+    """A user-facing error: printed as one line, exit code 1."""
+
+
+def parse_arguments(argv):
+    parser = argparse.ArgumentParser(
+        prog=PROG,
+        description="Shape Diameter Function pipeline (Shapira, Shamir, Cohen-Or 2008): "
+        "SDF, bilateral smoothing, GMM + graph-cut partition, curve skeleton.",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    parser.add_argument("meshes", nargs="+", metavar="MESH",
+                        help="input meshes: " + ", ".join(e[1:].upper() for e in READABLE))
+    parser.add_argument("--output-dir", default="out", help="where results are written")
+    parser.add_argument("--threads", type=int, default=os.cpu_count() or 1,
+                        help="worker threads (default: all cores)")
+    parser.add_argument("--rays", type=int, default=30, help="rays per cone (SDF)")
+    parser.add_argument("--cone-angle", type=float, default=120.0, help="cone opening angle in degrees (SDF)")
+    parser.add_argument("--clusters", default="5", help="number of GMM clusters k, or 'auto'")
+    parser.add_argument("--lambda", dest="smoothness", type=float, default=None,
+                        help="graph-cut smoothness weight (default: the filter's)")
+    parser.add_argument("--samples", type=int, default=10000, help="skeleton surface samples")
+    parser.add_argument("--family", action="store_true",
+                        help="fit one GMM on all meshes together and partition each with it")
+    parser.add_argument("--plot", action="store_true", help="also write <name>_gmm.png")
+    parser.add_argument("--no-render", action="store_true", help="skip the PNG renderings")
+    parser.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    arguments = parser.parse_args(argv)
+    if arguments.threads < 1:
+        parser.error("--threads must be >= 1")
+    if arguments.rays < 1:
+        parser.error("--rays must be >= 1")
+    if not 0.0 < arguments.cone_angle < 180.0:
+        parser.error("--cone-angle must be in (0, 180)")
+    return arguments
+
+
+def check_inputs(meshes):
+    for mesh in meshes:
+        if not os.path.isfile(mesh):
+            raise PipelineError("no such file: %s" % mesh)
+        if not os.access(mesh, os.R_OK):
+            raise PipelineError("cannot read file: %s" % mesh)
+        if os.path.splitext(mesh)[1].lower() not in READABLE:
+            raise PipelineError("unsupported format: %s (expected %s)" % (mesh, ", ".join(READABLE)))
+
+
+class VTKMessages:
+    """Collects VTK's error/warning text so a failure becomes one line, not a dump.
+
+    pvpython routes sys.stdout/sys.stderr through VTK's output window too, so this
+    script writes to sys.__stdout__/sys.__stderr__ once the window is replaced."""
+
+    def __init__(self):
+        from vtkmodules.vtkCommonCore import vtkLogger, vtkOutputWindow, vtkStringOutputWindow
+        # vtkErrorMacro also logs through vtkLogger straight to stderr: silence that copy.
+        vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+        self.window = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(self.window)
+        self.consumed = 0
+
+    def take(self):
+        """The text logged since the previous call."""
+        text = self.window.GetOutput() or ""
+        new, self.consumed = text[self.consumed:], len(text)
+        return new
+
+    def last_error(self):
+        lines = [line.strip() for line in self.take().splitlines() if line.strip()]
+        for line in reversed(lines):
+            if "Cannot read" in line or "rror" in line:
+                return re.sub(r"^\w+ \(0x[0-9a-fA-F]+\): ", "", line)
+        return lines[-1] if lines else "unknown error"
+
+
+class Pipeline:
+    def __init__(self, arguments):
+        self.arguments = arguments
+        from paraview import simple
+        self.simple = simple
+        # After paraview.simple: it installs its own output window on import.
+        self.messages = VTKMessages()
+        plugin = os.environ.get("SHAPEDIAMETER_PLUGIN", "")
+        if not os.path.isfile(plugin):
+            raise PipelineError("plugin not found: %r (set SHAPEDIAMETER_PLUGIN)" % plugin)
+        simple.LoadPlugin(plugin, ns=vars(simple))
+        from vtkmodules.vtkCommonCore import vtkSMPTools
+        vtkSMPTools.SetBackend("STDThread")
+        vtkSMPTools.Initialize(arguments.threads)
+
+    def has(self, proxy_name):
+        return hasattr(self.simple, proxy_name)
+
+    def log(self, text):
+        if not self.arguments.quiet:
+            print(text, file=sys.__stdout__, flush=True)
+
+    def timed(self, timings, key, function):
+        start = time.perf_counter()
+        result = function()
+        timings[key] = round(time.perf_counter() - start, 6)
+        return result
+
+    def read(self, path):
+        simple = self.simple
+        if path.lower().endswith(".off"):
+            source = simple.OFFReader(FileName=path)
+        else:
+            source = simple.OpenDataFile(path)
+            if source is None:
+                raise PipelineError("cannot open %s" % path)
+        source.UpdatePipeline()
+        data = simple.servermanager.Fetch(source)
+        if data is None or data.GetNumberOfCells() == 0:
+            raise PipelineError("cannot read %s: %s" % (path, self.messages.last_error()))
+        if not data.IsA("vtkPolyData"):
+            source = simple.ExtractSurface(Input=source)
+        return source
+
+    def run_stages(self, source, timings):
+        """Applies each stage the plugin provides, in order; skipped stages leave no key."""
+        arguments = self.arguments
+        current = source
+        if self.has("ShapeDiameter"):
+            current = self.simple.ShapeDiameter(Input=current, NumberOfRays=arguments.rays,
+                                                ConeAngle=arguments.cone_angle)
+            self.timed(timings, "sdf", current.UpdatePipeline)
+        return current
+
+    def render(self, source, png, color_array):
+        simple = self.simple
+        view = simple.CreateRenderView()
+        view.ViewSize = [1024, 768]
+        view.OrientationAxesVisibility = 0
+        view.Background = [1.0, 1.0, 1.0]
+        try:
+            view.UseColorPaletteForBackground = 0
+        except AttributeError:
+            pass
+        display = simple.Show(source, view)
+        if color_array:
+            simple.ColorBy(display, ("CELLS", color_array))
+            display.RescaleTransferFunctionToDataRange(True, False)
+            display.SetScalarBarVisibility(view, True)
+            bar = simple.GetScalarBar(simple.GetColorTransferFunction(color_array), view)
+            bar.TitleColor = [0, 0, 0]
+            bar.LabelColor = [0, 0, 0]
+        else:
+            display.DiffuseColor = [0.75, 0.75, 0.8]
+        view.ResetCamera()
+        simple.SaveScreenshot(png, view, ImageResolution=[1024, 768])
+        simple.Delete(display)
+        simple.Delete(view)
+
+    def process(self, path):
+        arguments = self.arguments
+        name = os.path.splitext(os.path.basename(path))[0]
+        out = arguments.output_dir
+        timings = {}
+        total_start = time.perf_counter()
+        source = self.timed(timings, "read", lambda: self.read(path))
+        result = self.run_stages(source, timings)
+        data = self.simple.servermanager.Fetch(result)
+        if data is None or data.GetNumberOfCells() == 0:
+            raise PipelineError("processing %s failed: %s" % (path, self.messages.last_error()))
+        self.timed(timings, "write",
+                   lambda: self.simple.SaveData(os.path.join(out, name + ".vtp"), proxy=result))
+        if not arguments.no_render:
+            sdf = "SDF" if data.GetCellData().GetArray("SDF") is not None else None
+            self.timed(timings, "render",
+                       lambda: self.render(result, os.path.join(out, name + "_sdf.png"), sdf))
+        timings["total"] = round(time.perf_counter() - total_start, 6)
+        with open(os.path.join(out, name + "_timings.json"), "w") as stream:
+            json.dump(timings, stream, indent=2, sort_keys=True)
+            stream.write("\n")
+        self.log("%s: %d faces -> %s  (%s)" % (
+            name, data.GetNumberOfCells(), os.path.join(out, name + ".vtp"),
+            ", ".join("%s %.3fs" % item for item in sorted(timings.items()))))
+
+
+def main(argv):
+    arguments = parse_arguments(argv)
+    try:
+        check_inputs(arguments.meshes)
+        os.makedirs(arguments.output_dir, exist_ok=True)
+        pipeline = Pipeline(arguments)
+        for mesh in arguments.meshes:
+            pipeline.process(mesh)
+    except PipelineError as error:
+        print("%s: error: %s" % (PROG, error), file=sys.__stderr__, flush=True)
+        return 1
+    except Exception as error:  # never a traceback for the user
+        print("%s: error: %s: %s" % (PROG, type(error).__name__, error), file=sys.__stderr__, flush=True)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
