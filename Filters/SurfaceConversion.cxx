@@ -4,6 +4,9 @@
 #include "vtkAlgorithm.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkInformation.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
@@ -77,11 +80,7 @@ std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
   }
 
   const vtkIdType pointCount = input->GetNumberOfPoints();
-  surface.Points.resize(pointCount, 3);
-  for (vtkIdType p = 0; p < pointCount; ++p)
-  {
-    input->GetPoints()->GetPoint(p, surface.Points.row(p).data());
-  }
+  surface.Points = PointsOf(input);
   surface.Triangles = Eigen::Map<const TriangleMatrix>(triangles.data(), triangleCount, 3);
   for (const std::int64_t id : triangles)
   {
@@ -96,6 +95,84 @@ std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
       std::ostringstream reason;
       reason << "point " << id << " used by a polygon has a non-finite coordinate";
       return reason.str();
+    }
+  }
+  return {};
+}
+
+PointMatrix PointsOf(vtkPolyData* input)
+{
+  const vtkIdType pointCount = input->GetPoints() ? input->GetNumberOfPoints() : 0;
+  PointMatrix points(pointCount, 3);
+  for (vtkIdType p = 0; p < pointCount; ++p)
+  {
+    input->GetPoints()->GetPoint(p, points.row(p).data());
+  }
+  return points;
+}
+
+vtkIdType PolygonCells(
+  vtkPolyData* input, std::vector<std::int64_t>& offsets, std::vector<std::int64_t>& connectivity)
+{
+  const auto [first, last] = PolygonCellRange(input);
+  offsets.assign(static_cast<std::size_t>(first) + 1, 0);
+  offsets.reserve(static_cast<std::size_t>(input->GetNumberOfCells()) + 1);
+  connectivity.clear();
+  connectivity.reserve(static_cast<std::size_t>(input->GetPolys()->GetNumberOfConnectivityIds()));
+  auto iterator = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+  for (iterator->GoToFirstCell(); !iterator->IsDoneWithTraversal(); iterator->GoToNextCell())
+  {
+    vtkIdType count;
+    const vtkIdType* ids;
+    iterator->GetCurrentCell(count, ids);
+    connectivity.insert(connectivity.end(), ids, ids + count);
+    offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+  }
+  offsets.resize(static_cast<std::size_t>(input->GetNumberOfCells()) + 1, offsets.back());
+  return last - first;
+}
+
+std::pair<vtkIdType, vtkIdType> PolygonCellRange(vtkPolyData* input)
+{
+  const vtkIdType first = input->GetNumberOfVerts() + input->GetNumberOfLines();
+  return { first, first + input->GetNumberOfPolys() };
+}
+
+std::string ReadCellScalars(
+  vtkAlgorithm* algorithm, vtkPolyData* input, std::vector<double>& values, std::string& arrayName)
+{
+  vtkInformation* selection = algorithm->GetInputArrayInformation(0);
+  arrayName = selection && selection->Has(vtkDataObject::FIELD_NAME())
+    ? selection->Get(vtkDataObject::FIELD_NAME())
+    : "";
+  if (selection && selection->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
+    selection->Get(vtkDataObject::FIELD_ASSOCIATION()) != vtkDataObject::FIELD_ASSOCIATION_CELLS)
+  {
+    return "the input array must be a cell array";
+  }
+  vtkAbstractArray* abstractArray = input->GetCellData()->GetAbstractArray(arrayName.c_str());
+  if (!abstractArray)
+  {
+    return "the input has no cell array '" + arrayName + "'";
+  }
+  vtkDataArray* array = vtkDataArray::SafeDownCast(abstractArray);
+  if (!array)
+  {
+    return "the cell array '" + arrayName + "' is not numeric";
+  }
+  if (array->GetNumberOfComponents() != 1)
+  {
+    return "the cell array '" + arrayName + "' has " + std::to_string(array->GetNumberOfComponents()) +
+      " components, 1 expected";
+  }
+  const vtkIdType count = array->GetNumberOfTuples();
+  values.resize(static_cast<std::size_t>(count));
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    values[static_cast<std::size_t>(i)] = array->GetComponent(i, 0);
+    if (!std::isfinite(values[static_cast<std::size_t>(i)]))
+    {
+      return "the cell array '" + arrayName + "' has a non-finite value at cell " + std::to_string(i);
     }
   }
   return {};

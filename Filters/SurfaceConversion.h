@@ -9,6 +9,7 @@
 #include "vtkType.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 class vtkAlgorithm;
@@ -42,6 +43,28 @@ struct TriangulatedSurface
  * non-finite coordinate used by one).
  */
 std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface);
+
+/// The input's points as an n x 3 double matrix (empty without points).
+PointMatrix PointsOf(vtkPolyData* input);
+
+/**
+ * Every cell as a polygon in CSR form, in cell-id order: polygons with their points,
+ * every other cell (vertex, line, strip) empty, so it has no neighbour in a FaceGraph
+ * and keeps its id. Returns the number of polygon cells.
+ */
+vtkIdType PolygonCells(
+  vtkPolyData* input, std::vector<std::int64_t>& offsets, std::vector<std::int64_t>& connectivity);
+
+/// Id range [first, last) of the polygon cells (after verts and lines, before strips).
+std::pair<vtkIdType, vtkIdType> PolygonCellRange(vtkPolyData* input);
+
+/**
+ * Reads the cell array `algorithm` was told to process (SetInputArrayToProcess index 0)
+ * into `values`. Returns an empty string on success, otherwise the one-line reason: no
+ * such cell array, not numeric, several components, or a non-finite value.
+ */
+std::string ReadCellScalars(
+  vtkAlgorithm* algorithm, vtkPolyData* input, std::vector<double>& values, std::string& arrayName);
 
 /// A core ParallelFor running on vtkSMPTools' STDThread backend with `threads`
 /// workers (0 = all cores), whatever backend the application selected globally.

@@ -3,7 +3,9 @@
 # module directory, see the top-level CMakeLists.txt).
 set(_filters_dir "${CMAKE_CURRENT_LIST_DIR}")
 set(_classes
-  vtkOFFReader)
+  vtkOFFReader
+  vtkShapeDiameterFilter
+  vtkSDFBilateralSmooth)
 
 set(_classes_abs)
 foreach (_class IN LISTS _classes)

@@ -140,8 +140,12 @@ class Pipeline:
         current = source
         if self.has("ShapeDiameter"):
             current = self.simple.ShapeDiameter(Input=current, NumberOfRays=arguments.rays,
-                                                ConeAngle=arguments.cone_angle)
+                                                ConeAngle=arguments.cone_angle,
+                                                NumberOfThreads=arguments.threads)
             self.timed(timings, "sdf", current.UpdatePipeline)
+        if self.has("SDFBilateralSmooth"):
+            current = self.simple.SDFBilateralSmooth(Input=current, NumberOfThreads=arguments.threads)
+            self.timed(timings, "smooth", current.UpdatePipeline)
         return current
 
     def render(self, source, png, color_array):
@@ -164,10 +168,25 @@ class Pipeline:
             bar.LabelColor = [0, 0, 0]
         else:
             display.DiffuseColor = [0.75, 0.75, 0.8]
-        view.ResetCamera()
+        self.frame_camera(view, source)
         simple.SaveScreenshot(png, view, ImageResolution=[1024, 768])
         simple.Delete(display)
         simple.Delete(view)
+
+    @staticmethod
+    def frame_camera(view, source):
+        """Looks along the thinnest extent of the bounding box, so the silhouette is largest."""
+        bounds = source.GetDataInformation().GetBounds()
+        extents = [bounds[2 * i + 1] - bounds[2 * i] for i in range(3)]
+        thinnest = min(range(3), key=lambda i: extents[i])
+        center = [(bounds[2 * i] + bounds[2 * i + 1]) / 2 for i in range(3)]
+        direction = [0.0, 0.0, 0.0]
+        direction[thinnest] = 1.0
+        up = [0.0, 1.0, 0.0] if thinnest != 1 else [0.0, 0.0, 1.0]
+        view.CameraFocalPoint = center
+        view.CameraPosition = [c + d for c, d in zip(center, direction)]
+        view.CameraViewUp = up
+        view.ResetCamera()
 
     def process(self, path):
         arguments = self.arguments

@@ -2,8 +2,14 @@
 // Small helpers shared by the filter tests.
 #pragma once
 
+#include "MeshTypes.h"
+
+#include "vtkCellArray.h"
 #include "vtkCommand.h"
 #include "vtkObject.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkNew.h"
 #include "vtkSmartPointer.h"
 
 #include <cstdlib>
@@ -51,6 +57,28 @@ inline std::string DataFile(const std::string& name)
 {
   const char* directory = std::getenv("SHAPEDIAMETER_DATA_DIR");
   return std::string(directory ? directory : "Data") + "/" + name;
+}
+
+/// A triangle mesh of the VTK-free fixtures as vtkPolyData.
+inline vtkSmartPointer<vtkPolyData> ToPolyData(const PointMatrix& points, const TriangleMatrix& triangles)
+{
+  vtkNew<vtkPoints> vtkpoints;
+  vtkpoints->SetDataTypeToDouble();
+  vtkpoints->SetNumberOfPoints(points.rows());
+  for (Eigen::Index p = 0; p < points.rows(); ++p)
+  {
+    vtkpoints->SetPoint(p, points(p, 0), points(p, 1), points(p, 2));
+  }
+  vtkNew<vtkCellArray> polygons;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+  {
+    const vtkIdType ids[3] = { triangles(t, 0), triangles(t, 1), triangles(t, 2) };
+    polygons->InsertNextCell(3, ids);
+  }
+  auto mesh = vtkSmartPointer<vtkPolyData>::New();
+  mesh->SetPoints(vtkpoints);
+  mesh->SetPolys(polygons);
+  return mesh;
 }
 
 } // namespace shapediameter::testing

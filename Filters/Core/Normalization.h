@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Log normalisation of the SDF to [0, 1].
+//
+// Paper: Shapira, Shamir, Cohen-Or 2008, section 4:
+//
+//   nsdf(f) = log( (sdf(f) - min(sdf)) / (max(sdf) - min(sdf)) * alpha + 1 ) / log(alpha + 1)
+//
+// Maps min -> 0 and max -> 1, monotone increasing, concave: the log stretches the low
+// values, "enhancing the importance of delicate parts (which tend to have low SDF values)".
+// Evaluated with log1p, which is the same function, accurate for small arguments.
+//
+// Parameters: alpha, default 4 (the paper's value in all its examples), valid range
+// (0, inf) and finite. alpha -> 0 tends to the linear map; larger alpha stretches more.
+//
+// Degenerate cases: empty input -> empty output; a constant field (max == min) -> 0
+// everywhere. Outputs are clamped to [0, 1] against rounding, never NaN.
+// Bad input (throws NormalizationError): a non-finite value, alpha outside its range.
+// No deviation from the paper.
+#pragma once
+
+#include <stdexcept>
+#include <vector>
+
+namespace shapediameter
+{
+
+class NormalizationError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+struct NormalizationOptions
+{
+  /// alpha of the paper, (0, inf).
+  double Alpha = 4.0;
+};
+
+/// nsdf of every value (see the header comment).
+std::vector<double> NormalizeLogarithmic(const std::vector<double>& values, const NormalizationOptions& options = {});
+
+} // namespace shapediameter

@@ -1,0 +1,150 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// ShapeDiameter: the shape diameter function f_v of Shapira, Shamir & Cohen-Or 2008, Sect. 3.
+//
+// What it computes
+//   For each origin p (a face centre by default, or a vertex) with outward unit normal n:
+//   1. cast NumberOfRays rays from p inside the cone of full opening angle ConeAngleDegrees
+//      around the inward normal -n (pattern and frame: ConeSampling.h);
+//   2. keep the closest VALID hit of each ray (RayCaster.h: hits on triangles facing the same
+//      way as n, and on p's own face, are ignored); a ray with no valid hit is dropped
+//      ("the outliers removal method removes rays with no intersection at all");
+//   3. of the remaining lengths L_i, keep those with |L_i - median| <= sigma, where median is
+//      the usual median (mean of the two middle values for an even count) and sigma is the
+//      population standard deviation of the L_i about their MEAN (divide by the count). The
+//      paper says "within one standard deviation from the median" without saying about what
+//      the deviation is taken; the ordinary standard deviation is our reading. Mathematically
+//      sigma >= half the gap between the two middle values, so at least one ray is always
+//      kept; the threshold is max(sigma, that half gap) to keep this true under rounding;
+//   4. f_v(p) = sum(w_i L_i) / sum(w_i) over the kept rays, w_i = 1 / angle(ray_i, axis)
+//      (ConeSampling.h defines the floor for a ray on the axis).
+//   Outputs per origin: values (length units of the mesh) and validRays (rays kept in step 3).
+//
+// Parameters (ShapeDiameterOptions)
+//   NumberOfRays      default 30 (paper), range [1, 4096].
+//   ConeAngleDegrees  default 120 (paper, full opening angle), range (0, 180).
+//   VertexOriginOffset default 1e-6, range [0, 1e-2], RELATIVE TO THE MESH BOUNDING-BOX
+//                     DIAGONAL: origins without a source triangle (vertices) ignore hits
+//                     closer than this (Embree's tnear), because a vertex lies on all its
+//                     incident triangles and must not hit them at t ~ 0. Face origins use 0:
+//                     their own triangle is excluded by index instead.
+//   OriginsPerChunk   default 256, >= 1: unit of work given to the ParallelFor and of
+//                     progress/abort checks. Does not change any result.
+//
+// Degenerate cases
+//   - An origin listed in Skip, or with a non-finite point or a zero/non-finite normal, is not
+//     cast: value 0, validRays 0. MakeFaceOrigins marks zero-area faces this way.
+//   - An origin whose rays all miss (open mesh, inverted orientation, ...) gets value 0 and
+//     validRays 0. FillFromNeighbours then replaces every validRays == 0 value (see below).
+//   - Inverted (inward-facing) triangles: the cone points outward, rays escape or hit only
+//     back faces, so the whole component becomes invalid and receives the fallback of
+//     FillFromNeighbours. The core does not re-orient meshes; the adapter does (AutoOrient).
+//   - No NaN or Inf is ever written to values.
+//
+// Threads and determinism: the loop runs over chunks of origins through the given
+// ParallelFor; every origin's result depends on that origin only, so SerialFor and any
+// ThreadedFor give bit-identical results. The ProgressCallback is called once per finished
+// chunk (possibly from a worker thread, never concurrently) with the fraction done; returning
+// false aborts: the remaining chunks are skipped, aborted is set and unprocessed origins keep
+// value 0 / validRays 0.
+#pragma once
+
+#include "MeshTypes.h"
+#include "Parallel.h"
+#include "RayCaster.h"
+
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+namespace shapediameter
+{
+
+/// Bad options or inconsistent input sizes.
+class ShapeDiameterError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ShapeDiameterOptions
+{
+  int NumberOfRays = 30;            ///< rays per cone (paper: 30)
+  double ConeAngleDegrees = 120.0;  ///< full opening angle (paper: 120 degrees)
+  double VertexOriginOffset = 1e-6; ///< tnear for origins without a source triangle, x bbox diagonal
+  std::size_t OriginsPerChunk = 256;
+};
+
+/// Where the cones start. All matrices have one row per origin (n rows), except FirstAxes and
+/// the vectors, which may be empty.
+struct RayOrigins
+{
+  PointMatrix Points;
+  /// Outward unit normals (normalised again internally); the cone axis is -normal.
+  PointMatrix Normals;
+  /// Direction that fixes the pattern's rotation about the axis (projected onto the tangent
+  /// plane), e.g. the face's first edge; 0 rows = derived from the normal (ConeSampling.h).
+  PointMatrix FirstAxes;
+  /// The triangle each origin lies on, never hit from that origin; empty = none (vertex
+  /// origins, which then use VertexOriginOffset). -1 entries = none for that origin.
+  std::vector<std::int64_t> SourceTriangles;
+  /// Nonzero = do not cast from this origin (value 0, validRays 0); empty = cast from all.
+  std::vector<std::uint8_t> Skip;
+};
+
+/// One origin per triangle: centroid, unit right-hand-rule normal, first edge (v1 - v0) as
+/// FirstAxes, source triangle = its own index. Triangles with zero area or a non-finite
+/// normal are marked in Skip. Throws ShapeDiameterError on a vertex index out of range.
+RayOrigins MakeFaceOrigins(const PointsView& points, const TrianglesView& triangles);
+
+/// One origin per point with the caller's normals (n x 3, e.g. area-weighted vertex
+/// normals), no source triangle, frame from the normal only. Points whose normal is zero or
+/// not finite are marked in Skip. Throws ShapeDiameterError if the row counts differ.
+RayOrigins MakeVertexOrigins(const PointsView& points, const PointsView& normals);
+
+struct ShapeDiameterResult
+{
+  std::vector<double> values; ///< SDF per origin, finite; 0 where validRays == 0
+  std::vector<int> validRays; ///< rays kept by the median +- sigma filter; 0 = no value
+  bool aborted = false;       ///< the ProgressCallback asked to stop
+};
+
+/// The SDF of every origin. Throws ShapeDiameterError on bad options or inconsistent sizes.
+ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigins& origins,
+  const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
+  const ProgressCallback& progress = ProgressCallback());
+
+/// Convenience for the default per-face SDF: builds an EmbreeRayCaster over the mesh and
+/// MakeFaceOrigins, then ComputeShapeDiameter. Throws RayCasterError / ShapeDiameterError.
+ShapeDiameterResult ComputeFaceShapeDiameter(const PointsView& points,
+  const TrianglesView& triangles, const ShapeDiameterOptions& options,
+  const ParallelFor& parallelFor, const ProgressCallback& progress = ProgressCallback());
+
+/// Steps 3-4 above for one origin: lengths (+inf = no hit, dropped) and their weights.
+/// Returns the weighted mean of the kept lengths and sets keptCount (0 and value 0 when no
+/// length is finite). Exposed for tests.
+double RobustWeightedMean(
+  const std::vector<double>& lengths, const std::vector<double>& weights, int& keptCount);
+
+struct FillFromNeighboursSummary
+{
+  std::size_t FilledFromNeighbours = 0; ///< invalid entries reached from a valid one
+  std::size_t FilledWithFallback = 0;   ///< entries in components with no valid value
+  double FallbackValue = 0;             ///< median of all valid values, 0 when there is none
+};
+
+/// Replaces every value whose validRays is 0 (or whose value is not finite) using the face
+/// adjacency given as CSR (neighbours of i: adjacencyIndices[adjacencyOffsets[i] ..
+/// adjacencyOffsets[i + 1])). Breadth-first in layers: every invalid entry with at least one
+/// known neighbour takes the plain mean of its known neighbours' values, where "known" means
+/// valid or filled in an EARLIER layer (so the result is independent of the order of
+/// entries); repeat until nothing changes. Entries never reached (a component without any
+/// valid value, an isolated face) get the fallback: the median of all valid values in the
+/// whole input (mean of the two middle ones for an even count), or 0 if there is none.
+/// validRays is not modified (0 still marks a filled value). Self-loops and duplicate
+/// neighbours are allowed. Throws ShapeDiameterError on inconsistent sizes or an index out of
+/// range.
+FillFromNeighboursSummary FillFromNeighbours(std::vector<double>& values,
+  const std::vector<int>& validRays, const std::vector<std::int64_t>& adjacencyOffsets,
+  const std::vector<std::int64_t>& adjacencyIndices);
+
+} // namespace shapediameter

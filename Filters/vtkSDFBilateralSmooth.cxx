@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkSDFBilateralSmooth.h"
+
+#include "BilateralSmoothing.h"
+#include "FaceGraph.h"
+#include "Normalization.h"
+#include "SurfaceConversion.h"
+#include "vtkShapeDiameterFilter.h"
+
+#include "vtkCellData.h"
+#include "vtkDataObject.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkDoubleArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPolyData.h"
+
+#include <algorithm>
+
+vtkStandardNewMacro(vtkSDFBilateralSmooth);
+
+vtkSDFBilateralSmooth::vtkSDFBilateralSmooth()
+{
+  this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
+    vtkShapeDiameterFilter::SDF_ARRAY_NAME);
+}
+
+vtkSDFBilateralSmooth::~vtkSDFBilateralSmooth() = default;
+
+int vtkSDFBilateralSmooth::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  using namespace shapediameter;
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->ShallowCopy(input);
+  if (input->GetNumberOfCells() == 0)
+  {
+    vtkWarningMacro("The input is empty: nothing to smooth.");
+    return 1;
+  }
+  if (input->GetNumberOfPolys() == 0)
+  {
+    vtkErrorMacro("Cannot smooth the SDF: the input has no polygons.");
+    return 1;
+  }
+  std::vector<double> values;
+  std::string arrayName;
+  const std::string reason = adapter::ReadCellScalars(this, input, values, arrayName);
+  if (!reason.empty())
+  {
+    vtkErrorMacro("Cannot smooth the SDF: " << reason << ".");
+    return 1;
+  }
+
+  try
+  {
+    std::vector<std::int64_t> offsets, connectivity;
+    adapter::PolygonCells(input, offsets, connectivity);
+    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(this->NumberOfThreads);
+    const FaceGraph graph = BuildFaceGraph(adapter::PointsOf(input), offsets, connectivity, parallelFor);
+    this->UpdateProgress(0.1);
+
+    BilateralSmoothingOptions options;
+    options.NumberOfIterations = this->NumberOfIterations;
+    options.SpatialSigma = this->SpatialSigma;
+    options.NeighborhoodRadius = this->NeighborhoodRadius;
+    options.RangeThreshold = this->RangeThreshold;
+    const BilateralSmoothingResult smoothed =
+      SmoothBilateral(graph, values, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.95));
+    if (smoothed.Aborted)
+    {
+      return 1;
+    }
+
+    // Normalise over the polygons only: other cells would drag min/max to their fill value.
+    const auto [first, last] = adapter::PolygonCellRange(input);
+    const std::vector<double> polygonValues(smoothed.Values.begin() + first, smoothed.Values.begin() + last);
+    NormalizationOptions normalization;
+    normalization.Alpha = this->Alpha;
+    const std::vector<double> normalized = NormalizeLogarithmic(polygonValues, normalization);
+
+    vtkNew<vtkDoubleArray> smoothedArray;
+    smoothedArray->SetName(SMOOTHED_ARRAY_NAME);
+    smoothedArray->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+    std::copy(smoothed.Values.begin(), smoothed.Values.end(), smoothedArray->GetPointer(0));
+    vtkNew<vtkDoubleArray> normalizedArray;
+    normalizedArray->SetName(NORMALIZED_ARRAY_NAME);
+    normalizedArray->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+    normalizedArray->FillValue(0.0);
+    std::copy(normalized.begin(), normalized.end(), normalizedArray->GetPointer(first));
+    output->GetCellData()->AddArray(smoothedArray);
+    output->GetCellData()->AddArray(normalizedArray);
+  }
+  catch (const std::exception& error)
+  {
+    vtkErrorMacro("Cannot smooth the SDF: " << error.what());
+    output->ShallowCopy(input);
+    return 1;
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkSDFBilateralSmooth::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfIterations: " << this->NumberOfIterations << "\n";
+  os << indent << "SpatialSigma: " << this->SpatialSigma << "\n";
+  os << indent << "NeighborhoodRadius: " << this->NeighborhoodRadius << "\n";
+  os << indent << "RangeThreshold: " << this->RangeThreshold << "\n";
+  os << indent << "Alpha: " << this->Alpha << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

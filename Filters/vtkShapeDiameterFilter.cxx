@@ -1,0 +1,241 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkShapeDiameterFilter.h"
+
+#include "EmbreeRayCaster.h"
+#include "FaceGraph.h"
+#include "Orientation.h"
+#include "ShapeDiameter.h"
+#include "SurfaceConversion.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+
+vtkStandardNewMacro(vtkShapeDiameterFilter);
+
+namespace
+{
+using namespace shapediameter;
+using adapter::TriangulatedSurface;
+
+vtkNew<vtkDoubleArray> MakeDoubleArray(const char* name, vtkIdType count)
+{
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name);
+  array->SetNumberOfTuples(count);
+  return array;
+}
+
+vtkNew<vtkIntArray> MakeIntArray(const char* name, vtkIdType count)
+{
+  vtkNew<vtkIntArray> array;
+  array->SetName(name);
+  array->SetNumberOfTuples(count);
+  return array;
+}
+
+/// The input's polygons with the winding of every flipped cell reversed (a polygon's
+/// triangles share its winding, so its first triangle decides).
+vtkSmartPointer<vtkCellArray> ReorientedPolygons(
+  vtkPolyData* input, const TriangulatedSurface& surface, const std::vector<std::uint8_t>& flip)
+{
+  auto polygons = vtkSmartPointer<vtkCellArray>::New();
+  polygons->AllocateExact(input->GetNumberOfPolys(), input->GetPolys()->GetNumberOfConnectivityIds());
+  vtkIdType cellId = input->GetNumberOfVerts() + input->GetNumberOfLines();
+  std::vector<vtkIdType> ids;
+  auto iterator = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
+  for (iterator->GoToFirstCell(); !iterator->IsDoneWithTraversal(); iterator->GoToNextCell(), ++cellId)
+  {
+    vtkIdType count;
+    const vtkIdType* cell;
+    iterator->GetCurrentCell(count, cell);
+    ids.assign(cell, cell + count);
+    const auto first = surface.CellFirstTriangle[static_cast<std::size_t>(cellId)];
+    if (first < surface.CellFirstTriangle[static_cast<std::size_t>(cellId) + 1] &&
+      flip[static_cast<std::size_t>(first)])
+    {
+      std::reverse(ids.begin(), ids.end());
+    }
+    polygons->InsertNextCell(count, ids.data());
+  }
+  return polygons;
+}
+
+/// Area-weighted vertex normals of the (oriented) triangles.
+PointMatrix VertexNormals(const TriangulatedSurface& surface)
+{
+  PointMatrix normals = PointMatrix::Zero(surface.Points.rows(), 3);
+  for (Eigen::Index t = 0; t < surface.Triangles.rows(); ++t)
+  {
+    const Eigen::RowVector3d a = surface.Points.row(surface.Triangles(t, 0));
+    const Eigen::RowVector3d areaVector =
+      (surface.Points.row(surface.Triangles(t, 1)) - a).cross(surface.Points.row(surface.Triangles(t, 2)) - a);
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      normals.row(surface.Triangles(t, corner)) += areaVector;
+    }
+  }
+  return normals; // MakeVertexOrigins normalises, and skips zero normals
+}
+
+/// Point adjacency over triangle edges, CSR, sorted and unique.
+void PointAdjacency(const TriangulatedSurface& surface, std::vector<std::int64_t>& offsets,
+  std::vector<std::int64_t>& neighbours)
+{
+  std::vector<std::vector<std::int64_t>> lists(static_cast<std::size_t>(surface.Points.rows()));
+  for (Eigen::Index t = 0; t < surface.Triangles.rows(); ++t)
+  {
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      const auto a = surface.Triangles(t, corner);
+      const auto b = surface.Triangles(t, (corner + 1) % 3);
+      lists[static_cast<std::size_t>(a)].push_back(b);
+      lists[static_cast<std::size_t>(b)].push_back(a);
+    }
+  }
+  offsets.assign(1, 0);
+  neighbours.clear();
+  for (auto& list : lists)
+  {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    neighbours.insert(neighbours.end(), list.begin(), list.end());
+    offsets.push_back(static_cast<std::int64_t>(neighbours.size()));
+  }
+}
+} // namespace
+
+vtkShapeDiameterFilter::vtkShapeDiameterFilter() = default;
+vtkShapeDiameterFilter::~vtkShapeDiameterFilter() = default;
+
+int vtkShapeDiameterFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->ShallowCopy(input);
+  if (input->GetNumberOfCells() == 0)
+  {
+    vtkWarningMacro("The input is empty: no SDF to compute.");
+    return 1;
+  }
+
+  TriangulatedSurface surface;
+  const std::string reason = adapter::Triangulate(input, surface);
+  if (!reason.empty())
+  {
+    vtkErrorMacro("Cannot compute the SDF: " << reason << ".");
+    return 1;
+  }
+
+  try
+  {
+    if (this->AutoOrient)
+    {
+      const OrientationResult orientation = OrientOutward(surface.Points, surface.Triangles);
+      if (orientation.FlippedTriangles > 0)
+      {
+        ApplyFlips(surface.Triangles, orientation.Flip);
+        output->SetPolys(ReorientedPolygons(input, surface, orientation.Flip));
+        vtkWarningMacro("AutoOrient reversed " << orientation.FlippedTriangles << " of "
+                                               << surface.Triangles.rows() << " triangles ("
+                                               << orientation.InconsistentComponents
+                                               << " inconsistently wound and "
+                                               << orientation.InwardComponents
+                                               << " inward-facing components).");
+      }
+    }
+    this->UpdateProgress(0.05);
+
+    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(this->NumberOfThreads);
+    const EmbreeRayCaster caster(surface.Points, surface.Triangles);
+    ShapeDiameterOptions options;
+    options.NumberOfRays = this->NumberOfRays;
+    options.ConeAngleDegrees = this->ConeAngle;
+    const RayOrigins origins = this->PerPoint
+      ? MakeVertexOrigins(surface.Points, VertexNormals(surface))
+      : MakeFaceOrigins(surface.Points, surface.Triangles);
+    ShapeDiameterResult result = ComputeShapeDiameter(
+      caster, origins, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.9));
+    if (result.aborted)
+    {
+      output->ShallowCopy(input);
+      return 1;
+    }
+
+    if (this->PerPoint)
+    {
+      std::vector<std::int64_t> offsets, neighbours;
+      PointAdjacency(surface, offsets, neighbours);
+      FillFromNeighbours(result.values, result.validRays, offsets, neighbours);
+      const vtkIdType pointCount = input->GetNumberOfPoints();
+      auto sdf = MakeDoubleArray(SDF_ARRAY_NAME, pointCount);
+      auto rays = MakeIntArray(VALID_RAYS_ARRAY_NAME, pointCount);
+      std::copy(result.values.begin(), result.values.end(), sdf->GetPointer(0));
+      std::copy(result.validRays.begin(), result.validRays.end(), rays->GetPointer(0));
+      output->GetPointData()->AddArray(sdf);
+      output->GetPointData()->AddArray(rays);
+      output->GetPointData()->SetActiveScalars(SDF_ARRAY_NAME);
+    }
+    else
+    {
+      const FaceGraph graph = BuildFaceGraph(surface.Points, surface.Triangles, parallelFor);
+      FillFromNeighbours(result.values, result.validRays, graph.Offsets, graph.Neighbors);
+      const vtkIdType cellCount = surface.NumberOfCells();
+      auto sdf = MakeDoubleArray(SDF_ARRAY_NAME, cellCount);
+      auto rays = MakeIntArray(VALID_RAYS_ARRAY_NAME, cellCount);
+      for (vtkIdType cell = 0; cell < cellCount; ++cell)
+      {
+        const auto begin = surface.CellFirstTriangle[static_cast<std::size_t>(cell)];
+        const auto end = surface.CellFirstTriangle[static_cast<std::size_t>(cell) + 1];
+        double weighted = 0.0, area = 0.0, plain = 0.0;
+        int rayCount = 0;
+        for (auto t = static_cast<std::size_t>(begin); t < static_cast<std::size_t>(end); ++t)
+        {
+          weighted += graph.Areas[t] * result.values[t];
+          area += graph.Areas[t];
+          plain += result.values[t];
+          rayCount += result.validRays[t];
+        }
+        // Vertices and lines own no triangle: 0 (documented); zero-area cells: plain mean.
+        const double value = end == begin ? 0.0 : area > 0.0 ? weighted / area : plain / double(end - begin);
+        sdf->SetValue(cell, value);
+        rays->SetValue(cell, rayCount);
+      }
+      output->GetCellData()->AddArray(sdf);
+      output->GetCellData()->AddArray(rays);
+      output->GetCellData()->SetActiveScalars(SDF_ARRAY_NAME);
+    }
+  }
+  catch (const std::exception& error)
+  {
+    vtkErrorMacro("Cannot compute the SDF: " << error.what());
+    output->ShallowCopy(input);
+    return 1;
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkShapeDiameterFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfRays: " << this->NumberOfRays << "\n";
+  os << indent << "ConeAngle: " << this->ConeAngle << "\n";
+  os << indent << "PerPoint: " << this->PerPoint << "\n";
+  os << indent << "AutoOrient: " << this->AutoOrient << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}
