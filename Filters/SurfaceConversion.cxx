@@ -138,18 +138,30 @@ std::pair<vtkIdType, vtkIdType> PolygonCellRange(vtkPolyData* input)
   return { first, first + input->GetNumberOfPolys() };
 }
 
-std::string ReadCellScalars(
-  vtkAlgorithm* algorithm, vtkPolyData* input, std::vector<double>& values, std::string& arrayName)
+std::string ReadCellScalars(vtkAlgorithm* algorithm, vtkPolyData* input, const char* defaultName,
+  std::vector<double>& values, std::string& arrayName)
 {
   vtkInformation* selection = algorithm->GetInputArrayInformation(0);
   arrayName = selection && selection->Has(vtkDataObject::FIELD_NAME())
     ? selection->Get(vtkDataObject::FIELD_NAME())
     : "";
+  if (arrayName.empty())
+  {
+    // ParaView sends an empty selection when the proxy was created before its input had
+    // arrays (pvpython chains): the documented default applies.
+    arrayName = defaultName;
+    return ReadNamedCellScalars(input, values, arrayName);
+  }
   if (selection && selection->Has(vtkDataObject::FIELD_ASSOCIATION()) &&
     selection->Get(vtkDataObject::FIELD_ASSOCIATION()) != vtkDataObject::FIELD_ASSOCIATION_CELLS)
   {
     return "the input array must be a cell array";
   }
+  return ReadNamedCellScalars(input, values, arrayName);
+}
+
+std::string ReadNamedCellScalars(vtkPolyData* input, std::vector<double>& values, const std::string& arrayName)
+{
   vtkAbstractArray* abstractArray = input->GetCellData()->GetAbstractArray(arrayName.c_str());
   if (!abstractArray)
   {

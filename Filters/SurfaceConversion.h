@@ -59,12 +59,17 @@ vtkIdType PolygonCells(
 std::pair<vtkIdType, vtkIdType> PolygonCellRange(vtkPolyData* input);
 
 /**
- * Reads the cell array `algorithm` was told to process (SetInputArrayToProcess index 0)
- * into `values`. Returns an empty string on success, otherwise the one-line reason: no
- * such cell array, not numeric, several components, or a non-finite value.
+ * Reads the cell array `algorithm` was told to process (SetInputArrayToProcess index 0;
+ * `defaultName` when that selection is empty) into `values` and its name into
+ * `arrayName`. Returns an empty string on success, otherwise the one-line reason: a
+ * point array selected, no such cell array, not numeric, several components, or a
+ * non-finite value.
  */
-std::string ReadCellScalars(
-  vtkAlgorithm* algorithm, vtkPolyData* input, std::vector<double>& values, std::string& arrayName);
+std::string ReadCellScalars(vtkAlgorithm* algorithm, vtkPolyData* input, const char* defaultName,
+  std::vector<double>& values, std::string& arrayName);
+
+/// ReadCellScalars for a given array name.
+std::string ReadNamedCellScalars(vtkPolyData* input, std::vector<double>& values, const std::string& arrayName);
 
 /// A core ParallelFor running on vtkSMPTools' STDThread backend with `threads`
 /// workers (0 = all cores), whatever backend the application selected globally.

@@ -5,7 +5,8 @@ set(_filters_dir "${CMAKE_CURRENT_LIST_DIR}")
 set(_classes
   vtkOFFReader
   vtkShapeDiameterFilter
-  vtkSDFBilateralSmooth)
+  vtkSDFBilateralSmooth
+  vtkSDFGMMPartition)
 
 set(_classes_abs)
 foreach (_class IN LISTS _classes)

@@ -48,7 +48,7 @@ int vtkSDFBilateralSmooth::RequestData(
   }
   std::vector<double> values;
   std::string arrayName;
-  const std::string reason = adapter::ReadCellScalars(this, input, values, arrayName);
+  const std::string reason = adapter::ReadCellScalars(this, input, vtkShapeDiameterFilter::SDF_ARRAY_NAME, values, arrayName);
   if (!reason.empty())
   {
     vtkErrorMacro("Cannot smooth the SDF: " << reason << ".");
@@ -93,6 +93,8 @@ int vtkSDFBilateralSmooth::RequestData(
     std::copy(normalized.begin(), normalized.end(), normalizedArray->GetPointer(first));
     output->GetCellData()->AddArray(smoothedArray);
     output->GetCellData()->AddArray(normalizedArray);
+    // Active, so ParaView's array selection of the next stage (the partition) defaults to it.
+    output->GetCellData()->SetActiveScalars(NORMALIZED_ARRAY_NAME);
   }
   catch (const std::exception& error)
   {

@@ -134,8 +134,8 @@ class Pipeline:
             source = simple.ExtractSurface(Input=source)
         return source
 
-    def run_stages(self, source, timings):
-        """Applies each stage the plugin provides, in order; skipped stages leave no key."""
+    def surface_stages(self, source, timings):
+        """SDF and smoothing, when the plugin provides them; skipped stages leave no key."""
         arguments = self.arguments
         current = source
         if self.has("ShapeDiameter"):
@@ -144,20 +144,29 @@ class Pipeline:
                                                 NumberOfThreads=arguments.threads)
             self.timed(timings, "sdf", current.UpdatePipeline)
         if self.has("SDFBilateralSmooth"):
-            current = self.simple.SDFBilateralSmooth(Input=current, NumberOfThreads=arguments.threads)
+            current = self.simple.SDFBilateralSmooth(Input=current, NumberOfThreads=arguments.threads,
+                                                     SDFArray=["CELLS", "SDF"])
             self.timed(timings, "smooth", current.UpdatePipeline)
         return current
 
+    def partition(self, source, model=None):
+        arguments = self.arguments
+        clusters = 0 if arguments.clusters == "auto" else int(arguments.clusters)
+        # The array is named explicitly: ParaView's default for an array selection depends on
+        # what the session saw before, not only on this input.
+        properties = dict(Input=source, NumberOfClusters=clusters, NumberOfThreads=arguments.threads,
+                          NormalizedSDFArray=["CELLS", "SDFNormalized"])
+        if arguments.smoothness is not None:
+            properties["Lambda"] = arguments.smoothness
+        if model is not None:
+            properties["Model"] = model
+        partition = self.simple.SDFGMMPartition(**properties)
+        partition.UpdatePipeline()
+        return partition
+
     def render(self, source, png, color_array):
         simple = self.simple
-        view = simple.CreateRenderView()
-        view.ViewSize = [1024, 768]
-        view.OrientationAxesVisibility = 0
-        view.Background = [1.0, 1.0, 1.0]
-        try:
-            view.UseColorPaletteForBackground = 0
-        except AttributeError:
-            pass
+        view = self.new_view()
         display = simple.Show(source, view)
         if color_array:
             simple.ColorBy(display, ("CELLS", color_array))
@@ -172,6 +181,41 @@ class Pipeline:
         simple.SaveScreenshot(png, view, ImageResolution=[1024, 768])
         simple.Delete(display)
         simple.Delete(view)
+
+    def render_parts(self, source, png, clusters):
+        """Clusters in categorical colours, unlit (flat colours identify parts exactly)."""
+        simple = self.simple
+        view = self.new_view()
+        display = simple.Show(source, view)
+        simple.ColorBy(display, ("CELLS", "SDFCluster"))
+        lut = simple.GetColorTransferFunction("SDFCluster")
+        lut.InterpretValuesAsCategories = 1
+        lut.ApplyPreset("Brewer Qualitative Set1", True)
+        lut.Annotations = sum([[str(i), "cluster %d" % i] for i in range(clusters)], [])
+        lut.IndexedColors = lut.IndexedColors[:3 * clusters] if len(lut.IndexedColors) >= 3 * clusters \
+            else (list(lut.IndexedColors) * clusters)[:3 * clusters]
+        display.Ambient = 1.0
+        display.Diffuse = 0.0
+        display.SetScalarBarVisibility(view, True)
+        bar = simple.GetScalarBar(lut, view)
+        bar.Title = "SDFCluster"
+        bar.TitleColor = [0, 0, 0]
+        bar.LabelColor = [0, 0, 0]
+        self.frame_camera(view, source)
+        simple.SaveScreenshot(png, view, ImageResolution=[1024, 768])
+        simple.Delete(display)
+        simple.Delete(view)
+
+    def new_view(self):
+        view = self.simple.CreateRenderView()
+        view.ViewSize = [1024, 768]
+        view.OrientationAxesVisibility = 0
+        view.Background = [1.0, 1.0, 1.0]
+        try:
+            view.UseColorPaletteForBackground = 0
+        except AttributeError:
+            pass
+        return view
 
     @staticmethod
     def frame_camera(view, source):
@@ -188,24 +232,56 @@ class Pipeline:
         view.CameraViewUp = up
         view.ResetCamera()
 
-    def process(self, path):
+    def prepare(self, path):
+        """Reads one mesh and runs the per-mesh stages before the partition."""
+        mesh = {"path": path, "name": os.path.splitext(os.path.basename(path))[0],
+                "timings": {}, "start": time.perf_counter()}
+        source = self.timed(mesh["timings"], "read", lambda: self.read(path))
+        mesh["surface"] = self.surface_stages(source, mesh["timings"])
+        return mesh
+
+    def run(self, paths):
+        meshes = [self.prepare(path) for path in paths]
+        model = None
+        if self.has("SDFGMMPartition") and self.arguments.family and len(meshes) > 1:
+            # One mixture for the whole family: fitted on all faces of all meshes together.
+            start = time.perf_counter()
+            family = self.simple.AppendGeometry(Input=[mesh["surface"] for mesh in meshes])
+            model = self.partition(family)
+            shared = time.perf_counter() - start
+            for mesh in meshes:
+                mesh["timings"]["family_model"] = round(shared, 6)
+        for mesh in meshes:
+            result = mesh["surface"]
+            if self.has("SDFGMMPartition"):
+                result = self.timed(mesh["timings"], "partition", lambda: self.partition(result, model))
+            self.finish(mesh, result)
+
+    def finish(self, mesh, result):
         arguments = self.arguments
-        name = os.path.splitext(os.path.basename(path))[0]
-        out = arguments.output_dir
-        timings = {}
-        total_start = time.perf_counter()
-        source = self.timed(timings, "read", lambda: self.read(path))
-        result = self.run_stages(source, timings)
+        name, timings, out = mesh["name"], mesh["timings"], arguments.output_dir
         data = self.simple.servermanager.Fetch(result)
         if data is None or data.GetNumberOfCells() == 0:
-            raise PipelineError("processing %s failed: %s" % (path, self.messages.last_error()))
-        self.timed(timings, "write",
-                   lambda: self.simple.SaveData(os.path.join(out, name + ".vtp"), proxy=result))
+            raise PipelineError("processing %s failed: %s" % (mesh["path"], self.messages.last_error()))
+        cells = data.GetCellData()
+
+        def write():
+            self.simple.SaveData(os.path.join(out, name + ".vtp"), proxy=result)
+            segments = cells.GetArray("SDFSegment")
+            if segments is not None:
+                with open(os.path.join(out, name + ".seg"), "w") as stream:
+                    stream.write("".join("%d\n" % segments.GetValue(i) for i in range(segments.GetNumberOfTuples())))
+
+        self.timed(timings, "write", write)
         if not arguments.no_render:
-            sdf = "SDF" if data.GetCellData().GetArray("SDF") is not None else None
-            self.timed(timings, "render",
-                       lambda: self.render(result, os.path.join(out, name + "_sdf.png"), sdf))
-        timings["total"] = round(time.perf_counter() - total_start, 6)
+            def render():
+                sdf = "SDF" if cells.GetArray("SDF") is not None else None
+                self.render(result, os.path.join(out, name + "_sdf.png"), sdf)
+                if cells.GetArray("SDFCluster") is not None:
+                    clusters = int(data.GetFieldData().GetArray("SDFClusterCount").GetValue(0))
+                    self.render_parts(result, os.path.join(out, name + "_parts.png"), clusters)
+            self.timed(timings, "render", render)
+        timings["total"] = round(time.perf_counter() - mesh["start"], 6)
         with open(os.path.join(out, name + "_timings.json"), "w") as stream:
             json.dump(timings, stream, indent=2, sort_keys=True)
             stream.write("\n")
@@ -219,9 +295,7 @@ def main(argv):
     try:
         check_inputs(arguments.meshes)
         os.makedirs(arguments.output_dir, exist_ok=True)
-        pipeline = Pipeline(arguments)
-        for mesh in arguments.meshes:
-            pipeline.process(mesh)
+        Pipeline(arguments).run(arguments.meshes)
     except PipelineError as error:
         print("%s: error: %s" % (PROG, error), file=sys.__stderr__, flush=True)
         return 1

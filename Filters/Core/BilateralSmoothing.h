@@ -29,8 +29,8 @@
 //                                  (FaceGraph::MeanEdgeLength): the smoothing acts on the
 //                                  noise scale of the face-wise SDF, on any mesh scale.
 //   NeighborhoodRadius             2.0,  [0, inf) in units of sigma (Gaussian cut at 2 sigma,
-//                                  weight e^-2 = 0.14 at the rim); about 20-30 faces on a
-//                                  regular triangulation.
+//                                  weight e^-2 = 0.14 at the rim); about 20 faces on
+//                                  average (the articulated test figure; 29 % hit the cap).
 //   MaxNeighbors                   24,   [0, inf): the cost cap on meshes whose triangles are
 //                                  far smaller than the mean (nearest kept).
 //   RangeThreshold      t          0.1,  [0, inf) as a fraction of the input's robust spread
@@ -49,14 +49,21 @@
 // Bad input (throws BilateralSmoothingError): values.size() != face count, a non-finite
 // value, an option outside its range, max - min overflowing a double.
 //
-// Progress and abort: the faces are processed in about 20 blocks; after each block
-// progress(fraction) is called from the calling thread. When it returns false, the
-// remaining faces keep their input value and the result says Aborted.
+// Progress and abort: with a callback, the faces are processed in 20 blocks (each one
+// ParallelFor call); after each block progress(fraction) is called from the calling
+// thread. When it returns false, the remaining faces keep their input value and the
+// result says Aborted. Without a callback: one ParallelFor call over all faces.
+//
+// Cost: per face one bounded Dijkstra (about 20-30 settled faces) and NumberOfIterations
+// passes over its neighbours; about 0.75 us per face on one core (208k faces: ~155 ms CPU).
+// No per-mesh scratch memory beyond the output.
 //
 // Deviations from the paper
 //   - The paper does not define the neighbourhood size, sigma or t; the defaults above are
 //     ours (relative to mesh resolution and SDF spread so they transfer between meshes).
 //   - Geodesic distance between face centres is the dual-graph approximation (see above).
+//   - The smoothing section speaks of neighbourhoods "around each vertex"; the field is
+//     per face here (as the paper's partitioning uses it), so neighbourhoods are of faces.
 #pragma once
 
 #include "FaceGraph.h"

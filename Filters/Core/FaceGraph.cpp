@@ -466,7 +466,7 @@ void DualGeodesicSearch::Run(
   neighbors.clear();
   ClearTable();
   Heap.clear();
-  if (maxNeighbors == 0 || !(radius >= 0.0))
+  if (maxNeighbors == 0 || !(radius >= 0.0) || source < 0 || static_cast<std::size_t>(source) >= Graph.FaceCount())
   {
     return;
   }

@@ -21,7 +21,7 @@
 // Definitions
 //   centre        mean of the polygon's vertices (the area centroid for triangles).
 //   normal, area  Newell's method: the area vector 1/2 sum (p_i - c) x (p_i+1 - c) is exact
-//                 for planar polygons and the least-squares plane normal for warped ones.
+//                 for planar polygons and a robust mean plane normal for warped ones.
 //   degenerate    |area vector| <= 1e-12 * sum of squared side lengths, or fewer than three
 //                 vertices. A degenerate face gets normal (0, 0, 0), area 0, keeps its centre
 //                 and its adjacencies; every angle involving it is 0 and it is never concave.
@@ -33,8 +33,8 @@
 //                 This is only meaningful with consistently oriented, outward normals.
 //
 // Degenerate input, all defined
-//   - Open boundary edge (one face): no adjacency; counted in BoundaryEdgeCount.
-//   - Non-manifold edge (three or more faces): every pair of those faces becomes adjacent;
+//   - Open boundary edge (one polygon side): no adjacency; counted in BoundaryEdgeCount.
+//   - Non-manifold edge (three or more sides): every pair of those faces becomes adjacent;
 //     counted in NonManifoldEdgeCount. The graph stays symmetric.
 //   - Two faces sharing several edges: one adjacency, SharedEdgeLength is the sum, the
 //     concavity test uses the shared edge with the smallest (lower, higher) vertex pair,
@@ -139,9 +139,10 @@ struct GeodesicNeighbor
 /// The dual path length is never shorter than the straight line between the centres and
 /// over-estimates the surface geodesic by the zig-zag across faces: a few percent to 20 %
 /// on irregular triangulations; on a regular right-triangle grid, in directions crossing
-/// the diagonals, about 1.7x (up to 2.1x for the nearest faces). For the small neighbourhoods it is used for, this is
-/// the usual approximation (no exact geodesics). Faces reachable only through a non-manifold
-/// edge are reached (the graph links them). Separate components are never reached.
+/// the diagonals, about 1.7x (up to 2.1x for the nearest faces). For the small
+/// neighbourhoods it is used for, this is the usual approximation (no exact geodesics).
+/// Faces beyond a non-manifold edge are reached (the graph links them); other components
+/// never are.
 ///
 /// One object per thread: it owns scratch memory (a small hash map and a heap) sized by the
 /// neighbourhood, not by the mesh, so creating one per ParallelFor range is cheap.
@@ -152,7 +153,7 @@ public:
 
   /// Fills `neighbors` (cleared first) with the faces whose dual distance from `source`
   /// is <= radius, nearest first (ties by face index), excluding the source itself, at
-  /// most maxNeighbors of them. Deterministic.
+  /// most maxNeighbors of them. Deterministic. An invalid source face gives no neighbours.
   void Run(std::int64_t source, double radius, std::size_t maxNeighbors, std::vector<GeodesicNeighbor>& neighbors);
 
 private:

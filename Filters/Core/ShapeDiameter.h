@@ -30,22 +30,45 @@
 //   OriginsPerChunk   default 256, >= 1: unit of work given to the ParallelFor and of
 //                     progress/abort checks. Does not change any result.
 //
+// Consequences of the paper's validity rule worth knowing
+//   The rule compares the hit normal with the ORIGIN normal (not with the ray). On a round
+//   body a ray theta off the inward normal lands where the normal is 180 - 2 theta degrees
+//   from the origin normal, so on a sphere every ray with theta >= 45 degrees is rejected and
+//   goes on (out of the body, possibly into another part): the default 120-degree cone acts
+//   like a 90-degree one (18 of the 30 default rays count; the median +- sigma filter then
+//   keeps 9-10 of them). On a cylinder only the angle within the cross-section counts, so
+//   more rays survive; between flat parallel walls all 30 do.
+//   A rejected ray that leaves the body can reach the far wall of another part or component,
+//   which is valid: that cross-talk is part of the definition; the median +- sigma filter
+//   usually, not always, removes it.
+//
+// Deviations from the paper (which leaves these open)
+//   - The ray pattern (golden-angle spiral, uniform in solid angle) and the weight of a ray
+//     on the axis: ConeSampling.h.
+//   - sigma is taken about the mean (see step 3).
+//   - "Angle difference less than 90 degrees" includes a 1e-6 tolerance on the cosine so
+//     that walls exactly perpendicular to the origin face are rejected whatever the rounding
+//     (RayCaster.h); this keeps symmetric meshes invariant under rigid motions.
+//   - The paper computes f_v at face centres and says nothing about faces without a valid
+//     ray; FillFromNeighbours is our documented fill. Vertex origins are an option.
+//
 // Degenerate cases
 //   - An origin listed in Skip, or with a non-finite point or a zero/non-finite normal, is not
 //     cast: value 0, validRays 0. MakeFaceOrigins marks zero-area faces this way.
 //   - An origin whose rays all miss (open mesh, inverted orientation, ...) gets value 0 and
 //     validRays 0. FillFromNeighbours then replaces every validRays == 0 value (see below).
-//   - Inverted (inward-facing) triangles: the cone points outward, rays escape or hit only
-//     back faces, so the whole component becomes invalid and receives the fallback of
-//     FillFromNeighbours. The core does not re-orient meshes; the adapter does (AutoOrient).
+//   - Inverted (inward-facing) triangles: the cone points outward. On a convex component no
+//     ray hits anything, the whole component becomes invalid and receives the fallback of
+//     FillFromNeighbours; on a non-convex one the rays measure the gaps between parts. The
+//     core does not re-orient meshes; the adapter does (AutoOrient).
 //   - No NaN or Inf is ever written to values.
 //
 // Threads and determinism: the loop runs over chunks of origins through the given
 // ParallelFor; every origin's result depends on that origin only, so SerialFor and any
 // ThreadedFor give bit-identical results. The ProgressCallback is called once per finished
-// chunk (possibly from a worker thread, never concurrently) with the fraction done; returning
-// false aborts: the remaining chunks are skipped, aborted is set and unprocessed origins keep
-// value 0 / validRays 0.
+// chunk (possibly from a worker thread, never concurrently; it must not throw) with the
+// fraction done; returning false aborts: the remaining chunks are skipped, aborted is set and
+// unprocessed origins keep value 0 / validRays 0.
 #pragma once
 
 #include "MeshTypes.h"

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Soft clustering of the normalised SDF: a 1-D Gaussian mixture fitted by EM.
+//
+// What it computes
+//   Section 4 of Shapira, Shamir & Cohen-Or 2008, "Consistent mesh partitioning and
+//   skeletonisation using the shape diameter function", first step of the partitioning:
+//   "a Gaussian mixture model (GMM) fitting k Gaussians to the histogram of SDF values of the
+//   faces ... using the expectation-maximization (EM) algorithm". The result for each face is
+//   the vector of posterior probabilities P(f | cluster) (the paper's soft partitioning), used
+//   by the data term of the graph cut (PartitionEnergy.h).
+//   Components are sorted by mean DESCENDING: component 0 has the largest mean (interface.md,
+//   `SDFCluster` 0 = largest GMM mean), so hierarchy level L separates the L largest means.
+//
+// How
+//   - The values are binned into `binCount` equal bins over [min, max]. Each occupied bin is
+//     one weighted point holding the count, the mean and the sum of squared deviations of its
+//     values (exact first and second moments). EM then runs on the occupied bins with the
+//     responsibilities shared by all values of a bin: this is block-constrained EM, which
+//     increases a lower bound of the exact log-likelihood, the M-step uses the exact moments,
+//     and the result equals unbinned EM up to the variation of the responsibilities inside one
+//     bin (the tests check the means agree within 1e-3 of the range). One iteration costs
+//     O(binCount k) instead of O(n k). binCount = 0 selects exact EM on the distinct values
+//     (sorted, with multiplicities), for tests and small data.
+//   - Initialisation: k-means++ seeding (first centre with probability proportional to the
+//     count, the next ones proportional to count x squared distance to the nearest centre),
+//     then weights and variances from the nearest-centre assignment. Random numbers: one
+//     std::mt19937_64 seeded with `seed`, mapped to [0, 1) by (r >> 11) * 2^-53 (bit-identical
+//     on every platform). `restarts` seedings are drawn one after another from that generator;
+//     each runs `screeningIterations` EM iterations, and only the one with the largest
+//     log-likelihood then (the first on ties) runs on to convergence. Screening keeps the cost
+//     of restarts low: EM crawls for hundreds of iterations when k exceeds the modes present.
+//   - Convergence: stop when the log-likelihood per value increases by less than `tolerance`,
+//     or after `maxIterations` iterations in all (`converged` says which).
+//   - Posteriors (ComputePosteriors) are evaluated per value, exactly, from the fitted
+//     parameters with a log-sum-exp: every row sums to 1 (to rounding) and is finite.
+//
+// Parameters (GaussianMixtureOptions; the paper gives none of these)
+//   restarts        5       [1, 1000]   k-means++ seedings; the most likely is kept.
+//   maxIterations   500     [1, 1e6]    EM iterations of the kept seeding, screening included.
+//   screeningIterations 20  [1, 1e6]    EM iterations given to every seeding before choosing.
+//   tolerance       1e-8    [0, 1]      stop when the log-likelihood per value gains less.
+//   binCount        512     [0, 1e7]    histogram bins; 0 = exact EM on distinct values.
+//                                       Cost per iteration O(binCount k), independent of n.
+//   minSigmaRelative 1e-3   [1e-12, 1]  sigma floor, relative to the data range max - min
+//                                       (relative to max(|value|, 1) for constant data).
+//                                       Stops a component collapsing onto one value.
+//   seed            0x5DF2008
+//   BIC k range (FitGaussianMixtureBic): 2..8 by default; BIC = -2 logL + (3k - 1) ln n with
+//   the (binned) log-likelihood above; lowest wins, the smaller k on ties.
+//
+// Degenerate cases
+//   - empty data, NaN or Inf values, k < 1: GaussianMixtureError.
+//   - constant data: one component (mean = the value, sigma = the floor, weight 1), whatever k.
+//   - k larger than the number of distinct values (occupied bins when binned): k is reduced to
+//     that number; the model's ComponentCount() is the k actually used.
+//   - a component that loses all responsibility keeps its previous mean and sigma, and its
+//     weight is floored at 1e-12 (then the weights are renormalised), so no log(0) occurs.
+//
+// Deviations from the paper
+//   The paper fits "the histogram"; we fit the per-bin exact moments (better than bin centres)
+//   and evaluate the posteriors per face. k-means++ restarts and the sigma floor are ours:
+//   EM needs some initialisation and guard, the paper does not say which.
+#pragma once
+
+#include "Parallel.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace shapediameter
+{
+
+/// Thrown on input the mixture fit cannot process (empty, non-finite, k < 1).
+class GaussianMixtureError : public std::runtime_error
+{
+public:
+  explicit GaussianMixtureError(const std::string& reason)
+    : std::runtime_error(reason)
+  {
+  }
+};
+
+/// Read-only view of the values (bind a std::vector or a VTK array through Eigen::Map).
+using ValuesView = Eigen::Ref<const Eigen::VectorXd>;
+/// n x k posterior probabilities, one row per value, component order of the model.
+using PosteriorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+struct GaussianMixtureOptions
+{
+  int restarts = 5;
+  int maxIterations = 500;
+  int screeningIterations = 20;
+  double tolerance = 1e-8;
+  int binCount = 512;
+  double minSigmaRelative = 1e-3;
+  std::uint64_t seed = 0x5DF2008;
+};
+
+/// A fitted 1-D mixture; components sorted by mean, largest first.
+struct GaussianMixtureModel
+{
+  std::vector<double> means;
+  std::vector<double> sigmas;
+  std::vector<double> weights; ///< sum to 1
+  /// Log-likelihood of the data (a tight lower bound when binned, see header), finite.
+  double logLikelihood = 0.0;
+  std::size_t sampleCount = 0;
+  int iterations = 0;     ///< EM iterations of the kept restart
+  bool converged = false; ///< the kept restart met the tolerance before maxIterations
+
+  int ComponentCount() const { return static_cast<int>(means.size()); }
+  /// Bayesian information criterion -2 logL + (3k - 1) ln n (lower is better).
+  double Bic() const;
+};
+
+/// Fits `componentCount` Gaussians (fewer if the data has fewer distinct values, see header).
+/// Throws GaussianMixtureError on empty or non-finite data or componentCount < 1.
+GaussianMixtureModel FitGaussianMixture(
+  ValuesView values, int componentCount, const GaussianMixtureOptions& options = {});
+
+struct GaussianMixtureBicResult
+{
+  GaussianMixtureModel model;     ///< the fit with the lowest BIC
+  std::vector<int> componentCounts; ///< k tried, in order (duplicates after reduction removed)
+  std::vector<double> bics;       ///< BIC of each k tried
+};
+
+/// Fits k = minComponents..maxComponents and keeps the lowest BIC (the smallest k on ties).
+/// Throws GaussianMixtureError on bad data or 1 > minComponents or minComponents > maxComponents.
+GaussianMixtureBicResult FitGaussianMixtureBic(ValuesView values, int minComponents = 2,
+  int maxComponents = 8, const GaussianMixtureOptions& options = {});
+
+/// Posterior probability of each component for each value (n x k, rows sum to 1, finite).
+/// Per-value work only: bit-identical whatever the ParallelFor split.
+/// Throws GaussianMixtureError on non-finite values or an empty/invalid model.
+PosteriorMatrix ComputePosteriors(
+  const GaussianMixtureModel& model, ValuesView values, const ParallelFor& parallelFor = SerialFor);
+
+} // namespace shapediameter

@@ -1,0 +1,345 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "PartitionEnergy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace shapediameter
+{
+namespace
+{
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Checks without ordered comparisons on NaN (they raise FE_INVALID when traps are on).
+bool InRange(double value, double low, double high)
+{
+  return std::isfinite(value) && value >= low && value <= high;
+}
+
+void ValidateOptions(const PartitionEnergyOptions& options)
+{
+  if (!InRange(options.lambda, 0.0, 1e3))
+  {
+    throw PartitionEnergyError("partition energy: lambda must be in [0, 1e3]");
+  }
+  if (!InRange(options.probabilityEpsilon, 1e-300, 1.0))
+  {
+    throw PartitionEnergyError("partition energy: probabilityEpsilon must be in [1e-300, 1]");
+  }
+  if (!InRange(options.convexityFactor, 0.0, 1.0))
+  {
+    throw PartitionEnergyError("partition energy: convexityFactor must be in [0, 1]");
+  }
+  if (!InRange(options.minAngleRatio, 1e-300, 1.0))
+  {
+    throw PartitionEnergyError("partition energy: minAngleRatio must be in [1e-300, 1]");
+  }
+}
+
+/// Number of CSR entries; an empty graph may come without any array.
+std::size_t EntryCount(const DualGraphView& graph)
+{
+  return graph.offsets == nullptr ? 0 : static_cast<std::size_t>(graph.offsets[graph.faceCount]);
+}
+
+/// Offsets, neighbour range, no self loops, symmetry.
+void ValidateTopology(const DualGraphView& graph)
+{
+  if (graph.offsets == nullptr && graph.faceCount == 0)
+  {
+    return;
+  }
+  if (graph.offsets == nullptr)
+  {
+    throw PartitionEnergyError("dual graph: offsets are missing");
+  }
+  if (graph.offsets[0] != 0)
+  {
+    throw PartitionEnergyError("dual graph: offsets must start at 0");
+  }
+  const std::size_t n = graph.faceCount;
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    if (graph.offsets[f + 1] < graph.offsets[f])
+    {
+      throw PartitionEnergyError("dual graph: offsets decrease at face " + std::to_string(f));
+    }
+  }
+  const std::size_t entryCount = EntryCount(graph);
+  if (entryCount > 0 && graph.neighbours == nullptr)
+  {
+    throw PartitionEnergyError("dual graph: neighbour indices are missing");
+  }
+  const auto faceCount = static_cast<std::int64_t>(n);
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+    {
+      const std::int64_t g = graph.neighbours[e];
+      if (g < 0 || g >= faceCount)
+      {
+        throw PartitionEnergyError("dual graph: neighbour index out of range at face " + std::to_string(f));
+      }
+      if (g == static_cast<std::int64_t>(f))
+      {
+        throw PartitionEnergyError("dual graph: face " + std::to_string(f) + " is its own neighbour");
+      }
+      const std::int64_t* begin = graph.neighbours + graph.offsets[g];
+      const std::int64_t* end = graph.neighbours + graph.offsets[g + 1];
+      if (std::find(begin, end, static_cast<std::int64_t>(f)) == end)
+      {
+        throw PartitionEnergyError("dual graph: not symmetric, face " + std::to_string(g) +
+          " does not list its neighbour " + std::to_string(f));
+      }
+    }
+  }
+}
+
+double LengthScale(const DualGraphView& graph, const PartitionEnergyOptions& options)
+{
+  if (!options.weightByEdgeLength)
+  {
+    return 0.0;
+  }
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t f = 0; f < graph.faceCount; ++f)
+  {
+    for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+    {
+      if (graph.neighbours[e] > static_cast<std::int64_t>(f))
+      {
+        sum += graph.edgeLength[e];
+        ++count;
+      }
+    }
+  }
+  const double mean = count > 0 ? sum / static_cast<double>(count) : 0.0;
+  return mean > 0.0 && std::isfinite(mean) ? 1.0 / mean : 0.0;
+}
+
+} // namespace
+
+double PartitionEnergy::Evaluate(const std::vector<int>& labels) const
+{
+  if (labels.size() != faceCount)
+  {
+    throw PartitionEnergyError("partition energy: " + std::to_string(labels.size()) +
+      " labels for " + std::to_string(faceCount) + " faces");
+  }
+  double data = 0.0;
+  for (std::size_t f = 0; f < faceCount; ++f)
+  {
+    if (labels[f] < 0 || labels[f] >= labelCount)
+    {
+      throw PartitionEnergyError("partition energy: label out of range at face " + std::to_string(f));
+    }
+    data += DataCost(f, labels[f]);
+  }
+  double smoothness = 0.0;
+  for (std::size_t p = 0; p < pairWeight.size(); ++p)
+  {
+    if (labels[static_cast<std::size_t>(pairFirst[p])] != labels[static_cast<std::size_t>(pairSecond[p])])
+    {
+      smoothness += pairWeight[p];
+    }
+  }
+  return data + smoothness;
+}
+
+double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOptions& options)
+{
+  const double angle = std::isfinite(normalAngle) ? std::clamp(normalAngle, 0.0, kPi) : 0.0;
+  const double scaled = concave ? angle : options.convexityFactor * angle;
+  return -std::log(std::max(scaled / kPi, options.minAngleRatio));
+}
+
+void ValidateDualGraph(const DualGraphView& graph, bool requireEdgeLength)
+{
+  ValidateTopology(graph);
+  const std::size_t entryCount = EntryCount(graph);
+  if (entryCount == 0)
+  {
+    return;
+  }
+  if (graph.normalAngle == nullptr || graph.concave == nullptr)
+  {
+    throw PartitionEnergyError("dual graph: normal angles or concave flags are missing");
+  }
+  if (requireEdgeLength && graph.edgeLength == nullptr)
+  {
+    throw PartitionEnergyError("dual graph: edge lengths are missing (needed for length weighting)");
+  }
+  for (std::size_t e = 0; e < entryCount; ++e)
+  {
+    if (!std::isfinite(graph.normalAngle[e]))
+    {
+      throw PartitionEnergyError("dual graph: normal angle " + std::to_string(e) + " is NaN or infinite");
+    }
+    if (requireEdgeLength && !InRange(graph.edgeLength[e], 0.0, std::numeric_limits<double>::max()))
+    {
+      throw PartitionEnergyError("dual graph: edge length " + std::to_string(e) + " is negative, NaN or infinite");
+    }
+  }
+}
+
+PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
+  const DualGraphView& graph, const PartitionEnergyOptions& options)
+{
+  ValidateOptions(options);
+  ValidateDualGraph(graph, options.weightByEdgeLength);
+  const std::size_t n = graph.faceCount;
+  if (static_cast<std::size_t>(posteriors.rows()) != n || posteriors.cols() < 1)
+  {
+    throw PartitionEnergyError("partition energy: posteriors must be faceCount x k with k >= 1");
+  }
+  PartitionEnergy energy;
+  energy.faceCount = n;
+  energy.labelCount = static_cast<int>(posteriors.cols());
+  const auto k = static_cast<std::size_t>(energy.labelCount);
+  energy.dataCost.resize(n * k);
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      const double p = posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l));
+      if (!std::isfinite(p))
+      {
+        throw PartitionEnergyError("partition energy: posterior of face " + std::to_string(f) + " is NaN or infinite");
+      }
+      energy.dataCost[f * k + l] = -std::log(std::clamp(p, 0.0, 1.0) + options.probabilityEpsilon);
+    }
+  }
+  const double inverseMeanLength = LengthScale(graph, options);
+  const std::size_t pairCount = EntryCount(graph) / 2;
+  energy.pairFirst.reserve(pairCount);
+  energy.pairSecond.reserve(pairCount);
+  energy.pairWeight.reserve(pairCount);
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+    {
+      const std::int64_t g = graph.neighbours[e];
+      if (g <= static_cast<std::int64_t>(f))
+      {
+        continue;
+      }
+      double weight = options.lambda * SmoothnessTerm(graph.normalAngle[e], graph.concave[e] != 0, options);
+      if (inverseMeanLength > 0.0)
+      {
+        weight *= graph.edgeLength[e] * inverseMeanLength;
+      }
+      energy.pairFirst.push_back(static_cast<std::int64_t>(f));
+      energy.pairSecond.push_back(g);
+      energy.pairWeight.push_back(weight);
+    }
+  }
+  return energy;
+}
+
+std::vector<int> MostProbableLabels(const PartitionEnergy& energy)
+{
+  std::vector<int> labels(energy.faceCount, 0);
+  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  {
+    for (int l = 1; l < energy.labelCount; ++l)
+    {
+      if (energy.DataCost(f, l) < energy.DataCost(f, labels[f]))
+      {
+        labels[f] = l;
+      }
+    }
+  }
+  return labels;
+}
+
+std::vector<int> HierarchyLevel(const std::vector<int>& clusters, int level)
+{
+  if (level < 1)
+  {
+    throw PartitionEnergyError("hierarchy: level must be at least 1");
+  }
+  std::vector<int> result(clusters.size());
+  for (std::size_t f = 0; f < clusters.size(); ++f)
+  {
+    if (clusters[f] < 0)
+    {
+      throw PartitionEnergyError("hierarchy: negative cluster at face " + std::to_string(f));
+    }
+    result[f] = std::min(clusters[f], level);
+  }
+  return result;
+}
+
+ConnectedSegments FindConnectedSegments(
+  const DualGraphView& graph, const std::vector<int>& labels, const std::vector<double>& faceAreas)
+{
+  ValidateTopology(graph);
+  const std::size_t n = graph.faceCount;
+  if (labels.size() != n || faceAreas.size() != n)
+  {
+    throw PartitionEnergyError("segments: labels and face areas need one value per face");
+  }
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    if (!InRange(faceAreas[f], 0.0, std::numeric_limits<double>::max()))
+    {
+      throw PartitionEnergyError("segments: area of face " + std::to_string(f) + " is negative, NaN or infinite");
+    }
+  }
+  // Flood fill in face order: components are discovered in order of their lowest face.
+  std::vector<int> component(n, -1);
+  std::vector<double> area;
+  std::vector<int> componentLabel;
+  std::vector<std::size_t> stack;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (component[seed] >= 0)
+    {
+      continue;
+    }
+    const int id = static_cast<int>(area.size());
+    area.push_back(0.0);
+    componentLabel.push_back(labels[seed]);
+    component[seed] = id;
+    stack.push_back(seed);
+    while (!stack.empty())
+    {
+      const std::size_t f = stack.back();
+      stack.pop_back();
+      area[static_cast<std::size_t>(id)] += faceAreas[f];
+      for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+      {
+        const auto g = static_cast<std::size_t>(graph.neighbours[e]);
+        if (component[g] < 0 && labels[g] == labels[seed])
+        {
+          component[g] = id;
+          stack.push_back(g);
+        }
+      }
+    }
+  }
+  std::vector<int> order(area.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+    [&](int a, int b) { return area[static_cast<std::size_t>(a)] > area[static_cast<std::size_t>(b)]; });
+  std::vector<int> rank(area.size());
+  ConnectedSegments result;
+  for (std::size_t r = 0; r < order.size(); ++r)
+  {
+    rank[static_cast<std::size_t>(order[r])] = static_cast<int>(r);
+    result.area.push_back(area[static_cast<std::size_t>(order[r])]);
+    result.label.push_back(componentLabel[static_cast<std::size_t>(order[r])]);
+  }
+  result.segment.resize(n);
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    result.segment[f] = rank[static_cast<std::size_t>(component[f])];
+  }
+  return result;
+}
+
+} // namespace shapediameter

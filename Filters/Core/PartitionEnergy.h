@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The graph-cut energy of the SDF partitioning, and what is read off a labelling of faces.
+//
+// What it computes
+//   Section 4 of Shapira, Shamir & Cohen-Or 2008: the energy minimised by the k-way graph cut
+//     E(x) = sum_f e1(f, x_f) + lambda sum_{f,g adjacent} e2(x_f, x_g)
+//     e1(f, l)   = -log(P(f | l) + epsilon)                     (data term, GMM posteriors)
+//     e2(f, g)   = -log(max(phi'/pi, minAngleRatio)) if x_f != x_g, 0 otherwise
+//   with phi in [0, pi] the angle between the two face normals (0 = flat, pi = folded back),
+//   phi' = phi on concave edges and phi' = convexityFactor * phi on convex edges. Cutting along
+//   a concave crease is cheap, along a flat or convex region expensive (the paper: "concavity
+//   as the positive dihedral angle ... normalized to [0, 1]"). Each unordered adjacent pair is
+//   counted once. The pairwise term depends on the labels only through x_f != x_g (a Potts
+//   model with one weight per edge), so every alpha-expansion move is submodular.
+//   Also here: the functions of a final labelling over the same graph -- the hierarchy levels
+//   (paper: "by sorting the means of the GMM from large to small ... the first level separates
+//   the largest value from all other values") and connected segments.
+//
+// Input graph (DualGraphView): face adjacency in CSR form. For face f the entries
+//   offsets[f] .. offsets[f+1]-1 hold a neighbour face, the normal angle phi, a concave flag
+//   and the shared edge length. It must be symmetric (g listed by f <=> f listed by g); the
+//   values of the entry with f < g are used for the pair. A pair listed twice (two faces
+//   sharing two edges) counts twice.
+//
+// Parameters (PartitionEnergyOptions)
+//   lambda              0.3    [0, 1e3]   smoothness weight (paper's lambda; the paper gives no
+//                                         value). With the default length weighting one edge of
+//                                         mean length on a flat region costs 0.3 * 11.5 = 3.45.
+//   probabilityEpsilon  1e-8   [1e-300, 1] epsilon of e1: a zero posterior costs 18.4.
+//   convexityFactor     0.08   [0, 1]     phi scale on convex edges (convex creases are not
+//                                         part boundaries; 1 = ignore convexity).
+//   minAngleRatio       1e-5   [1e-300, 1] floor of phi'/pi: a flat edge costs -log(1e-5) = 11.5,
+//                                         large but finite.
+//   weightByEdgeLength  true              e2 times (edge length / mean edge length over all
+//                                         pairs): a boundary costs its length, not its number of
+//                                         edges, so irregular triangulations do not bias the cut,
+//                                         and the scale is independent of mesh units. When the
+//                                         mean length is 0, the factor is 1.
+//
+// Degenerate cases and errors (PartitionEnergyError, one-line reason)
+//   - posteriors: must be faceCount x k, k >= 1, finite; values are clamped to [0, 1].
+//   - graph: null arrays, offsets not starting at 0 or decreasing, neighbour out of range,
+//     a face listed as its own neighbour, asymmetric adjacency, NaN/Inf angle, negative or
+//     NaN/Inf edge length (when weighting) -> error. Angles are clamped to [0, pi] (rounding of
+//     acos). Faces with no neighbours (isolated, or lines) are simply data-term only.
+//   - Evaluate / segments / levels: labels of the wrong size or out of range -> error.
+//
+// Deviations from the paper
+//   The paper's e2 is -log(theta/pi) with no floor (infinite on flat edges) and no convexity
+//   factor or length weight; the floor keeps energies finite, the convexity factor implements
+//   the paper's "concave areas" intent, the length weighting is documented above.
+#pragma once
+
+#include "GaussianMixture.h"
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace shapediameter
+{
+
+class PartitionEnergyError : public std::runtime_error
+{
+public:
+  explicit PartitionEnergyError(const std::string& reason)
+    : std::runtime_error(reason)
+  {
+  }
+};
+
+/// Face adjacency (dual graph) in CSR form; see the header for the conventions.
+struct DualGraphView
+{
+  const std::int64_t* offsets = nullptr;    ///< faceCount + 1 entries, offsets[0] = 0 (may be
+                                            ///< null when faceCount = 0)
+  const std::int64_t* neighbours = nullptr; ///< offsets[faceCount] entries
+  const double* normalAngle = nullptr;      ///< per entry, angle between normals in [0, pi]
+  const std::uint8_t* concave = nullptr;    ///< per entry, nonzero = concave edge
+  const double* edgeLength = nullptr;       ///< per entry; may be null without length weighting
+  std::size_t faceCount = 0;
+};
+
+struct PartitionEnergyOptions
+{
+  double lambda = 0.3;
+  double probabilityEpsilon = 1e-8;
+  double convexityFactor = 0.08;
+  double minAngleRatio = 1e-5;
+  bool weightByEdgeLength = true;
+};
+
+/// The energy of one problem: data costs and weighted pairs, ready for AlphaExpansion.
+struct PartitionEnergy
+{
+  std::size_t faceCount = 0;
+  int labelCount = 0;
+  /// e1(f, l) at [f * labelCount + l].
+  std::vector<double> dataCost;
+  /// Adjacent pairs, first < second, and what the pair pays when its labels differ
+  /// (lambda e2, times the length factor). All weights are finite and >= 0.
+  std::vector<std::int64_t> pairFirst;
+  std::vector<std::int64_t> pairSecond;
+  std::vector<double> pairWeight;
+
+  double DataCost(std::size_t face, int label) const
+  {
+    return dataCost[face * static_cast<std::size_t>(labelCount) + static_cast<std::size_t>(label)];
+  }
+  /// E(labels). Throws PartitionEnergyError on a wrong size or a label outside [0, labelCount).
+  double Evaluate(const std::vector<int>& labels) const;
+};
+
+/// e2 of one edge for unequal labels (without lambda and length factor). A NaN/Inf angle
+/// counts as flat (the most expensive cut).
+double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOptions& options = {});
+
+/// Throws PartitionEnergyError when the graph breaks a rule of the header.
+/// requireEdgeLength: the lengths must be present and finite >= 0.
+void ValidateDualGraph(const DualGraphView& graph, bool requireEdgeLength);
+
+/// Builds E from the GMM posteriors (faceCount x k) and the adjacency.
+PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
+  const DualGraphView& graph, const PartitionEnergyOptions& options = {});
+
+/// argmin_l e1(f, l) per face (= argmax posterior; lowest label on ties).
+std::vector<int> MostProbableLabels(const PartitionEnergy& energy);
+
+/// Hierarchy level L (1 <= L): min(cluster, L). With clusters sorted by mean descending,
+/// level L keeps the L largest-mean clusters apart and merges all others into label L.
+std::vector<int> HierarchyLevel(const std::vector<int>& clusters, int level);
+
+struct ConnectedSegments
+{
+  std::vector<int> segment;       ///< per face, 0 = the segment of largest total area
+  std::vector<double> area;       ///< per segment, total face area (non-increasing)
+  std::vector<int> label;         ///< per segment, the label of its faces
+  int SegmentCount() const { return static_cast<int>(area.size()); }
+};
+
+/// Connected components of equal label over the adjacency, numbered by decreasing total area
+/// (ties: the segment containing the lower face index first). faceAreas: finite, >= 0.
+ConnectedSegments FindConnectedSegments(
+  const DualGraphView& graph, const std::vector<int>& labels, const std::vector<double>& faceAreas);
+
+} // namespace shapediameter

@@ -1,0 +1,245 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkSDFGMMPartition.h"
+
+#include "AlphaExpansion.h"
+#include "FaceGraph.h"
+#include "GaussianMixture.h"
+#include "PartitionEnergy.h"
+#include "SurfaceConversion.h"
+#include "vtkSDFBilateralSmooth.h"
+
+#include "vtkCellData.h"
+#include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPolyData.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+vtkStandardNewMacro(vtkSDFGMMPartition);
+
+namespace
+{
+using namespace shapediameter;
+
+vtkNew<vtkDoubleArray> DoubleArray(const char* name, const std::vector<double>& values)
+{
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name);
+  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+  std::copy(values.begin(), values.end(), array->GetPointer(0));
+  return array;
+}
+
+/// An int cell array over all cells: `fill` outside [first, first + values.size()).
+vtkNew<vtkIntArray> CellIntArray(const std::string& name, vtkIdType cellCount, vtkIdType first,
+  const std::vector<int>& values, int fill = -1)
+{
+  vtkNew<vtkIntArray> array;
+  array->SetName(name.c_str());
+  array->SetNumberOfTuples(cellCount);
+  array->FillValue(fill);
+  std::copy(values.begin(), values.end(), array->GetPointer(first));
+  return array;
+}
+
+/// The mixture stored in a partition output's field data; empty reason on success.
+std::string ReadModel(vtkDataObject* modelData, GaussianMixtureModel& model)
+{
+  vtkFieldData* field = modelData ? modelData->GetFieldData() : nullptr;
+  auto read = [field](const char* name, std::vector<double>& values) {
+    vtkDataArray* array = field ? vtkDataArray::SafeDownCast(field->GetAbstractArray(name)) : nullptr;
+    values.clear();
+    if (array && array->GetNumberOfComponents() == 1)
+    {
+      for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i)
+      {
+        values.push_back(array->GetComponent(i, 0));
+      }
+    }
+    return !values.empty();
+  };
+  if (!read(vtkSDFGMMPartition::MEANS_ARRAY_NAME, model.means) ||
+    !read(vtkSDFGMMPartition::SIGMAS_ARRAY_NAME, model.sigmas) ||
+    !read(vtkSDFGMMPartition::WEIGHTS_ARRAY_NAME, model.weights))
+  {
+    return "the Model input has no SDFGMMMeans/SDFGMMSigmas/SDFGMMWeights field arrays";
+  }
+  if (model.sigmas.size() != model.means.size() || model.weights.size() != model.means.size())
+  {
+    return "the Model's mixture arrays differ in length";
+  }
+  for (std::size_t c = 0; c < model.means.size(); ++c)
+  {
+    if (!std::isfinite(model.means[c]) || !(model.sigmas[c] > 0) || !std::isfinite(model.sigmas[c]) ||
+      !(model.weights[c] > 0) || !std::isfinite(model.weights[c]))
+    {
+      return "the Model's mixture has a non-finite mean or a non-positive sigma or weight";
+    }
+  }
+  return {};
+}
+} // namespace
+
+vtkSDFGMMPartition::vtkSDFGMMPartition()
+{
+  this->SetNumberOfInputPorts(2);
+  this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
+    vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME);
+}
+
+vtkSDFGMMPartition::~vtkSDFGMMPartition() = default;
+
+int vtkSDFGMMPartition::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+    return 1;
+  }
+  return this->Superclass::FillInputPortInformation(port, info);
+}
+
+int vtkSDFGMMPartition::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->ShallowCopy(input);
+  if (input->GetNumberOfCells() == 0)
+  {
+    vtkWarningMacro("The input is empty: nothing to partition.");
+    return 1;
+  }
+  if (input->GetNumberOfPolys() == 0)
+  {
+    vtkErrorMacro("Cannot partition: the input has no polygons.");
+    return 1;
+  }
+  std::vector<double> values;
+  std::string arrayName;
+  std::string reason = adapter::ReadCellScalars(this, input, vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME, values, arrayName);
+  GaussianMixtureModel model;
+  vtkDataObject* modelInput = this->GetNumberOfInputConnections(1) > 0
+    ? inputVector[1]->GetInformationObject(0)->Get(vtkDataObject::DATA_OBJECT())
+    : nullptr;
+  if (reason.empty() && modelInput)
+  {
+    reason = ReadModel(modelInput, model);
+  }
+  if (!reason.empty())
+  {
+    vtkErrorMacro("Cannot partition: " << reason << ".");
+    return 1;
+  }
+
+  try
+  {
+    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(this->NumberOfThreads);
+    // The polygon cells alone: verts and lines come first and have empty entries.
+    std::vector<std::int64_t> offsets, connectivity;
+    adapter::PolygonCells(input, offsets, connectivity);
+    const auto [first, last] = adapter::PolygonCellRange(input);
+    offsets.erase(offsets.begin() + last + 1, offsets.end());
+    offsets.erase(offsets.begin(), offsets.begin() + first);
+    const FaceGraph graph = BuildFaceGraph(adapter::PointsOf(input), offsets, connectivity, parallelFor);
+    const Eigen::Map<const Eigen::VectorXd> faceValues(values.data() + first, last - first);
+    this->UpdateProgress(0.1);
+
+    if (!modelInput)
+    {
+      GaussianMixtureOptions fit;
+      fit.restarts = this->Restarts;
+      fit.maxIterations = this->MaximumIterations;
+      fit.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
+      model = this->NumberOfClusters == 0
+        ? FitGaussianMixtureBic(faceValues, 2, this->MaximumClusters, fit).model
+        : FitGaussianMixture(faceValues, this->NumberOfClusters, fit);
+    }
+    const int clusterCount = model.ComponentCount();
+    const PosteriorMatrix posteriors = ComputePosteriors(model, faceValues, parallelFor);
+    this->UpdateProgress(0.2);
+
+    DualGraphView view;
+    view.offsets = graph.Offsets.data();
+    view.neighbours = graph.Neighbors.data();
+    view.normalAngle = graph.NormalAngles.data();
+    view.concave = graph.Concave.data();
+    view.edgeLength = graph.SharedEdgeLengths.data();
+    view.faceCount = graph.FaceCount();
+    PartitionEnergyOptions energyOptions;
+    energyOptions.lambda = this->Lambda;
+    energyOptions.probabilityEpsilon = this->Epsilon;
+    energyOptions.convexityFactor = this->ConvexityFactor;
+    const PartitionEnergy energy = BuildPartitionEnergy(posteriors, view, energyOptions);
+    const AlphaExpansionResult cut =
+      MinimizeByAlphaExpansion(energy, AlphaExpansionOptions(), adapter::MakeProgress(this, 0.2, 0.95));
+    if (cut.aborted)
+    {
+      output->ShallowCopy(input);
+      return 1;
+    }
+    const ConnectedSegments segments = FindConnectedSegments(view, cut.labels, graph.Areas);
+
+    const vtkIdType cellCount = input->GetNumberOfCells();
+    vtkNew<vtkDoubleArray> probabilities;
+    probabilities->SetName(PROBABILITIES_ARRAY_NAME);
+    probabilities->SetNumberOfComponents(clusterCount);
+    probabilities->SetNumberOfTuples(cellCount);
+    probabilities->FillValue(0.0);
+    std::copy(posteriors.data(), posteriors.data() + posteriors.size(),
+      probabilities->GetPointer(first * clusterCount));
+    vtkCellData* cellData = output->GetCellData();
+    cellData->AddArray(probabilities);
+    cellData->AddArray(CellIntArray(CLUSTER_ARRAY_NAME, cellCount, first, cut.labels));
+    for (int level = 1; level < clusterCount; ++level)
+    {
+      cellData->AddArray(CellIntArray(LEVEL_ARRAY_PREFIX + std::to_string(level), cellCount, first,
+        HierarchyLevel(cut.labels, level)));
+    }
+    cellData->AddArray(CellIntArray(SEGMENT_ARRAY_NAME, cellCount, first, segments.segment));
+    cellData->SetActiveScalars(CLUSTER_ARRAY_NAME);
+
+    vtkNew<vtkFieldData> field;
+    field->ShallowCopy(input->GetFieldData());
+    field->AddArray(DoubleArray(MEANS_ARRAY_NAME, model.means));
+    field->AddArray(DoubleArray(SIGMAS_ARRAY_NAME, model.sigmas));
+    field->AddArray(DoubleArray(WEIGHTS_ARRAY_NAME, model.weights));
+    vtkNew<vtkIntArray> count;
+    count->SetName(CLUSTER_COUNT_ARRAY_NAME);
+    count->InsertNextValue(clusterCount);
+    field->AddArray(count);
+    field->AddArray(DoubleArray(ENERGY_ARRAY_NAME, { cut.energy }));
+    output->SetFieldData(field);
+  }
+  catch (const std::exception& error)
+  {
+    vtkErrorMacro("Cannot partition: " << error.what());
+    output->ShallowCopy(input);
+    return 1;
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkSDFGMMPartition::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfClusters: " << this->NumberOfClusters << "\n";
+  os << indent << "MaximumClusters: " << this->MaximumClusters << "\n";
+  os << indent << "Lambda: " << this->Lambda << "\n";
+  os << indent << "Epsilon: " << this->Epsilon << "\n";
+  os << indent << "ConvexityFactor: " << this->ConvexityFactor << "\n";
+  os << indent << "Restarts: " << this->Restarts << "\n";
+  os << indent << "MaximumIterations: " << this->MaximumIterations << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

@@ -1,0 +1,291 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The shared articulated-figure fixture: closed, outward, same connectivity in every pose.
+#include "ArticulatedFigure.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+namespace
+{
+
+using namespace shapediameter;
+using namespace shapediameter::testing;
+
+constexpr double Pi = 3.14159265358979323846;
+
+const ArticulatedFigureTemplate& SharedTemplate()
+{
+  static const ArticulatedFigureTemplate figure;
+  return figure;
+}
+
+double SignedVolume(const ArticulatedFigure& figure)
+{
+  double volume = 0.0;
+  for (Eigen::Index t = 0; t < figure.Triangles.rows(); ++t)
+  {
+    const Eigen::Vector3d a = figure.Points.row(figure.Triangles(t, 0)).transpose();
+    const Eigen::Vector3d b = figure.Points.row(figure.Triangles(t, 1)).transpose();
+    const Eigen::Vector3d c = figure.Points.row(figure.Triangles(t, 2)).transpose();
+    volume += a.dot(b.cross(c)) / 6.0;
+  }
+  return volume;
+}
+
+Eigen::Vector3d FaceNormal(const ArticulatedFigure& figure, Eigen::Index t)
+{
+  const Eigen::Vector3d a = figure.Points.row(figure.Triangles(t, 0)).transpose();
+  const Eigen::Vector3d b = figure.Points.row(figure.Triangles(t, 1)).transpose();
+  const Eigen::Vector3d c = figure.Points.row(figure.Triangles(t, 2)).transpose();
+  return (b - a).cross(c - a);
+}
+
+std::size_t ComponentCount(const ArticulatedFigure& figure)
+{
+  std::vector<Eigen::Index> parent(static_cast<std::size_t>(figure.Points.rows()));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&parent](Eigen::Index v) {
+    while (parent[static_cast<std::size_t>(v)] != v)
+    {
+      v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    }
+    return v;
+  };
+  for (Eigen::Index t = 0; t < figure.Triangles.rows(); ++t)
+  {
+    for (int c = 1; c < 3; ++c)
+    {
+      parent[static_cast<std::size_t>(find(figure.Triangles(t, c)))] = find(figure.Triangles(t, 0));
+    }
+  }
+  std::size_t roots = 0;
+  for (Eigen::Index v = 0; v < figure.Points.rows(); ++v)
+  {
+    roots += find(v) == v;
+  }
+  return roots;
+}
+
+} // namespace
+
+TEST(ArticulatedFigure, RestPoseIsClosedManifoldOutwardGenusZero)
+{
+  const ArticulatedFigure& figure = SharedTemplate().Rest();
+  const Eigen::Index faces = figure.Triangles.rows();
+  EXPECT_GE(faces, 10000);
+  EXPECT_LE(faces, 30000);
+  // Each directed edge exactly once and its reverse exactly once: watertight, 2-manifold
+  // along edges, consistently oriented.
+  std::map<std::pair<std::int64_t, std::int64_t>, int> directed;
+  for (Eigen::Index t = 0; t < faces; ++t)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      ++directed[{ figure.Triangles(t, c), figure.Triangles(t, (c + 1) % 3) }];
+    }
+  }
+  std::size_t badEdges = 0;
+  for (const auto& [edge, count] : directed)
+  {
+    const auto reverse = directed.find({ edge.second, edge.first });
+    badEdges += count != 1 || reverse == directed.end() || reverse->second != 1;
+  }
+  EXPECT_EQ(badEdges, 0u);
+  const auto edges = static_cast<Eigen::Index>(directed.size() / 2);
+  EXPECT_EQ(figure.Points.rows() - edges + faces, 2); // Euler characteristic of a sphere
+  EXPECT_EQ(ComponentCount(figure), 1u);
+
+  // Outward: positive volume near that of the union of the parts, and every face normal
+  // along the gradient of the implicit field.
+  const double volume = SignedVolume(figure);
+  EXPECT_GT(volume, 0.28);
+  EXPECT_LT(volume, 0.34);
+  std::size_t against = 0;
+  double smallestArea = 1e300;
+  for (Eigen::Index t = 0; t < faces; ++t)
+  {
+    const Eigen::Vector3d center = (figure.Points.row(figure.Triangles(t, 0)) + figure.Points.row(figure.Triangles(t, 1)) +
+                                     figure.Points.row(figure.Triangles(t, 2))).transpose() / 3.0;
+    Eigen::Vector3d gradient;
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      Eigen::Vector3d step = Eigen::Vector3d::Zero();
+      step[axis] = 1e-6;
+      gradient[axis] = ArticulatedFigureTemplate::SignedField(center + step) -
+        ArticulatedFigureTemplate::SignedField(center - step);
+    }
+    const Eigen::Vector3d normal = FaceNormal(figure, t);
+    against += normal.normalized().dot(gradient.normalized()) < 0.5;
+    smallestArea = std::min(smallestArea, 0.5 * normal.norm());
+  }
+  EXPECT_EQ(against, 0u);
+  EXPECT_GT(smallestArea, 1e-6); // no degenerate triangles
+  for (Eigen::Index v = 0; v < figure.Points.rows(); ++v)
+  {
+    ASSERT_LT(std::abs(ArticulatedFigureTemplate::SignedField(figure.Points.row(v).transpose())), 1e-9);
+  }
+}
+
+TEST(ArticulatedFigure, PartLabelsCoverEveryPartSymmetrically)
+{
+  const ArticulatedFigure& figure = SharedTemplate().Rest();
+  std::vector<int> counts(FigurePartCount, 0);
+  for (int part : figure.FaceParts)
+  {
+    ASSERT_GE(part, 0);
+    ASSERT_LT(part, FigurePartCount);
+    ++counts[static_cast<std::size_t>(part)];
+  }
+  for (int count : counts)
+  {
+    EXPECT_GT(count, 300);
+  }
+  EXPECT_NEAR(counts[LeftArm], counts[RightArm], 0.05 * counts[LeftArm]);
+  EXPECT_NEAR(counts[LeftLeg], counts[RightLeg], 0.05 * counts[LeftLeg]);
+  EXPECT_GT(counts[Torso], counts[LeftLeg]);
+  // Thickness classes: arm < leg < head < torso (diameters 0.14, 0.2, 0.36, 0.5).
+  EXPECT_LT(ArticulatedFigureTemplate::Limb(LeftArm).Radius, ArticulatedFigureTemplate::Limb(LeftLeg).Radius);
+  // A point on the left arm axis near the tip is labelled by its capsule.
+  const FigureLimb arm = ArticulatedFigureTemplate::Limb(LeftArm);
+  EXPECT_NEAR(ArticulatedFigureTemplate::PartDistance(arm.Pivot + 0.5 * arm.Direction, LeftArm), -arm.Radius, 1e-15);
+}
+
+TEST(ArticulatedFigure, PosesKeepConnectivityAndMoveOnlyTheBentLimb)
+{
+  const ArticulatedFigureTemplate& figure = SharedTemplate();
+  const ArticulatedFigure& rest = figure.Rest();
+  FigurePose pose;
+  pose.LeftArm = Pi / 4;
+  pose.RightLeg = -Pi / 6;
+  const ArticulatedFigure bent = figure.Pose(pose);
+  ASSERT_EQ(bent.Triangles.rows(), rest.Triangles.rows());
+  EXPECT_TRUE(bent.Triangles == rest.Triangles);
+  EXPECT_EQ(bent.FaceParts, rest.FaceParts);
+  ASSERT_EQ(bent.Points.rows(), rest.Points.rows());
+
+  const FigureLimb arm = ArticulatedFigureTemplate::Limb(LeftArm);
+  const Eigen::Matrix3d armRotation = Eigen::AngleAxisd(pose.LeftArm, arm.BendAxis).toRotationMatrix();
+  std::size_t rigidArmVertices = 0;
+  std::size_t unchangedTorsoVertices = 0;
+  for (Eigen::Index v = 0; v < rest.Points.rows(); ++v)
+  {
+    const Eigen::Vector3d p = rest.Points.row(v).transpose();
+    const Eigen::Vector3d q = bent.Points.row(v).transpose();
+    const double armWeight = figure.SkinWeight(v, LeftArm);
+    const double legWeight = figure.SkinWeight(v, RightLeg);
+    if (armWeight == 0.0 && legWeight == 0.0)
+    {
+      ASSERT_TRUE(p == q) << "vertex " << v << " moved without skin weight"; // bit-identical
+    }
+    if (armWeight == 1.0)
+    {
+      ++rigidArmVertices;
+      EXPECT_LT((q - (arm.Pivot + armRotation * (p - arm.Pivot))).norm(), 1e-12);
+      EXPECT_GT((q - p).norm(), 0.1 * (p - arm.Pivot).norm()); // moved by the 45 degree bend
+    }
+    // Torso away from shoulders and hips, the head and the unbent limbs never move.
+    if ((std::abs(p.y() - 0.3) > 0.25 && p.y() > -0.35) || p.x() < -0.3 || (p.x() > 0.05 && p.y() < -0.6))
+    {
+      ASSERT_TRUE(p == q) << "vertex " << v;
+      ++unchangedTorsoVertices;
+    }
+  }
+  EXPECT_GT(rigidArmVertices, 500u);
+  EXPECT_GT(unchangedTorsoVertices, 2000u);
+  // The top of the left arm's tip cap is at the rotated cap centre plus one radius.
+  double highestArmPoint = -1e300;
+  for (Eigen::Index v = 0; v < bent.Points.rows(); ++v)
+  {
+    if (figure.SkinWeight(v, LeftArm) == 1.0)
+    {
+      highestArmPoint = std::max(highestArmPoint, bent.Points(v, 1));
+    }
+  }
+  EXPECT_NEAR(highestArmPoint, arm.Pivot.y() + std::sin(Pi / 4) * (arm.Length - arm.Radius) + arm.Radius, 0.01);
+
+  // Still a closed outward surface of about the same volume, no collapsed triangle.
+  EXPECT_NEAR(SignedVolume(bent), SignedVolume(rest), 0.03 * SignedVolume(rest));
+  for (Eigen::Index t = 0; t < bent.Triangles.rows(); ++t)
+  {
+    ASSERT_GT(FaceNormal(bent, t).norm(), 1e-7) << "triangle " << t;
+  }
+}
+
+TEST(ArticulatedFigure, EveryLimbBendsBothWays)
+{
+  const ArticulatedFigureTemplate& figure = SharedTemplate();
+  const ArticulatedFigure& rest = figure.Rest();
+  for (int limb = LeftArm; limb <= RightLeg; ++limb)
+  {
+    for (double angle : { -Pi / 3, Pi / 3 })
+    {
+      FigurePose pose;
+      (limb == LeftArm ? pose.LeftArm : limb == RightArm ? pose.RightArm : limb == LeftLeg ? pose.LeftLeg : pose.RightLeg) =
+        angle;
+      const ArticulatedFigure bent = figure.Pose(pose);
+      const FigureLimb geometry = ArticulatedFigureTemplate::Limb(static_cast<FigurePart>(limb));
+      // The tip (the rigid limb vertex farthest along the rest axis) moved by the chord.
+      Eigen::Index tip = -1;
+      double farthest = -1e300;
+      for (Eigen::Index v = 0; v < rest.Points.rows(); ++v)
+      {
+        if (figure.SkinWeight(v, static_cast<FigurePart>(limb)) != 1.0)
+        {
+          continue;
+        }
+        const double along = (rest.Points.row(v).transpose() - geometry.Pivot).dot(geometry.Direction);
+        if (along > farthest)
+        {
+          farthest = along;
+          tip = v;
+        }
+      }
+      const double moved = (bent.Points.row(tip) - rest.Points.row(tip)).norm();
+      EXPECT_NEAR(moved, 2.0 * farthest * std::sin(std::abs(angle) / 2.0), 0.02) << "limb " << limb;
+      EXPECT_NEAR(SignedVolume(bent), SignedVolume(rest), 0.03 * SignedVolume(rest)) << "limb " << limb;
+    }
+  }
+  // Positive angles: arms up, legs forward.
+  FigurePose up;
+  up.LeftArm = up.RightArm = up.LeftLeg = up.RightLeg = 0.5;
+  const ArticulatedFigure posed = figure.Pose(up);
+  double leftArmY = 0.0, rightArmY = 0.0, leftLegZ = 0.0, rightLegZ = 0.0;
+  for (Eigen::Index v = 0; v < rest.Points.rows(); ++v)
+  {
+    leftArmY += figure.SkinWeight(v, LeftArm) * (posed.Points(v, 1) - rest.Points(v, 1));
+    rightArmY += figure.SkinWeight(v, RightArm) * (posed.Points(v, 1) - rest.Points(v, 1));
+    leftLegZ += figure.SkinWeight(v, LeftLeg) * (posed.Points(v, 2) - rest.Points(v, 2));
+    rightLegZ += figure.SkinWeight(v, RightLeg) * (posed.Points(v, 2) - rest.Points(v, 2));
+  }
+  EXPECT_GT(leftArmY, 0.0);
+  EXPECT_GT(rightArmY, 0.0);
+  EXPECT_GT(leftLegZ, 0.0);
+  EXPECT_GT(rightLegZ, 0.0);
+}
+
+TEST(ArticulatedFigure, DeterministicResolutionAndBadOptions)
+{
+  const ArticulatedFigure a = MakeArticulatedFigure(FigurePose{ 0.1, 0.2, 0.3, 0.4 });
+  const ArticulatedFigure b = MakeArticulatedFigure(FigurePose{ 0.1, 0.2, 0.3, 0.4 });
+  EXPECT_TRUE(a.Points == b.Points);
+  EXPECT_TRUE(a.Triangles == b.Triangles);
+  FigureOptions coarse;
+  coarse.CellSize = 0.072;
+  const ArticulatedFigure low = MakeArticulatedFigure({}, coarse);
+  EXPECT_NEAR(static_cast<double>(low.Triangles.rows()), 0.25 * static_cast<double>(a.Triangles.rows()),
+    0.1 * static_cast<double>(a.Triangles.rows()));
+  FigureOptions bad;
+  bad.CellSize = 0.0;
+  EXPECT_THROW(ArticulatedFigureTemplate{ bad }, std::invalid_argument);
+  bad.CellSize = 0.03;
+  bad.RelaxationIterations = -1;
+  EXPECT_THROW(ArticulatedFigureTemplate{ bad }, std::invalid_argument);
+  EXPECT_THROW(ArticulatedFigureTemplate::Limb(Torso), std::invalid_argument);
+}

@@ -1,0 +1,47 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""The full chain through the plugin proxies in pvpython, and the family model (Model input)."""
+import os
+import sys
+
+from paraview import simple, servermanager
+
+simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], ns=vars(simple))
+data = os.environ["SHAPEDIAMETER_DATA_DIR"]
+
+
+def chain(name, model=None, k=4):
+    reader = simple.OFFReader(FileName=os.path.join(data, name))
+    sdf = simple.ShapeDiameter(Input=reader)
+    smooth = simple.SDFBilateralSmooth(Input=sdf, SDFArray=["CELLS", "SDF"])
+    properties = dict(Input=smooth, NumberOfClusters=k, NormalizedSDFArray=["CELLS", "SDFNormalized"])
+    if model is not None:
+        properties["Model"] = model
+    partition = simple.SDFGMMPartition(**properties)
+    partition.UpdatePipeline()
+    return partition
+
+
+hand = chain("hand.off")
+mesh = servermanager.Fetch(hand)
+cells = mesh.GetCellData()
+for name in ("SDF", "SDFSmoothed", "SDFNormalized", "SDFProbabilities", "SDFCluster", "SDFSegment",
+             "SDFLevel1", "SDFLevel2", "SDFLevel3"):
+    if cells.GetArray(name) is None:
+        sys.exit("missing cell array %s" % name)
+k = mesh.GetFieldData().GetArray("SDFClusterCount").GetValue(0)
+if k != 4 or cells.GetArray("SDFProbabilities").GetNumberOfComponents() != 4:
+    sys.exit("expected 4 clusters, got %d" % k)
+low, high = cells.GetArray("SDFCluster").GetRange()
+segments = int(cells.GetArray("SDFSegment").GetRange()[1]) + 1
+print("hand: clusters %d..%d, %d segments" % (low, high, segments))
+# Five fingers, a palm and a wrist: a hand has at least six connected parts.
+if high < 1 or segments < 6:
+    sys.exit("implausible partition of the hand: clusters up to %d, %d segments" % (high, segments))
+
+# Family: the elephant partitioned with the hand's mixture reuses the same means.
+elephant = servermanager.Fetch(chain("elephant-with-holes.off", model=hand))
+means = [elephant.GetFieldData().GetArray("SDFGMMMeans").GetValue(i) for i in range(4)]
+expected = [mesh.GetFieldData().GetArray("SDFGMMMeans").GetValue(i) for i in range(4)]
+if means != expected:
+    sys.exit("the Model's mixture was not reused: %r vs %r" % (means, expected))
+print("family model reused:", means)
