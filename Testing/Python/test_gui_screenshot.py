@@ -1,0 +1,41 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""A real ParaView GUI process (under xvfb-run) loads the plugin, builds the chain and saves a
+screenshot; the image must show the mesh in at least k distinct unlit part colours."""
+import collections
+import os
+import subprocess
+import sys
+import tempfile
+
+k = 4
+plugin = os.environ["SHAPEDIAMETER_PLUGIN"]
+script = os.path.join(os.environ["SHAPEDIAMETER_SOURCE_DIR"], "Testing", "GUI", "gui_chain.py")
+with tempfile.TemporaryDirectory() as work:
+    png = os.path.join(work, "gui.png")
+    environment = dict(os.environ, SHAPEDIAMETER_GUI_SCREENSHOT=png, SHAPEDIAMETER_GUI_CLUSTERS=str(k))
+    environment.pop("DISPLAY", None)
+    command = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "paraview", "--dr",
+               "--plugin-search-paths=" + os.path.dirname(plugin), "--plugins=ShapeDiameter",
+               "--script=" + script, "--exit"]
+    result = subprocess.run(command, env=environment, capture_output=True, text=True, timeout=600)
+    if not os.path.isfile(png):
+        error = png + ".error"
+        details = open(error).read() if os.path.isfile(error) else result.stdout + result.stderr
+        sys.exit("the GUI wrote no screenshot (exit %d)\n%s" % (result.returncode, details))
+
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    reader = vtkPNGReader()
+    reader.SetFileName(png)
+    reader.Update()
+    pixels = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3]
+    colours = collections.Counter(map(tuple, pixels))
+    background = colours.pop((255, 255, 255), 0)
+    covered = sum(colours.values()) / float(len(pixels))
+    # Unlit flat colours: each part colour is one exact RGB value; edges blend (rare values).
+    frequent = [c for c, n in colours.items() if n > 0.002 * len(pixels)]
+    print("covered %.3f, %d frequent colours: %s" % (covered, len(frequent), frequent))
+    if covered < 0.05:
+        sys.exit("the screenshot is blank (%.3f of pixels covered)" % covered)
+    if len(frequent) < k:
+        sys.exit("expected at least %d part colours, found %d" % (k, len(frequent)))
