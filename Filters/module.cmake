@@ -6,7 +6,8 @@ set(_classes
   vtkOFFReader
   vtkShapeDiameterFilter
   vtkSDFBilateralSmooth
-  vtkSDFGMMPartition)
+  vtkSDFGMMPartition
+  vtkSDFSkeleton)
 
 set(_classes_abs)
 foreach (_class IN LISTS _classes)

@@ -232,6 +232,42 @@ class Pipeline:
         view.CameraViewUp = up
         view.ResetCamera()
 
+    def skeleton(self, source):
+        skeleton = self.simple.SDFSkeleton(Input=source, NumberOfSamples=self.arguments.samples,
+                                           NumberOfThreads=self.arguments.threads,
+                                           SDFArray=["CELLS", "SDFSmoothed"])
+        skeleton.UpdatePipeline()
+        return skeleton
+
+    def render_skeleton(self, surface, skeleton, png):
+        """The skeleton as tubes over a translucent surface."""
+        simple = self.simple
+        view = self.new_view()
+        shell = simple.Show(surface, view)
+        simple.ColorBy(shell, None)
+        shell.DiffuseColor = [0.75, 0.75, 0.8]
+        shell.Opacity = 0.25
+        tubes = simple.Tube(Input=simple.OutputPort(skeleton, 0))
+        bounds = surface.GetDataInformation().GetBounds()
+        diagonal = sum((bounds[2 * i + 1] - bounds[2 * i]) ** 2 for i in range(3)) ** 0.5
+        tubes.Radius = 0.004 * diagonal
+        tubes.NumberofSides = 12
+        bones = simple.Show(tubes, view)
+        simple.ColorBy(bones, ("CELLS", "IsConnection"))
+        lut = simple.GetColorTransferFunction("IsConnection")
+        lut.InterpretValuesAsCategories = 1
+        lut.Annotations = ["0", "fitted segment", "1", "connection"]
+        lut.IndexedColors = [0.85, 0.1, 0.1, 0.1, 0.3, 0.9]
+        bones.SetScalarBarVisibility(view, True)
+        bar = simple.GetScalarBar(lut, view)
+        bar.Title = "Skeleton"
+        bar.TitleColor = [0, 0, 0]
+        bar.LabelColor = [0, 0, 0]
+        self.frame_camera(view, surface)
+        simple.SaveScreenshot(png, view, ImageResolution=[1024, 768])
+        for proxy in (bones, shell, tubes, view):
+            simple.Delete(proxy)
+
     def prepare(self, path):
         """Reads one mesh and runs the per-mesh stages before the partition."""
         mesh = {"path": path, "name": os.path.splitext(os.path.basename(path))[0],
@@ -255,9 +291,12 @@ class Pipeline:
             result = mesh["surface"]
             if self.has("SDFGMMPartition"):
                 result = self.timed(mesh["timings"], "partition", lambda: self.partition(result, model))
-            self.finish(mesh, result)
+            skeleton = None
+            if self.has("SDFSkeleton"):
+                skeleton = self.timed(mesh["timings"], "skeleton", lambda: self.skeleton(result))
+            self.finish(mesh, result, skeleton)
 
-    def finish(self, mesh, result):
+    def finish(self, mesh, result, skeleton=None):
         arguments = self.arguments
         name, timings, out = mesh["name"], mesh["timings"], arguments.output_dir
         data = self.simple.servermanager.Fetch(result)
@@ -267,6 +306,9 @@ class Pipeline:
 
         def write():
             self.simple.SaveData(os.path.join(out, name + ".vtp"), proxy=result)
+            if skeleton is not None:
+                self.simple.SaveData(os.path.join(out, name + "_skeleton.vtp"),
+                                     proxy=self.simple.OutputPort(skeleton, 0))
             segments = cells.GetArray("SDFSegment")
             if segments is not None:
                 with open(os.path.join(out, name + ".seg"), "w") as stream:
@@ -280,6 +322,8 @@ class Pipeline:
                 if cells.GetArray("SDFCluster") is not None:
                     clusters = int(data.GetFieldData().GetArray("SDFClusterCount").GetValue(0))
                     self.render_parts(result, os.path.join(out, name + "_parts.png"), clusters)
+                if skeleton is not None:
+                    self.render_skeleton(result, skeleton, os.path.join(out, name + "_skeleton.png"))
             self.timed(timings, "render", render)
         timings["total"] = round(time.perf_counter() - mesh["start"], 6)
         with open(os.path.join(out, name + "_timings.json"), "w") as stream:

@@ -159,8 +159,8 @@ struct FillFromNeighboursSummary
 /// adjacency given as CSR (neighbours of i: adjacencyIndices[adjacencyOffsets[i] ..
 /// adjacencyOffsets[i + 1])). Breadth-first in layers: every invalid entry with at least one
 /// known neighbour takes the plain mean of its known neighbours' values, where "known" means
-/// valid or filled in an EARLIER layer (so the result is independent of the order of
-/// entries); repeat until nothing changes. Entries never reached (a component without any
+/// valid or filled in an EARLIER layer (so the result does not depend on the order in which
+/// a layer is visited); repeat until nothing changes. Entries never reached (a component without any
 /// valid value, an isolated face) get the fallback: the median of all valid values in the
 /// whole input (mean of the two middle ones for an even count), or 0 if there is none.
 /// validRays is not modified (0 still marks a filled value). Self-loops and duplicate

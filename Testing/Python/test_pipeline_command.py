@@ -27,33 +27,33 @@ with tempfile.TemporaryDirectory() as out:
     result = run(mesh, "--output-dir", out, "--quiet")
     if result.returncode != 0:
         fail("pipeline failed", result)
-    for suffix in (".vtp", "_sdf.png", "_timings.json"):
+    for suffix in (".vtp", "_sdf.png", "_timings.json", ".seg", "_parts.png", "_skeleton.vtp", "_skeleton.png"):
         if not os.path.isfile(os.path.join(out, "camel" + suffix)):
             fail("missing output camel%s" % suffix, result)
     with open(os.path.join(out, "camel_timings.json")) as stream:
         timings = json.load(stream)
-    for key in ("read", "write", "render", "total"):
+    with open(os.path.join(out, "camel.seg")) as stream:
+        labels = [int(line) for line in stream]
+    if len(labels) != 19536 or min(labels) != 0:
+        fail("camel.seg: %d labels, min %r" % (len(labels), min(labels) if labels else None))
+    for key in ("read", "sdf", "smooth", "partition", "skeleton", "write", "render", "total"):
         if not isinstance(timings.get(key), (int, float)) or timings[key] < 0:
             fail("bad timing %r in %r" % (key, timings))
 
-    from vtkmodules.vtkIOImage import vtkPNGReader
-    png = vtkPNGReader()
-    png.SetFileName(os.path.join(out, "camel_sdf.png"))
-    png.Update()
-    image = png.GetOutput()
-    scalars = image.GetPointData().GetScalars()
-    low, high = scalars.GetRange(0)
-    dims = image.GetDimensions()
-    print("png", dims, "red range", low, high)
-    if dims[0] < 512 or high - low < 50:
-        fail("PNG looks blank: dims %r red range %r" % (dims, (low, high)))
-    # Count pixels different from the white background: the mesh must cover a real area.
     from vtkmodules.util.numpy_support import vtk_to_numpy
-    pixels = vtk_to_numpy(scalars)
-    covered = (pixels[:, :3].astype(int).sum(axis=1) < 3 * 250).mean()
-    print("covered fraction", covered)
-    if covered < 0.02:
-        fail("PNG is almost empty: %.4f of pixels covered" % covered)
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    for picture in ("camel_sdf.png", "camel_parts.png", "camel_skeleton.png"):
+        png = vtkPNGReader()
+        png.SetFileName(os.path.join(out, picture))
+        png.Update()
+        image = png.GetOutput()
+        dims = image.GetDimensions()
+        # Pixels different from the white background: the mesh must cover a real area.
+        pixels = vtk_to_numpy(image.GetPointData().GetScalars())
+        covered = (pixels[:, :3].astype(int).sum(axis=1) < 3 * 250).mean()
+        print(picture, dims, "covered fraction", covered)
+        if dims[0] < 512 or covered < 0.02:
+            fail("%s looks blank: dims %r, %.4f of pixels covered" % (picture, dims, covered))
 
     # Error contract: one line on stderr, non-zero exit, no traceback.
     for bad in (os.path.join(out, "missing.off"), os.path.join(out, "garbage.off")):

@@ -1,0 +1,217 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Skeleton.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace shapediameter
+{
+
+void ValidateSkeletonOptions(const SkeletonOptions& options)
+{
+  ValidateSamplingOptions(options.Sampling);
+  ValidateThinningOptions(options.Thinning);
+  ValidateSegmentOptions(options.Segments);
+  ValidateConnectionOptions(options.Connection);
+}
+
+namespace
+{
+
+/// Dense labels 0.. in order of first appearance, so that any integers can be passed in.
+std::vector<std::int64_t> DenseLabels(const std::vector<std::int64_t>& labels)
+{
+  std::map<std::int64_t, std::int64_t> dense;
+  std::vector<std::int64_t> result(labels.size());
+  for (std::size_t i = 0; i < labels.size(); ++i)
+  {
+    result[i] = dense.try_emplace(labels[i], static_cast<std::int64_t>(dense.size())).first->second;
+  }
+  return result;
+}
+
+/// Maps a step's progress [0, 1] to [begin, end] of the whole computation.
+ProgressCallback SubProgress(const ProgressCallback& progress, double begin, double end)
+{
+  if (!progress)
+  {
+    return {};
+  }
+  return [&progress, begin, end](double fraction) {
+    return progress(begin + (end - begin) * fraction);
+  };
+}
+
+SkeletonResult AbortedResult()
+{
+  SkeletonResult result;
+  result.Aborted = true;
+  return result;
+}
+
+} // namespace
+
+SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
+  const std::vector<double>& faceSdf, PointsView faceNormals,
+  const std::vector<std::int64_t>& faceComponents, const SkeletonOptions& options,
+  const ParallelFor& parallelFor, const ProgressCallback& progress)
+{
+  ValidateSkeletonOptions(options);
+  ValidateSkeletonInput(points, triangles, faceSdf, faceNormals, faceComponents);
+  SkeletonResult result;
+  const auto faces = static_cast<std::size_t>(triangles.rows());
+  if (faces == 0)
+  {
+    return result;
+  }
+  const std::vector<std::int64_t> faceComponent = faceComponents.empty()
+    ? LabelFaceComponents(triangles, static_cast<std::size_t>(points.rows()))
+    : DenseLabels(faceComponents);
+
+  // 1. Projected cloud P.
+  const ProjectedCloud cloud =
+    SampleProjectedCloud(points, triangles, faceSdf, faceNormals, options.Sampling);
+  if (progress && !progress(0.05))
+  {
+    return AbortedResult();
+  }
+  std::vector<std::int64_t> pointComponent(cloud.Size());
+  for (std::size_t i = 0; i < cloud.Size(); ++i)
+  {
+    pointComponent[i] = faceComponent[cloud.SourceFace[i]];
+  }
+
+  // 2. MLS thinning -> T.
+  const ThinnedCloud thinned =
+    ThinProjectedCloud(cloud, options.Thinning, parallelFor, SubProgress(progress, 0.05, 0.65));
+  if (thinned.Aborted)
+  {
+    return AbortedResult();
+  }
+
+  // 3. Poly-segments.
+  const std::vector<PolySegment> segments =
+    GrowPolySegments(cloud, thinned, pointComponent, options.Segments);
+  if (progress && !progress(0.7))
+  {
+    return AbortedResult();
+  }
+
+  // 4. Connection.
+  bool aborted = false;
+  SkeletonGraph graph = ConnectPolySegments(cloud, thinned, segments, pointComponent,
+    options.Connection, parallelFor, SubProgress(progress, 0.7, 0.9), aborted);
+  if (aborted)
+  {
+    return AbortedResult();
+  }
+
+  // Face centres pushed inward by SDF/2: the link to the skeleton, and the fallback node of a
+  // component without samples.
+  PointMatrix projectedCentres(static_cast<Eigen::Index>(faces), 3);
+  std::vector<double> faceArea(faces);
+  parallelFor(faces, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f)
+    {
+      const auto face = static_cast<Eigen::Index>(f);
+      const Eigen::Vector3d a = points.row(triangles(face, 0)).transpose();
+      const Eigen::Vector3d b = points.row(triangles(face, 1)).transpose();
+      const Eigen::Vector3d c = points.row(triangles(face, 2)).transpose();
+      const Eigen::Vector3d normal = EffectiveFaceNormal(points, triangles, faceNormals, face);
+      projectedCentres.row(face) = ((a + b + c) / 3.0 - 0.5 * faceSdf[f] * normal).transpose();
+      const double area = 0.5 * (b - a).cross(c - a).norm();
+      faceArea[f] = std::isfinite(area) ? area : 0.0;
+    }
+  });
+  std::map<std::int64_t, bool> componentHasNode;
+  for (const std::int64_t c : graph.NodeComponent)
+  {
+    componentHasNode[c] = true;
+  }
+  std::map<std::int64_t, std::size_t> largestFace;
+  for (std::size_t f = 0; f < faces; ++f)
+  {
+    const std::int64_t c = faceComponent[f];
+    if (componentHasNode[c])
+    {
+      continue;
+    }
+    const auto found = largestFace.find(c);
+    if (found == largestFace.end() || faceArea[found->second] < faceArea[f])
+    {
+      largestFace[c] = f;
+    }
+  }
+  std::vector<Eigen::Vector3d> extraPositions;
+  for (const auto& [c, f] : largestFace)
+  {
+    extraPositions.emplace_back(projectedCentres.row(static_cast<Eigen::Index>(f)).transpose());
+    graph.NodeRadius.push_back(0.5 * faceSdf[f]);
+    graph.NodeConfidence.push_back(0.0);
+    graph.NodeCloudIndex.push_back(-1);
+    graph.NodeComponent.push_back(c);
+    graph.NodeBone.push_back(static_cast<std::int64_t>(graph.Polylines.size()));
+    graph.Polylines.push_back({ static_cast<std::int64_t>(graph.NodeRadius.size()) - 1 });
+    graph.IsConnection.push_back(0);
+  }
+  if (!extraPositions.empty())
+  {
+    const Eigen::Index before = graph.NodePositions.rows();
+    graph.NodePositions.conservativeResize(before + static_cast<Eigen::Index>(extraPositions.size()), 3);
+    for (std::size_t i = 0; i < extraPositions.size(); ++i)
+    {
+      graph.NodePositions.row(before + static_cast<Eigen::Index>(i)) = extraPositions[i].transpose();
+    }
+  }
+
+  // Surface link: nearest node of the same component to each projected face centre.
+  result.FaceNodeId.assign(faces, 0);
+  result.FaceBoneId.assign(faces, 0);
+  const SkeletonPointTree nodeTree(graph.NodePositions);
+  const bool singleComponent =
+    *std::max_element(faceComponent.begin(), faceComponent.end()) == 0;
+  parallelFor(faces, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f)
+    {
+      const std::int64_t c = faceComponent[f];
+      const std::int64_t node = nodeTree.NearestAccepted(
+        projectedCentres.row(static_cast<Eigen::Index>(f)).transpose(),
+        [&](std::int64_t n) { return singleComponent || graph.NodeComponent[n] == c; });
+      result.FaceNodeId[f] = node;
+      result.FaceBoneId[f] = graph.NodeBone[node];
+    }
+  });
+
+  result.NodePositions = std::move(graph.NodePositions);
+  result.NodeRadius = std::move(graph.NodeRadius);
+  result.NodeConfidence = std::move(graph.NodeConfidence);
+  result.NodeBoneId = std::move(graph.NodeBone);
+  result.Polylines = std::move(graph.Polylines);
+  result.IsConnection = std::move(graph.IsConnection);
+  result.BoneId.resize(result.Polylines.size());
+  for (std::size_t b = 0; b < result.BoneId.size(); ++b)
+  {
+    result.BoneId[b] = static_cast<std::int64_t>(b);
+  }
+  result.CloudPositions = cloud.Positions;
+  result.CloudRadius = cloud.Radius;
+  result.CloudConfidence = thinned.Confidence;
+  result.CloudSourceFace = cloud.SourceFace;
+  if (progress && !progress(1.0))
+  {
+    return AbortedResult();
+  }
+  return result;
+}
+
+SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
+  const std::vector<double>& faceSdf, const SkeletonOptions& options,
+  const ParallelFor& parallelFor)
+{
+  return ComputeSkeleton(points, triangles, faceSdf, PointMatrix(), {}, options, parallelFor);
+}
+
+} // namespace shapediameter

@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SDF-guided curve skeleton: the four steps of the paper's section 5, in order.
+//
+// What it computes
+//   A curve skeleton (nodes with a medial radius and a confidence, joined by polylines) of a
+//   closed, outward-oriented triangle mesh from its per-face shape diameter, and the link
+//   between the skeleton and the surface:
+//     1. SampleProjectedCloud  - N area-weighted samples pushed inward by SDF/2 -> cloud P
+//     2. ThinProjectedCloud    - MLS projection onto local regression lines, confidence,
+//                                epsilon-thinning -> T
+//     3. GrowPolySegments      - ordered poly-segments grown through T
+//     4. ConnectPolySegments   - k-terminal shortest paths through P join the segments into
+//                                one tree per connected surface component
+//   then every face is linked to the skeleton node nearest to its projected centre (face
+//   centroid - normal * SDF/2) among the nodes of its own surface component. This rule is the
+//   same for faces with and without samples, so a face's link does not depend on N or on the
+//   seed; it is the point of P the face would have produced at its centre.
+//
+// Reference
+//   Shapira, Shamir, Cohen-Or 2008, "Consistent mesh partitioning and skeletonisation using
+//   the shape diameter function", The Visual Computer 24(4), section 5.
+//
+// Inputs
+//   points, triangles  the mesh (already triangulated, outward oriented).
+//   faceSdf            per-face shape diameter (length units, finite, >= 0); the VTK adapter
+//                      passes SDFSmoothed, else SDF.
+//   faceNormals        unit outward normal per face, or an empty matrix to compute them.
+//   faceComponents     surface component label per face (any integers), or empty to label
+//                      faces connected through shared vertices. The skeleton never joins two
+//                      components: each gets its own tree.
+//   A per-face cluster label (SDFCluster) is not needed here: the adapter reads it through
+//   CloudSourceFace for the cloud output.
+//
+// Parameters: SkeletonOptions gathers the options of the four steps; their defaults and valid
+// ranges are documented in SkeletonSampling.h, SkeletonThinning.h, SkeletonSegments.h and
+// SkeletonConnection.h. All lengths are relative to the local medial radius SDF/2, so the
+// result does not depend on the mesh's scale.
+//
+// Degenerate input
+//   No triangles -> empty result (not an error). Invalid input -> SkeletonError (see
+//   ValidateSkeletonInput). A component whose cloud has no curve-like part (sphere, cube) gets
+//   a single-node skeleton at the point of P nearest to its mean; a component without samples
+//   (tiny area, or only degenerate faces) gets a single node at the projected centre of its
+//   largest face. So every face is linked to a node of its own component, and every output
+//   is finite.
+//
+// Threading and determinism
+//   parallelFor runs the MLS loop, the neighbour graph and the face link. For a fixed seed the
+//   result is bit-identical for any ParallelFor. progress receives [0, 1]; returning false
+//   aborts: the result is then empty with Aborted = true.
+#pragma once
+
+#include "MeshTypes.h"
+#include "Parallel.h"
+#include "SkeletonConnection.h"
+#include "SkeletonSampling.h"
+#include "SkeletonSegments.h"
+#include "SkeletonThinning.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace shapediameter
+{
+
+struct SkeletonOptions
+{
+  SkeletonSamplingOptions Sampling;
+  SkeletonThinningOptions Thinning;
+  SkeletonSegmentOptions Segments;
+  SkeletonConnectionOptions Connection;
+};
+
+struct SkeletonResult
+{
+  // Skeleton (vtkSDFSkeleton port 0).
+  /// Node positions, one row per node.
+  PointMatrix NodePositions;
+  /// "Radius": medial radius SDF/2 at each node.
+  std::vector<double> NodeRadius;
+  /// "Confidence": MLS confidence in [0, 1] of each node (0 for a fallback node).
+  std::vector<double> NodeConfidence;
+  /// Polylines as node index lists (a single-node list is a blob's skeleton).
+  std::vector<std::vector<std::int64_t>> Polylines;
+  /// "BoneId" of each polyline (its index: fitted segments first, then connections).
+  std::vector<std::int64_t> BoneId;
+  /// "IsConnection" of each polyline: 1 = connecting path, 0 = fitted poly-segment.
+  std::vector<int> IsConnection;
+  /// Bone of each node (the first polyline holding it).
+  std::vector<std::int64_t> NodeBoneId;
+
+  // Surface link (port 1), one value per input face.
+  /// "SkeletonNodeId": node nearest to the face's projected centre, same component.
+  std::vector<std::int64_t> FaceNodeId;
+  /// "SkeletonBoneId": bone of that node.
+  std::vector<std::int64_t> FaceBoneId;
+
+  // Projected cloud P (port 2).
+  PointMatrix CloudPositions;
+  /// "Radius" = SDF/2 of the source face.
+  std::vector<double> CloudRadius;
+  /// "Confidence" of the last MLS iteration, [0, 1] (0 where undefined).
+  std::vector<double> CloudConfidence;
+  /// "SourceFaceId".
+  std::vector<std::int64_t> CloudSourceFace;
+  /// True if the progress callback aborted the computation (all arrays are then empty).
+  bool Aborted = false;
+};
+
+/// Throws SkeletonError if any option is outside its documented range.
+void ValidateSkeletonOptions(const SkeletonOptions& options);
+
+/// The SDF-guided skeleton of section 5. See the header comment for inputs and guarantees.
+SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
+  const std::vector<double>& faceSdf, PointsView faceNormals,
+  const std::vector<std::int64_t>& faceComponents, const SkeletonOptions& options,
+  const ParallelFor& parallelFor, const ProgressCallback& progress = {});
+
+/// Convenience: normals computed from the triangles, components from shared vertices.
+SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
+  const std::vector<double>& faceSdf, const SkeletonOptions& options = {},
+  const ParallelFor& parallelFor = SerialFor);
+
+} // namespace shapediameter

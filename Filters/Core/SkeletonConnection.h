@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SDF-guided skeleton, step 4 of 4: connecting the poly-segments into one tree.
+//
+// What it computes
+//   The poly-segments S of step 3 are joined by shortest paths through the projected cloud P
+//   (whose points lie near the medial axis, hence good candidates for connecting paths):
+//   1. Neighbour graph on P: each point linked to its NumberOfNeighbours nearest points of the
+//      same surface component, edge weight = Euclidean length. If this graph splits a surface
+//      component into several pieces, the pieces are linked by their shortest gaps
+//      (Boruvka rounds), so that every surface component is one graph component.
+//   2. k-terminal growth: the points of P within SeedRadiusFactor * radius(node) of a segment
+//      node (and the nearest point of P to every node) start with their distance to that node
+//      and belong to that segment. A priority queue (Dijkstra) grows all segments at once;
+//      each settled point belongs to the segment that reached it first.
+//   3. Where two growths meet (a graph edge between points of different segments), the two
+//      segments can be joined at cost dist(a) + |ab| + dist(b). Joins are accepted cheapest
+//      first unless the two segments are already linked (union-find: no cycles), which is the
+//      order in which the paper's simultaneous growth meets, until every segment of a
+//      component is linked.
+//   4. Each accepted join becomes the path node -> points of P -> ... -> node. Paths that
+//      share points of P are merged (they follow the same shortest-path tree), so three
+//      segments meeting at a junction give one branching point instead of overlapping paths.
+//      The merged paths are cut into polylines between segment nodes and branching points and
+//      thinned to a node spacing of SpacingFactor * radius. They are the IsConnection = 1
+//      polylines.
+//   5. Short branches are pruned: a leaf branch (from a leaf node to the first node of degree
+//      >= 3) shorter than MinimumBranchFactor * radius at that junction is removed, repeatedly.
+//      Deviation: the paper does not prune; without it, noisy SDF leaves stubs of a few nodes
+//      (short confident specks or path ends) beside junctions, and a part shorter than its
+//      own radius is a bump rather than a limb. A tree that is a single path is never cut.
+//   A surface component with points in P but no segment (a blob such as a sphere or a cube)
+//   gets a single node: the point of P nearest to the mean of its points.
+//
+// Reference
+//   Shapira, Shamir, Cohen-Or 2008, section 5, last two paragraphs (k-terminal shortest paths).
+//   The cheapest-first acceptance of joins between growth regions is Mehlhorn's (1988) form of
+//   the multi-terminal growth; the paper leaves the order open.
+//
+// Parameters (SkeletonConnectionOptions)
+//   NumberOfNeighbours  k of the neighbour graph on P. Default 8; [1, 64].
+//   SeedRadiusFactor    growth seeds within factor * radius(node) of a segment node. Default
+//                       0.5; [0, 10] (0: only the nearest point of P to each node).
+//   SpacingFactor       node spacing along connecting paths, * radius. Default 0.25 (the
+//                       thinning's epsilon); [0, 10] (0 keeps every point of the path).
+//   MinimumBranchFactor leaf branches shorter than factor * radius(junction) are pruned.
+//                       Default 1; [0, 10] (0 disables pruning).
+//
+// Output (SkeletonGraph)
+//   Nodes: segment nodes first (at their MLS positions, in segment order), then connecting
+//   path nodes (at their P positions). Polylines: the segments (IsConnection 0) in seed order,
+//   then connecting polylines (IsConnection 1), then single-node polylines of blob components
+//   (IsConnection 0). The bone of a polyline is its index. The result is a forest with one
+//   tree per surface component that has points in P.
+#pragma once
+
+#include "Parallel.h"
+#include "SkeletonSampling.h"
+#include "SkeletonSegments.h"
+#include "SkeletonThinning.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace shapediameter
+{
+
+struct SkeletonConnectionOptions
+{
+  /// k of the k-nearest-neighbour graph on P. [1, 64].
+  int NumberOfNeighbours = 8;
+  /// Growth seeds lie within SeedRadiusFactor * radius of a segment node. [0, 10].
+  double SeedRadiusFactor = 0.5;
+  /// Node spacing along connecting paths, * radius. [0, 10].
+  double SpacingFactor = 0.25;
+  /// Leaf branches shorter than MinimumBranchFactor * radius at their junction are removed
+  /// (0 keeps every branch). [0, 10].
+  double MinimumBranchFactor = 1.0;
+};
+
+/// The curve skeleton: nodes and the polylines through them.
+struct SkeletonGraph
+{
+  /// Node positions, n x 3.
+  PointMatrix NodePositions;
+  /// Medial radius at each node (radius of its cloud point).
+  std::vector<double> NodeRadius;
+  /// MLS confidence of each node's cloud point, [0, 1].
+  std::vector<double> NodeConfidence;
+  /// Index into P of the cloud point each node comes from.
+  std::vector<std::int64_t> NodeCloudIndex;
+  /// Surface component of each node.
+  std::vector<std::int64_t> NodeComponent;
+  /// Bone of each node: the first polyline (lowest index) that holds it.
+  std::vector<std::int64_t> NodeBone;
+  /// Polylines as lists of node indices; a polyline's BoneId is its index.
+  std::vector<std::vector<std::int64_t>> Polylines;
+  /// 1 for a connecting path, 0 for a fitted poly-segment (or a single-node blob skeleton).
+  std::vector<int> IsConnection;
+};
+
+/// Throws SkeletonError if an option is outside its documented range.
+void ValidateConnectionOptions(const SkeletonConnectionOptions& options);
+
+/// Step 4: joins the poly-segments through P into one tree per surface component.
+/// pointComponent: surface component of each cloud point, or empty for a single component.
+/// progress receives fractions in [0, 1] of this step; returning false aborts (the returned
+/// graph is then empty and `aborted` is set).
+SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
+  const std::vector<PolySegment>& segments, const std::vector<std::int64_t>& pointComponent,
+  const SkeletonConnectionOptions& options, const ParallelFor& parallelFor,
+  const ProgressCallback& progress, bool& aborted);
+
+} // namespace shapediameter

@@ -1,0 +1,240 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkSDFSkeleton.h"
+
+#include "Orientation.h"
+#include "Skeleton.h"
+#include "SurfaceConversion.h"
+#include "vtkSDFBilateralSmooth.h"
+#include "vtkSDFGMMPartition.h"
+#include "vtkShapeDiameterFilter.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <algorithm>
+
+vtkStandardNewMacro(vtkSDFSkeleton);
+
+namespace
+{
+using namespace shapediameter;
+
+vtkNew<vtkDoubleArray> DoubleArray(const char* name, const std::vector<double>& values)
+{
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name);
+  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+  std::copy(values.begin(), values.end(), array->GetPointer(0));
+  return array;
+}
+
+template <typename T>
+vtkNew<vtkIdTypeArray> IdArray(const char* name, const std::vector<T>& values)
+{
+  vtkNew<vtkIdTypeArray> array;
+  array->SetName(name);
+  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+  std::copy(values.begin(), values.end(), array->GetPointer(0));
+  return array;
+}
+
+vtkNew<vtkPoints> ToPoints(const PointMatrix& positions)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(positions.rows());
+  for (Eigen::Index p = 0; p < positions.rows(); ++p)
+  {
+    points->SetPoint(p, positions(p, 0), positions(p, 1), positions(p, 2));
+  }
+  return points;
+}
+
+/// Port 0: nodes, bones as polylines; single-node bones as vertices (VTK numbers vertex
+/// cells before lines, so the cell arrays follow that order).
+void WriteSkeleton(const SkeletonResult& skeleton, vtkPolyData* output)
+{
+  output->SetPoints(ToPoints(skeleton.NodePositions));
+  output->GetPointData()->AddArray(DoubleArray(vtkSDFSkeleton::RADIUS_ARRAY_NAME, skeleton.NodeRadius));
+  output->GetPointData()->AddArray(DoubleArray(vtkSDFSkeleton::CONFIDENCE_ARRAY_NAME, skeleton.NodeConfidence));
+  vtkNew<vtkCellArray> vertices, lines;
+  std::vector<std::int64_t> boneIds;
+  std::vector<int> isConnection;
+  for (const bool singles : { true, false })
+  {
+    for (std::size_t bone = 0; bone < skeleton.Polylines.size(); ++bone)
+    {
+      const auto& nodes = skeleton.Polylines[bone];
+      if ((nodes.size() == 1) != singles || nodes.empty())
+      {
+        continue;
+      }
+      std::vector<vtkIdType> ids(nodes.begin(), nodes.end());
+      (singles ? vertices : lines)->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
+      boneIds.push_back(skeleton.BoneId[bone]);
+      isConnection.push_back(skeleton.IsConnection[bone]);
+    }
+  }
+  output->SetVerts(vertices);
+  output->SetLines(lines);
+  output->GetCellData()->AddArray(IdArray(vtkSDFSkeleton::BONE_ID_ARRAY_NAME, boneIds));
+  vtkNew<vtkIntArray> connection;
+  connection->SetName(vtkSDFSkeleton::IS_CONNECTION_ARRAY_NAME);
+  connection->SetNumberOfTuples(static_cast<vtkIdType>(isConnection.size()));
+  std::copy(isConnection.begin(), isConnection.end(), connection->GetPointer(0));
+  output->GetCellData()->AddArray(connection);
+}
+} // namespace
+
+vtkSDFSkeleton::vtkSDFSkeleton()
+{
+  this->SetNumberOfOutputPorts(3);
+  this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
+    vtkSDFBilateralSmooth::SMOOTHED_ARRAY_NAME);
+}
+
+vtkSDFSkeleton::~vtkSDFSkeleton() = default;
+
+int vtkSDFSkeleton::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* skeletonOutput = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* surfaceOutput = vtkPolyData::GetData(outputVector, 1);
+  vtkPolyData* cloudOutput = vtkPolyData::GetData(outputVector, 2);
+  surfaceOutput->ShallowCopy(input);
+  if (input->GetNumberOfCells() == 0)
+  {
+    vtkWarningMacro("The input is empty: no skeleton.");
+    return 1;
+  }
+
+  adapter::TriangulatedSurface surface;
+  std::string reason = adapter::Triangulate(input, surface);
+  std::vector<double> cellSdf;
+  std::string arrayName;
+  if (reason.empty())
+  {
+    reason = adapter::ReadCellScalars(this, input, vtkSDFBilateralSmooth::SMOOTHED_ARRAY_NAME, cellSdf, arrayName);
+    if (!reason.empty() && arrayName == vtkSDFBilateralSmooth::SMOOTHED_ARRAY_NAME &&
+      !input->GetCellData()->GetAbstractArray(arrayName.c_str()))
+    {
+      arrayName = vtkShapeDiameterFilter::SDF_ARRAY_NAME; // documented fallback
+      reason = adapter::ReadNamedCellScalars(input, cellSdf, arrayName);
+    }
+  }
+  if (reason.empty() && std::any_of(cellSdf.begin(), cellSdf.end(), [](double v) { return v < 0; }))
+  {
+    reason = "the cell array '" + arrayName + "' has negative values";
+  }
+  if (!reason.empty())
+  {
+    vtkErrorMacro("Cannot compute the skeleton: " << reason << ".");
+    return 1;
+  }
+
+  try
+  {
+    ApplyFlips(surface.Triangles, OrientOutward(surface.Points, surface.Triangles).Flip);
+    std::vector<double> triangleSdf(surface.TriangleCell.size());
+    for (std::size_t t = 0; t < triangleSdf.size(); ++t)
+    {
+      triangleSdf[t] = cellSdf[static_cast<std::size_t>(surface.TriangleCell[t])];
+    }
+    SkeletonOptions options;
+    options.Sampling.NumberOfSamples = static_cast<std::size_t>(this->NumberOfSamples);
+    options.Sampling.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
+    options.Thinning.NumberOfIterations = this->NumberOfIterations;
+    options.Thinning.ConfidenceThreshold = this->ConfidenceThreshold;
+    options.Thinning.SpacingFactor = this->SpacingFactor;
+    const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
+      PointMatrix(0, 3), {}, options, adapter::MakeSMPParallelFor(this->NumberOfThreads),
+      adapter::MakeProgress(this, 0.0, 0.95));
+    if (skeleton.Aborted)
+    {
+      return 1;
+    }
+
+    WriteSkeleton(skeleton, skeletonOutput);
+
+    // Port 1: each cell takes the link of its first triangle (-1 for cells without one).
+    const vtkIdType cellCount = input->GetNumberOfCells();
+    std::vector<std::int64_t> nodeIds(static_cast<std::size_t>(cellCount), -1);
+    std::vector<std::int64_t> boneIds(static_cast<std::size_t>(cellCount), -1);
+    for (vtkIdType cell = 0; cell < cellCount; ++cell)
+    {
+      const auto first = surface.CellFirstTriangle[static_cast<std::size_t>(cell)];
+      if (first < surface.CellFirstTriangle[static_cast<std::size_t>(cell) + 1])
+      {
+        nodeIds[static_cast<std::size_t>(cell)] = skeleton.FaceNodeId[static_cast<std::size_t>(first)];
+        boneIds[static_cast<std::size_t>(cell)] = skeleton.FaceBoneId[static_cast<std::size_t>(first)];
+      }
+    }
+    surfaceOutput->GetCellData()->AddArray(IdArray(NODE_ID_ARRAY_NAME, nodeIds));
+    surfaceOutput->GetCellData()->AddArray(IdArray(SURFACE_BONE_ID_ARRAY_NAME, boneIds));
+
+    // Port 2: the projected cloud, with the input cell of every point.
+    cloudOutput->SetPoints(ToPoints(skeleton.CloudPositions));
+    const auto pointCount = static_cast<vtkIdType>(skeleton.CloudSourceFace.size());
+    std::vector<vtkIdType> sourceCells(static_cast<std::size_t>(pointCount));
+    for (vtkIdType p = 0; p < pointCount; ++p)
+    {
+      sourceCells[static_cast<std::size_t>(p)] =
+        surface.TriangleCell[static_cast<std::size_t>(skeleton.CloudSourceFace[static_cast<std::size_t>(p)])];
+    }
+    vtkNew<vtkCellArray> vertices;
+    vertices->AllocateExact(pointCount, pointCount);
+    for (vtkIdType p = 0; p < pointCount; ++p)
+    {
+      vertices->InsertNextCell(1, &p);
+    }
+    cloudOutput->SetVerts(vertices);
+    vtkPointData* cloudData = cloudOutput->GetPointData();
+    cloudData->AddArray(IdArray(SOURCE_FACE_ARRAY_NAME, sourceCells));
+    cloudData->AddArray(DoubleArray(RADIUS_ARRAY_NAME, skeleton.CloudRadius));
+    cloudData->AddArray(DoubleArray(CONFIDENCE_ARRAY_NAME, skeleton.CloudConfidence));
+    if (vtkDataArray* clusters = input->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME))
+    {
+      vtkNew<vtkIntArray> pointClusters;
+      pointClusters->SetName(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME);
+      pointClusters->SetNumberOfTuples(pointCount);
+      for (vtkIdType p = 0; p < pointCount; ++p)
+      {
+        pointClusters->SetValue(p, static_cast<int>(clusters->GetComponent(sourceCells[static_cast<std::size_t>(p)], 0)));
+      }
+      cloudData->AddArray(pointClusters);
+    }
+  }
+  catch (const std::exception& error)
+  {
+    vtkErrorMacro("Cannot compute the skeleton: " << error.what());
+    skeletonOutput->Initialize();
+    cloudOutput->Initialize();
+    surfaceOutput->ShallowCopy(input);
+    return 1;
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
+  os << indent << "NumberOfIterations: " << this->NumberOfIterations << "\n";
+  os << indent << "ConfidenceThreshold: " << this->ConfidenceThreshold << "\n";
+  os << indent << "SpacingFactor: " << this->SpacingFactor << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

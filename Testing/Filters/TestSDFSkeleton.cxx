@@ -1,0 +1,205 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "ArticulatedFigure.h"
+#include "FilterTestUtilities.h"
+#include "vtkOFFReader.h"
+#include "vtkSDFBilateralSmooth.h"
+#include "vtkSDFGMMPartition.h"
+#include "vtkSDFSkeleton.h"
+#include "vtkShapeDiameterFilter.h"
+
+#include "vtkAppendPolyData.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkSphereSource.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <vector>
+
+using shapediameter::testing::DataFile;
+using shapediameter::testing::MessageRecorder;
+using shapediameter::testing::ToPolyData;
+namespace figure = shapediameter::testing;
+
+namespace
+{
+struct SkeletonRun
+{
+  vtkSmartPointer<vtkPolyData> Skeleton, Surface, Cloud;
+  int Errors = 0;
+  int Warnings = 0;
+};
+
+SkeletonRun Skeletonize(vtkPolyData* mesh, bool partition = false, int threads = 0)
+{
+  vtkNew<vtkShapeDiameterFilter> sdf;
+  sdf->SetInputData(mesh);
+  vtkNew<vtkSDFBilateralSmooth> smooth;
+  smooth->SetInputConnection(sdf->GetOutputPort());
+  vtkNew<vtkSDFGMMPartition> parts;
+  parts->SetInputConnection(smooth->GetOutputPort());
+  vtkNew<vtkSDFSkeleton> skeleton;
+  skeleton->SetInputConnection(partition ? parts->GetOutputPort() : smooth->GetOutputPort());
+  skeleton->SetNumberOfThreads(threads);
+  vtkNew<MessageRecorder> recorder;
+  recorder->Observe(skeleton);
+  skeleton->Update();
+  return { skeleton->GetSkeleton(), skeleton->GetSurface(), skeleton->GetProjectedPoints(), recorder->Errors,
+    recorder->Warnings };
+}
+
+bool ArraysFinite(vtkPolyData* data)
+{
+  for (vtkFieldData* field : { static_cast<vtkFieldData*>(data->GetPointData()),
+         static_cast<vtkFieldData*>(data->GetCellData()) })
+  {
+    for (int a = 0; a < field->GetNumberOfArrays(); ++a)
+    {
+      vtkDataArray* array = field->GetArray(a);
+      for (vtkIdType i = 0; array && i < array->GetNumberOfValues(); ++i)
+      {
+        if (!std::isfinite(array->GetComponent(i / array->GetNumberOfComponents(), static_cast<int>(i % array->GetNumberOfComponents()))))
+        {
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+/// Fraction of the faces of each limb whose bone is that limb's most frequent bone, and the
+/// set of those bones.
+std::map<int, vtkIdType> LimbBones(vtkPolyData* surface, const std::vector<int>& parts, double& worstShare)
+{
+  vtkDataArray* bones = surface->GetCellData()->GetArray("SkeletonBoneId");
+  std::map<int, vtkIdType> limbBone;
+  worstShare = 1.0;
+  for (int limb : { figure::LeftArm, figure::RightArm, figure::LeftLeg, figure::RightLeg })
+  {
+    std::map<vtkIdType, int> votes;
+    int total = 0;
+    for (std::size_t f = 0; f < parts.size(); ++f)
+    {
+      if (parts[f] == limb)
+      {
+        ++votes[static_cast<vtkIdType>(bones->GetComponent(static_cast<vtkIdType>(f), 0))];
+        ++total;
+      }
+    }
+    auto best = std::max_element(votes.begin(), votes.end(), [](auto& a, auto& b) { return a.second < b.second; });
+    limbBone[limb] = best->first;
+    worstShare = std::min(worstShare, best->second / static_cast<double>(total));
+  }
+  return limbBone;
+}
+} // namespace
+
+TEST(SDFSkeleton, FigureBonesFollowTheLimbsInTwoPoses)
+{
+  const figure::ArticulatedFigureTemplate figureTemplate;
+  figure::FigurePose bent;
+  bent.LeftArm = 0.9;
+  bent.RightArm = -0.6;
+  bent.LeftLeg = 0.5;
+  bent.RightLeg = -0.4;
+  const figure::ArticulatedFigure rest = figureTemplate.Rest();
+  const figure::ArticulatedFigure posed = figureTemplate.Pose(bent);
+  const SkeletonRun a = Skeletonize(ToPolyData(rest.Points, rest.Triangles));
+  const SkeletonRun b = Skeletonize(ToPolyData(posed.Points, posed.Triangles));
+  ASSERT_EQ(a.Errors + b.Errors, 0);
+  EXPECT_GT(a.Skeleton->GetNumberOfCells(), 0);
+  for (const SkeletonRun* run : { &a, &b })
+  {
+    double share = 0.0;
+    const auto limbBone = LimbBones(run->Surface, rest.FaceParts, share);
+    std::set<vtkIdType> distinct;
+    for (auto& [limb, bone] : limbBone)
+    {
+      distinct.insert(bone);
+    }
+    EXPECT_EQ(distinct.size(), 4u) << "each limb has its own bone";
+    EXPECT_GT(share, 0.6) << "most faces of each limb are attached to the limb's bone";
+    EXPECT_TRUE(ArraysFinite(run->Skeleton));
+    EXPECT_TRUE(ArraysFinite(run->Cloud));
+  }
+}
+
+TEST(SDFSkeleton, OutputsAreLinkedAndDeterministic)
+{
+  vtkNew<vtkOFFReader> reader;
+  reader->SetFileName(DataFile("hand.off").c_str());
+  reader->Update();
+  const SkeletonRun one = Skeletonize(reader->GetOutput(), true, 1);
+  const SkeletonRun two = Skeletonize(reader->GetOutput(), true, 2);
+  ASSERT_EQ(one.Errors, 0);
+  ASSERT_GT(one.Skeleton->GetNumberOfPoints(), 1);
+  EXPECT_EQ(one.Surface->GetNumberOfCells(), 2390);
+  vtkDataArray* nodes = one.Surface->GetCellData()->GetArray("SkeletonNodeId");
+  ASSERT_NE(nodes, nullptr);
+  EXPECT_GE(nodes->GetRange()[0], 0);
+  EXPECT_LT(nodes->GetRange()[1], one.Skeleton->GetNumberOfPoints());
+  EXPECT_EQ(one.Cloud->GetNumberOfPoints(), 10000);
+  EXPECT_NE(one.Cloud->GetPointData()->GetArray("SDFCluster"), nullptr);
+  EXPECT_NE(one.Surface->GetCellData()->GetArray("SDFCluster"), nullptr) << "input arrays pass through";
+  // Same seed, different thread counts: the same skeleton.
+  ASSERT_EQ(one.Skeleton->GetNumberOfPoints(), two.Skeleton->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < one.Skeleton->GetNumberOfPoints(); ++p)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      ASSERT_EQ(one.Skeleton->GetPoint(p)[c], two.Skeleton->GetPoint(p)[c]);
+    }
+  }
+}
+
+TEST(SDFSkeleton, TwoComponentsAndOpenMeshesAreDefined)
+{
+  vtkNew<vtkSphereSource> first, second;
+  first->SetThetaResolution(24);
+  second->SetThetaResolution(24);
+  second->SetCenter(5, 0, 0);
+  vtkNew<vtkAppendPolyData> append;
+  append->AddInputConnection(first->GetOutputPort());
+  append->AddInputConnection(second->GetOutputPort());
+  append->Update();
+  const SkeletonRun spheres = Skeletonize(append->GetOutput());
+  EXPECT_EQ(spheres.Errors, 0);
+  EXPECT_GE(spheres.Skeleton->GetNumberOfCells(), 2) << "one skeleton per component";
+  EXPECT_TRUE(ArraysFinite(spheres.Skeleton));
+
+  vtkNew<vtkOFFReader> reader;
+  reader->SetFileName(DataFile("elephant-with-holes.off").c_str());
+  reader->Update();
+  const SkeletonRun open = Skeletonize(reader->GetOutput());
+  EXPECT_EQ(open.Errors, 0);
+  EXPECT_GT(open.Skeleton->GetNumberOfCells(), 0);
+  EXPECT_TRUE(ArraysFinite(open.Skeleton));
+  EXPECT_TRUE(ArraysFinite(open.Surface));
+}
+
+TEST(SDFSkeleton, BadInputIsAnError)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->Update();
+  vtkNew<vtkSDFSkeleton> skeleton;
+  vtkNew<MessageRecorder> recorder;
+  recorder->Observe(skeleton);
+  skeleton->SetInputData(sphere->GetOutput()); // no SDF array
+  skeleton->Update();
+  EXPECT_EQ(recorder->Errors, 1);
+  EXPECT_EQ(skeleton->GetSkeleton()->GetNumberOfPoints(), 0);
+  EXPECT_EQ(skeleton->GetSurface()->GetNumberOfCells(), sphere->GetOutput()->GetNumberOfCells());
+
+  vtkNew<vtkPolyData> empty;
+  skeleton->SetInputData(empty);
+  skeleton->Update();
+  EXPECT_EQ(recorder->Errors, 1);
+  EXPECT_EQ(recorder->Warnings, 1);
+}
