@@ -82,6 +82,7 @@ std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
   const vtkIdType pointCount = input->GetNumberOfPoints();
   surface.Points = PointsOf(input);
   surface.Triangles = Eigen::Map<const TriangleMatrix>(triangles.data(), triangleCount, 3);
+  std::vector<char> used(static_cast<std::size_t>(pointCount), 0);
   for (const std::int64_t id : triangles)
   {
     if (id < 0 || id >= pointCount)
@@ -95,6 +96,15 @@ std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
       std::ostringstream reason;
       reason << "point " << id << " used by a polygon has a non-finite coordinate";
       return reason.str();
+    }
+    used[static_cast<std::size_t>(id)] = 1;
+  }
+  // Points no polygon uses play no part; a non-finite one must not reach the ray caster.
+  for (vtkIdType p = 0; p < pointCount; ++p)
+  {
+    if (!used[static_cast<std::size_t>(p)] && !surface.Points.row(p).allFinite())
+    {
+      surface.Points.row(p).setZero();
     }
   }
   return {};
@@ -178,6 +188,11 @@ std::string ReadNamedCellScalars(vtkPolyData* input, std::vector<double>& values
       " components, 1 expected";
   }
   const vtkIdType count = array->GetNumberOfTuples();
+  if (count != input->GetNumberOfCells())
+  {
+    return "the cell array '" + arrayName + "' has " + std::to_string(count) + " values for " +
+      std::to_string(input->GetNumberOfCells()) + " cells";
+  }
   values.resize(static_cast<std::size_t>(count));
   for (vtkIdType i = 0; i < count; ++i)
   {

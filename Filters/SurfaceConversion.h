@@ -40,7 +40,8 @@ struct TriangulatedSurface
 /**
  * Fills `surface` from `input`. Returns an empty string on success, otherwise the
  * one-line reason the input cannot be processed (no polygon or strip, or a
- * non-finite coordinate used by one).
+ * non-finite coordinate used by one). Points that no polygon uses are copied as
+ * (0, 0, 0) when their coordinates are not finite.
  */
 std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface);
 
@@ -62,8 +63,8 @@ std::pair<vtkIdType, vtkIdType> PolygonCellRange(vtkPolyData* input);
  * Reads the cell array `algorithm` was told to process (SetInputArrayToProcess index 0;
  * `defaultName` when that selection is empty) into `values` and its name into
  * `arrayName`. Returns an empty string on success, otherwise the one-line reason: a
- * point array selected, no such cell array, not numeric, several components, or a
- * non-finite value.
+ * point array selected, no such cell array, not numeric, several components, not one
+ * value per cell, or a non-finite value.
  */
 std::string ReadCellScalars(vtkAlgorithm* algorithm, vtkPolyData* input, const char* defaultName,
   std::vector<double>& values, std::string& arrayName);

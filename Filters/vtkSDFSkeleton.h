@@ -31,10 +31,12 @@
  * - Seed 0x5DF5EED; NumberOfThreads 0 = all cores (the output does not depend on it).
  *
  * Outputs:
- * - port 0 "Skeleton": nodes as points with point arrays `Radius`, `Confidence`; bones as
- *   polylines (a component whose shape has no curve-like part gets a single-node vertex)
- *   with cell arrays `BoneId` and `IsConnection` (1 = connecting path, 0 = fitted
- *   poly-segment);
+ * - port 0 "Skeleton": nodes as points with point arrays `Radius`, `Confidence`; polylines
+ *   (a component whose shape has no curve-like part gets a single-node vertex) with cell
+ *   arrays `BoneId` and `IsConnection` (1 = connecting path, 0 = fitted poly-segment). A
+ *   bone is a branch of the skeleton tree (a maximal path between ends and junctions),
+ *   numbered by decreasing length; polylines are cut at junctions so each lies in one bone;
+ *   a junction belongs to the longest bone meeting there;
  * - port 1 "Surface": the input with every cell and array plus cell arrays
  *   `SkeletonNodeId`, `SkeletonBoneId` (−1 for vertices and lines);
  * - port 2 "Projected Points": the cloud P as vertices with point arrays `SourceFaceId`

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <queue>
 #include <stdexcept>
@@ -66,6 +67,18 @@ std::vector<std::vector<EdgeLink>> BuildLinks(const TrianglesView& triangles)
     begin = end;
   }
   return links;
+}
+
+/// Total area of the component's triangles.
+double Area(const PointsView& points, const TrianglesView& triangles, const std::vector<std::int64_t>& members)
+{
+  double area = 0.0;
+  for (const std::int64_t t : members)
+  {
+    const Eigen::Vector3d a = points.row(triangles(t, 0)).transpose();
+    area += 0.5 * (points.row(triangles(t, 1)).transpose() - a).cross(points.row(triangles(t, 2)).transpose() - a).norm();
+  }
+  return area;
 }
 
 double SignedVolume(const PointsView& points, const TrianglesView& triangles,
@@ -155,7 +168,11 @@ OrientationResult OrientOutward(const PointsView& points, const TrianglesView& t
     const auto flippedHere = static_cast<std::size_t>(std::count_if(members.begin(), members.end(),
       [&](std::int64_t t) { return result.Flip[static_cast<std::size_t>(t)] != 0; }));
     result.InconsistentComponents += flippedHere > 0 ? 1 : 0;
-    if (SignedVolume(points, triangles, members, result.Flip) < 0.0)
+    // A flat or single-triangle component encloses no volume: its sign is rounding noise,
+    // so it keeps the winding it was given.
+    const double volume = SignedVolume(points, triangles, members, result.Flip);
+    const double area = Area(points, triangles, members);
+    if (volume < -1e-9 * area * std::sqrt(area))
     {
       for (const std::int64_t t : members)
       {

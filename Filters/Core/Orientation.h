@@ -14,7 +14,9 @@
 //      the component's centroid. Negative = the component points inward: all its
 //      triangles are flipped. For a closed component this is exact; for an open one (holes)
 //      it is a heuristic that is right whenever the holes are small compared with the
-//      surface, which is the case this product meets (scans with holes).
+//      surface, which is the case this product meets (scans with holes). A component whose
+//      |volume| is below 1e-9 A^1.5 (A its area: flat patches, single triangles) encloses
+//      nothing and keeps its winding.
 //   A component whose orientation cannot be made consistent (a Moebius band, a Klein
 //   bottle) keeps the first assignment found; it is counted in NonOrientableComponents.
 //

@@ -153,7 +153,6 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     graph.NodeConfidence.push_back(0.0);
     graph.NodeCloudIndex.push_back(-1);
     graph.NodeComponent.push_back(c);
-    graph.NodeBone.push_back(static_cast<std::int64_t>(graph.Polylines.size()));
     graph.Polylines.push_back({ static_cast<std::int64_t>(graph.NodeRadius.size()) - 1 });
     graph.IsConnection.push_back(0);
   }
@@ -165,6 +164,7 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     {
       graph.NodePositions.row(before + static_cast<Eigen::Index>(i)) = extraPositions[i].transpose();
     }
+    AssignBranchBones(graph); // the fallback nodes become bones of their own
   }
 
   // Surface link: nearest node of the same component to each projected face centre.
@@ -191,11 +191,8 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   result.NodeBoneId = std::move(graph.NodeBone);
   result.Polylines = std::move(graph.Polylines);
   result.IsConnection = std::move(graph.IsConnection);
-  result.BoneId.resize(result.Polylines.size());
-  for (std::size_t b = 0; b < result.BoneId.size(); ++b)
-  {
-    result.BoneId[b] = static_cast<std::int64_t>(b);
-  }
+  result.BoneId = std::move(graph.PolylineBone);
+  result.BoneLength = std::move(graph.BoneLength);
   result.CloudPositions = cloud.Positions;
   result.CloudRadius = cloud.Radius;
   result.CloudConfidence = thinned.Confidence;

@@ -16,6 +16,19 @@
 //   same for faces with and without samples, so a face's link does not depend on N or on the
 //   seed; it is the point of P the face would have produced at its centre.
 //
+// Bones
+//   Bones are the branches of the tree: the maximal paths of the skeleton graph (the union of
+//   the polylines' edges) between nodes whose degree is not 2, i.e. between ends (degree 1)
+//   and junctions (degree >= 3); a single-node skeleton (blob, fallback) is one bone. They are
+//   numbered 0.. by decreasing length (ties: lowest node index), so a figure in two poses has
+//   the same bones as long as its skeleton has the same branching, whatever way the steps
+//   happened to grow segments and connecting paths. The polylines remain the algorithm's
+//   pieces (IsConnection tells fitted segment from connecting path), but each one is cut at
+//   the junctions it passes through, so every polyline lies in exactly one bone (BoneId).
+//   A junction node belongs to all the branches meeting there; its NodeBoneId (and the
+//   SkeletonBoneId of the faces linked to it) is the lowest bone id among them, i.e. the
+//   longest. See AssignBranchBones in SkeletonConnection.h.
+//
 // Reference
 //   Shapira, Shamir, Cohen-Or 2008, "Consistent mesh partitioning and skeletonisation using
 //   the shape diameter function", The Visual Computer 24(4), section 5.
@@ -80,14 +93,19 @@ struct SkeletonResult
   std::vector<double> NodeRadius;
   /// "Confidence": MLS confidence in [0, 1] of each node (0 for a fallback node).
   std::vector<double> NodeConfidence;
-  /// Polylines as node index lists (a single-node list is a blob's skeleton).
+  /// Polylines as node index lists (a single-node list is a blob's skeleton); each lies in
+  /// exactly one bone. Fitted segments first, then connecting paths, then fallback nodes;
+  /// the pieces of a polyline cut at junctions follow each other.
   std::vector<std::vector<std::int64_t>> Polylines;
-  /// "BoneId" of each polyline (its index: fitted segments first, then connections).
+  /// "BoneId" of each polyline: the branch of the tree it lies in, in [0, BoneLength.size()).
   std::vector<std::int64_t> BoneId;
   /// "IsConnection" of each polyline: 1 = connecting path, 0 = fitted poly-segment.
   std::vector<int> IsConnection;
-  /// Bone of each node (the first polyline holding it).
+  /// Bone of each node; a junction node takes the lowest bone id meeting there.
   std::vector<std::int64_t> NodeBoneId;
+  /// Length of each bone (0 for a single-node bone), non-increasing; its size is the number
+  /// of bones.
+  std::vector<double> BoneLength;
 
   // Surface link (port 1), one value per input face.
   /// "SkeletonNodeId": node nearest to the face's projected centre, same component.

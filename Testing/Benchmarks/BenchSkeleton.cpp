@@ -60,7 +60,7 @@ void BM_Skeleton(benchmark::State& state)
   }
   state.counters["faces"] = static_cast<double>(mesh.Faces());
   state.counters["nodes"] = static_cast<double>(result.NodePositions.rows());
-  state.counters["bones"] = static_cast<double>(result.Polylines.size());
+  state.counters["bones"] = static_cast<double>(result.BoneLength.size());
   state.counters["speedup_vs_cgal_mcf"] = benchmark::Counter(
     CgalMeanCurvatureFlowSeconds * static_cast<double>(state.iterations()),
     benchmark::Counter::kIsRate);

@@ -90,3 +90,15 @@ TEST(Orientation, EmptyAndOutOfRange)
   triangles << 0, 1, 3;
   EXPECT_THROW(OrientOutward(points, triangles), std::out_of_range);
 }
+
+TEST(Orientation, FlatComponentsKeepTheirWinding)
+{
+  // A triangle soup: every triangle its own component, all wound as given.
+  PointMatrix points(6, 3);
+  points << 0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 5, 6, 5.1, 5, 5, 6, 5.3;
+  TriangleMatrix triangles(2, 3);
+  triangles << 0, 1, 2, 3, 5, 4;
+  const OrientationResult result = OrientOutward(points, triangles);
+  EXPECT_EQ(result.ComponentCount, 2u);
+  EXPECT_EQ(result.FlippedTriangles, 0u);
+}

@@ -1,0 +1,705 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Time-bounded, seeded mutation fuzzing of the OFF parser (ParseOFF), run in ctest.
+//
+// Unlike TestOFFParser's fixed 2000-edit loop, this runs for a fixed time budget (about
+// 4 s in all, split over several seeds), starts from more valid variants (OFF, COFF,
+// NOFF, CNOFF, ST, n-gons, face colours, CRLF, comments, no keyword), and applies both
+// byte-level mutations (bit flips, random bytes, insertions, deletions, range
+// duplication, crossover between seeds, truncation, line-ending changes) and
+// token/line-level ones (huge counts, negative numbers, nan/inf and out-of-range floats,
+// thousand-digit numbers, very long lines, swapped/duplicated/deleted lines, header
+// keyword swaps, face sizes changed). Oracle per input:
+//   - ParseOFF either throws OFFParseError (one-line message, line number within the
+//     input) -- any other exception is a failure -- or
+//   - returns a mesh that satisfies every documented invariant (indices in range,
+//     finite coordinates and normals, faces of >= 3 vertices, consistent array sizes),
+//     whose size is a small multiple of the input size, and which survives a round trip:
+//     written back as OFF text and parsed again, it is identical.
+// Each parse must also stay fast (no super-linear blow-up). A failure prints the seed,
+// the iteration and the offending input (escaped), so it can be replayed.
+//
+// Separately: a header declaring 2^40 vertices (or faces) in a tiny file is rejected in
+// well under 10 ms without allocating for the declared counts (peak RSS growth checked with
+// getrusage, and the address space is capped during the call so that even an untouched
+// giant allocation would fail).
+#include "OFFParser.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+
+using shapediameter::OFFMesh;
+using shapediameter::OFFParseError;
+using shapediameter::ParseOFF;
+using Clock = std::chrono::steady_clock;
+
+// ------------------------------------------------------------------ seeds
+
+const std::vector<std::string>& SeedTexts()
+{
+  static const std::vector<std::string> seeds = {
+    // Plain tetrahedron.
+    "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+    // Counts on the keyword line, n-gons, face colours (int, float, 3 and 4 components,
+    // colour-map index), comments everywhere.
+    "OFF 6 3 0 # a prism cap and two quads\n"
+    "# vertices\n"
+    "0 0 0\n1 0 0\n0.5 0.866 0\n0 0 1\n1 0 1 # comment\n0.5 0.866 1\n"
+    "3 0 1 2 255 0 0\n"
+    "4 0 1 4 3 0.5 0.5 0.5 1\n"
+    "4 1 2 5 4 7\n",
+    // COFF with integer and float vertex colours.
+    "COFF\n4 2 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0\n1 1 0 0.5 0.5 0.5 1\n0 1 0 10 20 30 40\n"
+    "3 0 1 2\n3 0 2 3\n",
+    // NOFF with normals.
+    "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n",
+    // CNOFF: normals then colours; CRLF line endings; a BOM.
+    "\xEF\xBB\xBF"
+    "CNOFF\r\n3 1 0\r\n0 0 0 0 0 1 255 255 255\r\n1 0 0 0 0 1 0 0 0 128\r\n"
+    "0 1 0 0 0 1 1 2 3\r\n3 0 1 2\r\n",
+    // STOFF with texture coordinates, tabs, a hexagon.
+    "STOFF\n6\t1\t0\n1 0 0 0 0\n0.5 0.866 0 1 0\n-0.5 0.866 0 1 1\n-1 0 0 0 1\n"
+    "-0.5 -0.866 0 0.5 0.5\n0.5 -0.866 0 0.25 0.75\n6\t0 1 2 3 4 5\n",
+    // No keyword (Geomview allows it), exponents, signs, no final newline.
+    "4 2\n+1e0 -0.0 2.5E-1\n-1 0 0\n0 1e-3 0\n0 0 .5\n3 0 1 2\n3 1 2 3",
+  };
+  return seeds;
+}
+
+// Tokens that stress the number grammar and the count checks.
+const char* const kHugeCounts[] = { "1099511627776", "4294967296", "4294967295", "2147483648",
+  "9223372036854775807", "9223372036854775808", "18446744073709551615", "18446744073709551616",
+  "99999999999999999999999999", "1e9", "65536" };
+const char* const kNegatives[] = { "-1", "-0", "-3", "-2147483648", "-9223372036854775808",
+  "-9223372036854775809", "-1e308", "-" };
+const char* const kOddNumbers[] = { "nan", "NaN", "-nan", "inf", "-inf", "Infinity", "1e309",
+  "-1e309", "1e-400", "4.9e-324", "0x10", "1,5", "1.2.3", "--1", "+-1", "+", ".", "e5", "1e",
+  "1.", "3.0", "0003", "1e+308", "\xff", "\x00" };
+const char* const kKeywords[] = { "OFF", "COFF", "NOFF", "CNOFF", "NCOFF", "STOFF", "STCNOFF",
+  "4OFF", "nOFF", "OFF BINARY", "CCOFF", "off", "OF", "", "OFF OFF", "#OFF" };
+
+// ------------------------------------------------------------------ the mutator
+
+struct TokenSpan
+{
+  std::size_t Begin;
+  std::size_t End;
+};
+
+bool IsSpace(char c)
+{
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n';
+}
+
+std::vector<TokenSpan> Tokens(const std::string& text)
+{
+  std::vector<TokenSpan> tokens;
+  std::size_t i = 0;
+  while (i < text.size())
+  {
+    while (i < text.size() && IsSpace(text[i]))
+    {
+      ++i;
+    }
+    const std::size_t begin = i;
+    while (i < text.size() && !IsSpace(text[i]))
+    {
+      ++i;
+    }
+    if (i > begin)
+    {
+      tokens.push_back({ begin, i });
+    }
+  }
+  return tokens;
+}
+
+/// Lines as [begin, end) without their '\n'.
+std::vector<TokenSpan> Lines(const std::string& text)
+{
+  std::vector<TokenSpan> lines;
+  std::size_t begin = 0;
+  for (std::size_t i = 0; i <= text.size(); ++i)
+  {
+    if (i == text.size() || text[i] == '\n')
+    {
+      lines.push_back({ begin, i });
+      begin = i + 1;
+    }
+  }
+  return lines;
+}
+
+class Mutator
+{
+public:
+  explicit Mutator(std::uint64_t seed)
+    : Random(seed)
+  {
+  }
+
+  /// Uniform-enough integer in [0, n) (n > 0); modulo bias does not matter here.
+  std::uint64_t Below(std::uint64_t n) { return n == 0 ? 0 : this->Random() % n; }
+
+  template <typename T, std::size_t N>
+  const T& Pick(const T (&items)[N])
+  {
+    return items[this->Below(N)];
+  }
+
+  std::string Mutated()
+  {
+    const std::vector<std::string>& seeds = SeedTexts();
+    std::string text = seeds[this->Below(seeds.size())];
+    const int edits = 1 + static_cast<int>(this->Below(6));
+    for (int e = 0; e < edits; ++e)
+    {
+      this->MutateOnce(text);
+    }
+    return text;
+  }
+
+private:
+  void ReplaceToken(std::string& text, const std::string& replacement)
+  {
+    const std::vector<TokenSpan> tokens = Tokens(text);
+    if (tokens.empty())
+    {
+      text += replacement;
+      return;
+    }
+    // Early tokens (keyword, counts) matter most: half the time pick among the first four.
+    const std::size_t which = this->Below(2) == 0 ? this->Below(std::min<std::size_t>(4, tokens.size()))
+                                                  : this->Below(tokens.size());
+    const TokenSpan span = tokens[which];
+    text.replace(span.Begin, span.End - span.Begin, replacement);
+  }
+
+  void MutateOnce(std::string& text)
+  {
+    const std::size_t at = this->Below(text.size() + 1);
+    switch (this->Below(20))
+    {
+      case 0: // flip one bit
+        if (!text.empty())
+        {
+          text[std::min(at, text.size() - 1)] ^= static_cast<char>(1u << this->Below(8));
+        }
+        break;
+      case 1: // random byte
+        if (!text.empty())
+        {
+          text[std::min(at, text.size() - 1)] = static_cast<char>(this->Below(256));
+        }
+        break;
+      case 2: // insert a few bytes that matter to the grammar
+      {
+        static const char kGrammar[] = "0123456789-+.eE# \t\n\r";
+        const std::size_t count = 1 + this->Below(8);
+        for (std::size_t i = 0; i < count; ++i)
+        {
+          text.insert(text.begin() + static_cast<std::ptrdiff_t>(at), kGrammar[this->Below(sizeof(kGrammar) - 1)]);
+        }
+        break;
+      }
+      case 3: // delete a range
+        text.erase(std::min(at, text.size()), 1 + this->Below(16));
+        break;
+      case 4: // duplicate a range elsewhere
+      {
+        if (text.empty())
+        {
+          break;
+        }
+        const std::size_t from = this->Below(text.size());
+        const std::string chunk = text.substr(from, 1 + this->Below(64));
+        text.insert(this->Below(text.size() + 1), chunk);
+        break;
+      }
+      case 5: // overwrite a line with another one
+      case 6: // duplicate a line
+      case 7: // delete a line
+      {
+        const std::vector<TokenSpan> lines = Lines(text);
+        const TokenSpan a = lines[this->Below(lines.size())];
+        const TokenSpan b = lines[this->Below(lines.size())];
+        const std::string lineA = text.substr(a.Begin, a.End - a.Begin);
+        const std::string lineB = text.substr(b.Begin, b.End - b.Begin);
+        const std::uint64_t kind = this->Below(3);
+        if (kind == 0)
+        {
+          text.replace(a.Begin, a.End - a.Begin, lineB);
+        }
+        else if (kind == 1)
+        {
+          text.insert(a.Begin, lineA + "\n");
+        }
+        else
+        {
+          text.erase(a.Begin, std::min(text.size(), a.End + 1) - a.Begin);
+        }
+        break;
+      }
+      case 8:
+        this->ReplaceToken(text, this->Pick(kHugeCounts));
+        break;
+      case 9:
+        this->ReplaceToken(text, this->Pick(kNegatives));
+        break;
+      case 10:
+      {
+        const std::string odd = this->Pick(kOddNumbers);
+        this->ReplaceToken(text, odd.empty() ? std::string(1, '\0') : odd);
+        break;
+      }
+      case 11: // a very long line
+      {
+        const std::size_t length = 1000 + this->Below(100000);
+        const char fill = " 0#9\t-"[this->Below(6)];
+        text.insert(at, std::string(length, fill) + (this->Below(2) ? "\n" : ""));
+        break;
+      }
+      case 12: // a thousand-digit number
+      {
+        const std::size_t length = 300 + this->Below(2000);
+        std::string digits = this->Below(2) ? std::string(length, '9') : std::string(length, '0') + "1";
+        if (this->Below(2))
+        {
+          digits.insert(this->Below(digits.size()), ".");
+        }
+        this->ReplaceToken(text, digits);
+        break;
+      }
+      case 13: // truncate
+        text.resize(std::min(at, text.size()));
+        break;
+      case 14: // swap the header keyword
+      {
+        const std::vector<TokenSpan> tokens = Tokens(text);
+        const std::string keyword = this->Pick(kKeywords);
+        if (!tokens.empty() && tokens[0].End - tokens[0].Begin <= 7)
+        {
+          text.replace(tokens[0].Begin, tokens[0].End - tokens[0].Begin, keyword);
+        }
+        else
+        {
+          text.insert(0, keyword + "\n");
+        }
+        break;
+      }
+      case 15: // line endings: CRLF, CR only, or none
+      {
+        const int kind = static_cast<int>(this->Below(3));
+        std::string result;
+        for (char c : text)
+        {
+          if (c == '\n')
+          {
+            result += kind == 0 ? "\r\n" : kind == 1 ? "\r" : " ";
+          }
+          else
+          {
+            result += c;
+          }
+        }
+        text = result;
+        break;
+      }
+      case 16: // crossover with another seed
+      {
+        const std::vector<std::string>& seeds = SeedTexts();
+        const std::string& other = seeds[this->Below(seeds.size())];
+        text = text.substr(0, std::min(at, text.size())) + other.substr(this->Below(other.size()));
+        break;
+      }
+      case 17: // a comment in the middle of something
+        text.insert(at, this->Below(2) ? "#" : "# comment 1 2 3\n");
+        break;
+      case 18: // change the first value of a line (often a face's vertex count)
+      {
+        const std::vector<TokenSpan> lines = Lines(text);
+        const TokenSpan line = lines[this->Below(lines.size())];
+        std::size_t begin = line.Begin;
+        while (begin < line.End && IsSpace(text[begin]))
+        {
+          ++begin;
+        }
+        std::size_t end = begin;
+        while (end < line.End && !IsSpace(text[end]))
+        {
+          ++end;
+        }
+        text.replace(begin, end - begin, std::to_string(this->Below(12)));
+        break;
+      }
+      default: // repeat the whole body (more elements than declared)
+        text += text.substr(std::min(at, text.size()));
+        break;
+    }
+  }
+
+  std::mt19937_64 Random;
+};
+
+// ------------------------------------------------------------------ the oracle
+
+std::string Escaped(const std::string& text, std::size_t limit = 600)
+{
+  std::string out;
+  for (std::size_t i = 0; i < text.size() && i < limit; ++i)
+  {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == '\n')
+    {
+      out += "\\n\n";
+    }
+    else if (c < 0x20 || c >= 0x7f)
+    {
+      char buffer[8];
+      std::snprintf(buffer, sizeof(buffer), "\\x%02X", c);
+      out += buffer;
+    }
+    else
+    {
+      out += static_cast<char>(c);
+    }
+  }
+  if (text.size() > limit)
+  {
+    out += "... (" + std::to_string(text.size()) + " bytes)";
+  }
+  return out;
+}
+
+/// Empty when the mesh satisfies every documented invariant, else the first violation.
+std::string MeshViolation(const OFFMesh& mesh, std::size_t inputSize)
+{
+  if (mesh.points.size() % 3 != 0)
+  {
+    return "points not a multiple of 3";
+  }
+  const std::size_t vertices = mesh.VertexCount();
+  for (const double x : mesh.points)
+  {
+    if (!std::isfinite(x))
+    {
+      return "non-finite coordinate";
+    }
+  }
+  if (!mesh.vertexNormals.empty() && mesh.vertexNormals.size() != 3 * vertices)
+  {
+    return "normals size";
+  }
+  for (const double x : mesh.vertexNormals)
+  {
+    if (!std::isfinite(x))
+    {
+      return "non-finite normal";
+    }
+  }
+  if (!mesh.vertexColors.empty() && mesh.vertexColors.size() != 4 * vertices)
+  {
+    return "vertex colours size";
+  }
+  if (mesh.faceOffsets.empty() || mesh.faceOffsets.front() != 0 ||
+    mesh.faceOffsets.back() != static_cast<std::int64_t>(mesh.faceConnectivity.size()))
+  {
+    return "face offsets do not frame the connectivity";
+  }
+  for (std::size_t f = 0; f + 1 < mesh.faceOffsets.size(); ++f)
+  {
+    if (mesh.faceOffsets[f + 1] - mesh.faceOffsets[f] < 3)
+    {
+      return "face " + std::to_string(f) + " has fewer than 3 vertices";
+    }
+  }
+  for (const std::int64_t index : mesh.faceConnectivity)
+  {
+    if (index < 0 || index >= static_cast<std::int64_t>(vertices))
+    {
+      return "index " + std::to_string(index) + " out of range";
+    }
+  }
+  if (!mesh.faceColors.empty() && mesh.faceColors.size() != 4 * mesh.FaceCount())
+  {
+    return "face colours size";
+  }
+  // "Never an allocation larger than a small multiple of the input size."
+  const std::size_t bytes = 8 * (mesh.points.size() + mesh.vertexNormals.size() + mesh.faceOffsets.size() +
+                                  mesh.faceConnectivity.size()) +
+    mesh.vertexColors.size() + mesh.faceColors.size();
+  if (bytes > 64 * inputSize + 64)
+  {
+    return "mesh of " + std::to_string(bytes) + " bytes from " + std::to_string(inputSize) + " input bytes";
+  }
+  return {};
+}
+
+/// The mesh as OFF text that must parse back to the same mesh: %.17g for doubles,
+/// colours as 0-255 integer literals (so they are not rescaled), four components.
+std::string WriteOFF(const OFFMesh& mesh)
+{
+  std::string text;
+  text += mesh.vertexColors.empty() ? "" : "C";
+  text += mesh.vertexNormals.empty() ? "" : "N";
+  text += "OFF\n" + std::to_string(mesh.VertexCount()) + " " + std::to_string(mesh.FaceCount()) + " 0\n";
+  char buffer[64];
+  for (std::size_t v = 0; v < mesh.VertexCount(); ++v)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      std::snprintf(buffer, sizeof(buffer), "%.17g ", mesh.points[3 * v + static_cast<std::size_t>(k)]);
+      text += buffer;
+    }
+    for (std::size_t k = 0; k < 3 && !mesh.vertexNormals.empty(); ++k)
+    {
+      std::snprintf(buffer, sizeof(buffer), "%.17g ", mesh.vertexNormals[3 * v + k]);
+      text += buffer;
+    }
+    for (std::size_t k = 0; k < 4 && !mesh.vertexColors.empty(); ++k)
+    {
+      text += std::to_string(mesh.vertexColors[4 * v + k]) + " ";
+    }
+    text.back() = '\n';
+  }
+  for (std::size_t f = 0; f < mesh.FaceCount(); ++f)
+  {
+    text += std::to_string(mesh.faceOffsets[f + 1] - mesh.faceOffsets[f]);
+    for (auto i = mesh.faceOffsets[f]; i < mesh.faceOffsets[f + 1]; ++i)
+    {
+      text += " " + std::to_string(mesh.faceConnectivity[static_cast<std::size_t>(i)]);
+    }
+    for (std::size_t k = 0; k < 4 && !mesh.faceColors.empty(); ++k)
+    {
+      text += " " + std::to_string(mesh.faceColors[4 * f + k]);
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+bool SameMesh(const OFFMesh& a, const OFFMesh& b)
+{
+  return a.points == b.points && a.vertexNormals == b.vertexNormals && a.vertexColors == b.vertexColors &&
+    a.faceOffsets == b.faceOffsets && a.faceConnectivity == b.faceConnectivity && a.faceColors == b.faceColors;
+}
+
+struct FuzzStatistics
+{
+  std::uint64_t Iterations = 0;
+  std::uint64_t Parsed = 0;
+  std::uint64_t Rejected = 0;
+  double SlowestSeconds = 0.0;
+  std::size_t SlowestInputSize = 0;
+};
+
+/// Runs one seed until `deadline`; returns false (after reporting) at the first violation.
+bool FuzzSeed(std::uint64_t seed, Clock::time_point deadline, FuzzStatistics& statistics)
+{
+  Mutator mutator(seed);
+  for (std::uint64_t iteration = 0; Clock::now() < deadline && iteration < 1000000; ++iteration)
+  {
+    const std::string text = mutator.Mutated();
+    const std::size_t newlines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+    const auto context = [&] {
+      return "seed " + std::to_string(seed) + ", iteration " + std::to_string(iteration) + ", input:\n" +
+        Escaped(text);
+    };
+    ++statistics.Iterations;
+    const Clock::time_point start = Clock::now();
+    try
+    {
+      const OFFMesh mesh = ParseOFF(text.data(), text.size());
+      const std::string violation = MeshViolation(mesh, text.size());
+      if (!violation.empty())
+      {
+        ADD_FAILURE() << "invalid mesh (" << violation << ") from " << context();
+        return false;
+      }
+      const std::string written = WriteOFF(mesh);
+      try
+      {
+        if (!SameMesh(ParseOFF(written.data(), written.size()), mesh))
+        {
+          ADD_FAILURE() << "round trip changed the mesh; written:\n"
+                        << Escaped(written) << "\nfrom " << context();
+          return false;
+        }
+      }
+      catch (const OFFParseError& error)
+      {
+        ADD_FAILURE() << "the parsed mesh written back does not parse (" << error.what() << "); written:\n"
+                      << Escaped(written) << "\nfrom " << context();
+        return false;
+      }
+      ++statistics.Parsed;
+    }
+    catch (const OFFParseError& error)
+    {
+      const std::string message = error.what();
+      if (message.empty() || message.find('\n') != std::string::npos || error.Line() < 0 ||
+        static_cast<std::size_t>(error.Line()) > newlines + 1)
+      {
+        ADD_FAILURE() << "bad error (line " << error.Line() << "): '" << Escaped(message) << "' from "
+                      << context();
+        return false;
+      }
+      ++statistics.Rejected;
+    }
+    catch (const std::exception& error)
+    {
+      ADD_FAILURE() << "unexpected exception " << typeid(error).name() << ": " << error.what() << " from "
+                    << context();
+      return false;
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (seconds > statistics.SlowestSeconds)
+    {
+      statistics.SlowestSeconds = seconds;
+      statistics.SlowestInputSize = text.size();
+    }
+    // The parser is one linear pass: even a 200 kB input takes a few milliseconds.
+    if (seconds > 0.5)
+    {
+      ADD_FAILURE() << "parse took " << seconds << " s for " << context();
+      return false;
+    }
+  }
+  return true;
+}
+
+TEST(OFFParserFuzz, TimeBoundedMutationsFromSeveralSeeds)
+{
+  const std::uint64_t seeds[] = { 1, 2008, 0x5DF2008, 0xC0FFEEULL << 20 };
+  const double budgetSeconds = 4.0;
+  const auto perSeed = std::chrono::duration_cast<Clock::duration>(
+    std::chrono::duration<double>(budgetSeconds / static_cast<double>(std::size(seeds))));
+  FuzzStatistics statistics;
+  for (const std::uint64_t seed : seeds)
+  {
+    if (!FuzzSeed(seed, Clock::now() + perSeed, statistics))
+    {
+      break;
+    }
+  }
+  std::printf("OFF fuzz: %" PRIu64 " inputs, %" PRIu64 " parsed, %" PRIu64 " rejected, slowest %.2f ms (%zu bytes)\n",
+    statistics.Iterations, statistics.Parsed, statistics.Rejected, 1e3 * statistics.SlowestSeconds,
+    statistics.SlowestInputSize);
+  // Both outcomes occur often, so the mutations really explore the grammar (even a slow
+  // sanitizer build manages a few thousand inputs in the budget).
+  EXPECT_GT(statistics.Parsed, 200u);
+  EXPECT_GT(statistics.Rejected, 200u);
+}
+
+// ------------------------------------------------------------------ giant header counts
+
+long PeakRSSKilobytes()
+{
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss; // kilobytes on Linux
+}
+
+/// Current virtual size in bytes (VmSize of /proc/self/status), 0 when unknown.
+std::uint64_t VirtualSizeBytes()
+{
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+  {
+    if (line.rfind("VmSize:", 0) == 0)
+    {
+      return std::stoull(line.substr(7)) * 1024;
+    }
+  }
+  return 0;
+}
+
+/// Caps the address space at the current size + `headroom` for its lifetime, so that an
+/// allocation for declared counts fails with bad_alloc even if it would never be touched.
+class AddressSpaceCap
+{
+public:
+  explicit AddressSpaceCap(std::uint64_t headroom)
+  {
+    const std::uint64_t now = VirtualSizeBytes();
+    this->Active = now > 0 && getrlimit(RLIMIT_AS, &this->Saved) == 0;
+    if (this->Active)
+    {
+      rlimit capped = this->Saved;
+      capped.rlim_cur = std::min<rlim_t>(this->Saved.rlim_cur, static_cast<rlim_t>(now + headroom));
+      this->Active = setrlimit(RLIMIT_AS, &capped) == 0;
+    }
+  }
+  ~AddressSpaceCap()
+  {
+    if (this->Active)
+    {
+      setrlimit(RLIMIT_AS, &this->Saved);
+    }
+  }
+  AddressSpaceCap(const AddressSpaceCap&) = delete;
+  AddressSpaceCap& operator=(const AddressSpaceCap&) = delete;
+
+private:
+  rlimit Saved{};
+  bool Active = false;
+};
+
+TEST(OFFParserFuzz, HeaderDeclaring2To40ElementsIsRejectedQuicklyWithoutAllocating)
+{
+  // 2^40 = 1099511627776: 24 TiB of coordinates if believed.
+  const std::vector<std::string> inputs = {
+    "OFF\n1099511627776 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+    "OFF\n3 1099511627776 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+    "OFF 1099511627776 1099511627776 1099511627776\n0 0 0\n",
+    "CNOFF\n1099511627776 0\n0 0 0 0 0 1 1 1 1\n",
+    "1099511627776 0\n" + std::string(64 * 1024, ' ') + "\n", // no keyword, 64 kB of padding
+    // Counts that would fit a 32-bit truncation of the count (2^40 + 3 -> 3).
+    "OFF\n1099511627779 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+  };
+  for (const std::string& text : inputs)
+  {
+    SCOPED_TRACE(Escaped(text, 80));
+    const long rssBefore = PeakRSSKilobytes();
+    double fastest = 1e9;
+    for (int repeat = 0; repeat < 3; ++repeat) // the fastest of three: robust to a busy machine
+    {
+      const Clock::time_point start = Clock::now();
+      try
+      {
+        AddressSpaceCap cap(256ull << 20);
+        ParseOFF(text.data(), text.size());
+        ADD_FAILURE() << "accepted";
+      }
+      catch (const OFFParseError& error)
+      {
+        EXPECT_NE(std::string(error.what()).find("declares"), std::string::npos) << error.what();
+      }
+      catch (const std::exception& error)
+      {
+        ADD_FAILURE() << "not an OFFParseError: " << typeid(error).name() << ": " << error.what();
+      }
+      fastest = std::min(fastest, std::chrono::duration<double>(Clock::now() - start).count());
+    }
+    EXPECT_LT(fastest, 0.010) << "seconds";
+    EXPECT_LT(PeakRSSKilobytes() - rssBefore, 50 * 1024) << "kB of peak RSS growth";
+  }
+}
+
+} // namespace

@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// libFuzzer entry point for the VTK-free OFF parser (Filters/Core/OFFParser.h).
+//
+// Build and run: see Testing/Fuzz/CMakeLists.txt (clang only), or by hand from the
+// repository root:
+//   clang++ -g -O1 -fsanitize=fuzzer,address,undefined -std=c++17 -I Filters/Core \
+//     Filters/Core/OFFParser.cpp Testing/Fuzz/FuzzOFFParser.cpp -o /tmp/fuzz_off
+//   /tmp/fuzz_off -max_total_time=60 -rss_limit_mb=512 CORPUS_DIR
+//
+// A finding is any of: a sanitizer report (out-of-bounds, use-after-free, UB, leak), an
+// exception other than OFFParseError (libFuzzer reports the abort), an allocation above
+// -rss_limit_mb / -malloc_limit_mb, a timeout, or an accepted mesh that breaks the
+// documented invariants: indices in [0, V), finite coordinates and normals, faces of >= 3
+// vertices, consistent array sizes, a size that is a small multiple of the input, and a
+// lossless round trip (written back as OFF and parsed again, it is identical).
+#include "OFFParser.h"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace
+{
+using shapediameter::OFFMesh;
+using shapediameter::OFFParseError;
+using shapediameter::ParseOFF;
+
+[[noreturn]] void Violation(const char* what)
+{
+  std::fprintf(stderr, "OFF parser invariant violated: %s\n", what);
+  std::abort();
+}
+
+void CheckMesh(const OFFMesh& mesh, std::size_t inputSize)
+{
+  if (mesh.points.size() % 3 != 0)
+  {
+    Violation("points not a multiple of 3");
+  }
+  const std::size_t vertices = mesh.VertexCount();
+  for (const double x : mesh.points)
+  {
+    if (!std::isfinite(x))
+    {
+      Violation("non-finite coordinate");
+    }
+  }
+  if (!mesh.vertexNormals.empty() && mesh.vertexNormals.size() != 3 * vertices)
+  {
+    Violation("normals size");
+  }
+  for (const double x : mesh.vertexNormals)
+  {
+    if (!std::isfinite(x))
+    {
+      Violation("non-finite normal");
+    }
+  }
+  if (!mesh.vertexColors.empty() && mesh.vertexColors.size() != 4 * vertices)
+  {
+    Violation("vertex colours size");
+  }
+  if (mesh.faceOffsets.empty() || mesh.faceOffsets.front() != 0 ||
+    mesh.faceOffsets.back() != static_cast<std::int64_t>(mesh.faceConnectivity.size()))
+  {
+    Violation("face offsets do not frame the connectivity");
+  }
+  for (std::size_t f = 0; f + 1 < mesh.faceOffsets.size(); ++f)
+  {
+    if (mesh.faceOffsets[f + 1] - mesh.faceOffsets[f] < 3)
+    {
+      Violation("face with fewer than 3 vertices");
+    }
+  }
+  for (const std::int64_t index : mesh.faceConnectivity)
+  {
+    if (index < 0 || index >= static_cast<std::int64_t>(vertices))
+    {
+      Violation("vertex index out of range");
+    }
+  }
+  if (!mesh.faceColors.empty() && mesh.faceColors.size() != 4 * mesh.FaceCount())
+  {
+    Violation("face colours size");
+  }
+  const std::size_t bytes = 8 * (mesh.points.size() + mesh.vertexNormals.size() + mesh.faceOffsets.size() +
+                                  mesh.faceConnectivity.size()) +
+    mesh.vertexColors.size() + mesh.faceColors.size();
+  if (bytes > 64 * inputSize + 64)
+  {
+    Violation("mesh much larger than its input");
+  }
+}
+
+/// The mesh as OFF text that must parse back to the same mesh.
+std::string WriteOFF(const OFFMesh& mesh)
+{
+  std::string text;
+  text += mesh.vertexColors.empty() ? "" : "C";
+  text += mesh.vertexNormals.empty() ? "" : "N";
+  text += "OFF\n" + std::to_string(mesh.VertexCount()) + " " + std::to_string(mesh.FaceCount()) + " 0\n";
+  char buffer[64];
+  for (std::size_t v = 0; v < mesh.VertexCount(); ++v)
+  {
+    for (std::size_t k = 0; k < 3; ++k)
+    {
+      std::snprintf(buffer, sizeof(buffer), "%.17g ", mesh.points[3 * v + k]);
+      text += buffer;
+    }
+    for (std::size_t k = 0; k < 3 && !mesh.vertexNormals.empty(); ++k)
+    {
+      std::snprintf(buffer, sizeof(buffer), "%.17g ", mesh.vertexNormals[3 * v + k]);
+      text += buffer;
+    }
+    for (std::size_t k = 0; k < 4 && !mesh.vertexColors.empty(); ++k)
+    {
+      text += std::to_string(mesh.vertexColors[4 * v + k]) + " ";
+    }
+    text.back() = '\n';
+  }
+  for (std::size_t f = 0; f < mesh.FaceCount(); ++f)
+  {
+    text += std::to_string(mesh.faceOffsets[f + 1] - mesh.faceOffsets[f]);
+    for (auto i = mesh.faceOffsets[f]; i < mesh.faceOffsets[f + 1]; ++i)
+    {
+      text += " " + std::to_string(mesh.faceConnectivity[static_cast<std::size_t>(i)]);
+    }
+    for (std::size_t k = 0; k < 4 && !mesh.faceColors.empty(); ++k)
+    {
+      text += " " + std::to_string(mesh.faceColors[4 * f + k]);
+    }
+    text += "\n";
+  }
+  return text;
+}
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
+{
+  OFFMesh mesh;
+  try
+  {
+    mesh = ParseOFF(reinterpret_cast<const char*>(data), size);
+  }
+  catch (const OFFParseError& error)
+  {
+    const std::string message = error.what();
+    if (message.empty() || message.find('\n') != std::string::npos || error.Line() < 0)
+    {
+      Violation("error message empty, not one line, or negative line");
+    }
+    return 0;
+  }
+  CheckMesh(mesh, size);
+  const std::string written = WriteOFF(mesh);
+  OFFMesh again;
+  try
+  {
+    again = ParseOFF(written.data(), written.size());
+  }
+  catch (const OFFParseError& error)
+  {
+    std::fprintf(stderr, "%s\n", error.what());
+    Violation("an accepted mesh written back as OFF does not parse");
+  }
+  if (again.points != mesh.points || again.vertexNormals != mesh.vertexNormals ||
+    again.vertexColors != mesh.vertexColors || again.faceOffsets != mesh.faceOffsets ||
+    again.faceConnectivity != mesh.faceConnectivity || again.faceColors != mesh.faceColors)
+  {
+    Violation("round trip changed the mesh");
+  }
+  return 0;
+}
