@@ -115,6 +115,17 @@ TEST(SDFSkeleton, FigureBonesFollowTheLimbsInTwoPoses)
   const SkeletonRun b = Skeletonize(ToPolyData(posed.Points, posed.Triangles));
   ASSERT_EQ(a.Errors + b.Errors, 0);
   EXPECT_GT(a.Skeleton->GetNumberOfCells(), 0);
+  auto boneCount = [](vtkPolyData* skeleton) {
+    vtkDataArray* bones = skeleton->GetCellData()->GetArray("BoneId");
+    std::set<vtkIdType> distinct;
+    for (vtkIdType c = 0; c < bones->GetNumberOfTuples(); ++c)
+    {
+      distinct.insert(static_cast<vtkIdType>(bones->GetComponent(c, 0)));
+    }
+    return distinct.size();
+  };
+  EXPECT_EQ(boneCount(a.Skeleton), boneCount(b.Skeleton)) << "same number of bones in both poses";
+  EXPECT_GE(boneCount(a.Skeleton), 5u) << "four limbs and the torso at least";
   for (const SkeletonRun* run : { &a, &b })
   {
     double share = 0.0;
