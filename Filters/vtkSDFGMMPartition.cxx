@@ -18,6 +18,7 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPolyData.h"
+#include "vtkTable.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,6 +49,48 @@ vtkNew<vtkIntArray> CellIntArray(const std::string& name, vtkIdType cellCount, v
   array->FillValue(fill);
   std::copy(values.begin(), values.end(), array->GetPointer(first));
   return array;
+}
+
+/// The histogram of the values and the weighted Gaussian densities (see the header).
+void FillHistogram(const GaussianMixtureModel& model, const Eigen::Ref<const Eigen::VectorXd>& values, int bins,
+  vtkTable* table)
+{
+  const double sigmaMax = *std::max_element(model.sigmas.begin(), model.sigmas.end());
+  const double low = values.minCoeff() - 4.0 * sigmaMax;
+  const double high = values.maxCoeff() + 4.0 * sigmaMax;
+  const double width = (high - low) / bins;
+  const auto count = static_cast<double>(values.size());
+  std::vector<double> centers(static_cast<std::size_t>(bins)), counts(static_cast<std::size_t>(bins), 0.0);
+  for (int b = 0; b < bins; ++b)
+  {
+    centers[static_cast<std::size_t>(b)] = low + (b + 0.5) * width;
+  }
+  for (Eigen::Index i = 0; i < values.size(); ++i)
+  {
+    const int bin = std::min(bins - 1, std::max(0, static_cast<int>((values[i] - low) / width)));
+    counts[static_cast<std::size_t>(bin)] += 1.0;
+  }
+  std::vector<double> density(counts.size()), mixture(counts.size(), 0.0);
+  std::transform(counts.begin(), counts.end(), density.begin(), [&](double c) { return c / (count * width); });
+  table->AddColumn(DoubleArray("BinCenter", centers));
+  table->AddColumn(DoubleArray("Count", counts));
+  table->AddColumn(DoubleArray("Density", density));
+  for (int c = 0; c < model.ComponentCount(); ++c)
+  {
+    std::vector<double> curve(counts.size());
+    // The mean density over each bin (not its value at the centre): comparable with the
+    // histogram bar, and exact for Gaussians narrower than a bin.
+    const double scale = 1.0 / (model.sigmas[static_cast<std::size_t>(c)] * std::sqrt(2.0));
+    auto cumulative = [&](double x) { return 0.5 * std::erf((x - model.means[static_cast<std::size_t>(c)]) * scale); };
+    for (std::size_t b = 0; b < curve.size(); ++b)
+    {
+      const double left = centers[b] - 0.5 * width;
+      curve[b] = model.weights[static_cast<std::size_t>(c)] * (cumulative(left + width) - cumulative(left)) / width;
+      mixture[b] += curve[b];
+    }
+    table->AddColumn(DoubleArray(("Component" + std::to_string(c)).c_str(), curve));
+  }
+  table->AddColumn(DoubleArray("Mixture", mixture));
 }
 
 /// The mixture stored in a partition output's field data; empty reason on success.
@@ -91,6 +134,7 @@ std::string ReadModel(vtkDataObject* modelData, GaussianMixtureModel& model)
 vtkSDFGMMPartition::vtkSDFGMMPartition()
 {
   this->SetNumberOfInputPorts(2);
+  this->SetNumberOfOutputPorts(2);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
     vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME);
 }
@@ -106,6 +150,21 @@ int vtkSDFGMMPartition::FillInputPortInformation(int port, vtkInformation* info)
     return 1;
   }
   return this->Superclass::FillInputPortInformation(port, info);
+}
+
+int vtkSDFGMMPartition::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+  {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
+    return 1;
+  }
+  return this->Superclass::FillOutputPortInformation(port, info);
+}
+
+vtkTable* vtkSDFGMMPartition::GetHistogram()
+{
+  return vtkTable::SafeDownCast(this->GetOutputDataObject(1));
 }
 
 int vtkSDFGMMPartition::RequestData(
@@ -219,6 +278,7 @@ int vtkSDFGMMPartition::RequestData(
     field->AddArray(count);
     field->AddArray(DoubleArray(ENERGY_ARRAY_NAME, { cut.energy }));
     output->SetFieldData(field);
+    FillHistogram(model, faceValues, this->HistogramBins, vtkTable::GetData(outputVector, 1));
   }
   catch (const std::exception& error)
   {
@@ -241,5 +301,6 @@ void vtkSDFGMMPartition::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Restarts: " << this->Restarts << "\n";
   os << indent << "MaximumIterations: " << this->MaximumIterations << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "HistogramBins: " << this->HistogramBins << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

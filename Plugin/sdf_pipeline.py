@@ -239,6 +239,27 @@ class Pipeline:
         skeleton.UpdatePipeline()
         return skeleton
 
+    def render_histogram(self, partition, png, clusters):
+        """The paper's Fig. 7: histogram of SDFNormalized with the fitted Gaussians, in
+        ParaView's own line chart (output port 1 of the partition)."""
+        simple = self.simple
+        view = simple.CreateView("XYChartView")
+        view.ViewSize = [1024, 600]
+        view.ChartTitle = "GMM fit of the normalised SDF (k = %d)" % clusters
+        view.LeftAxisTitle = "density"
+        view.BottomAxisTitle = "SDFNormalized"
+        chart = simple.Show(simple.OutputPort(partition, 1), view)
+        chart.UseIndexForXAxis = 0
+        chart.XArrayName = "BinCenter"
+        curves = ["Density", "Mixture"] + ["Component%d" % c for c in range(clusters)]
+        chart.SeriesVisibility = curves
+        chart.SeriesLabel = sum([[c, "histogram" if c == "Density" else c] for c in curves], [])
+        chart.SeriesLineThickness = sum([[c, "3" if c in ("Density", "Mixture") else "2"] for c in curves], [])
+        chart.SeriesColor = ["Density", "0", "0", "0", "Mixture", "0.55", "0.55", "0.55"]
+        simple.SaveScreenshot(png, view, ImageResolution=[1024, 600])
+        simple.Delete(chart)
+        simple.Delete(view)
+
     def render_skeleton(self, surface, skeleton, png):
         """The skeleton as tubes over a translucent surface."""
         simple = self.simple
@@ -322,6 +343,8 @@ class Pipeline:
                 if cells.GetArray("SDFCluster") is not None:
                     clusters = int(data.GetFieldData().GetArray("SDFClusterCount").GetValue(0))
                     self.render_parts(result, os.path.join(out, name + "_parts.png"), clusters)
+                    if arguments.plot:
+                        self.render_histogram(result, os.path.join(out, name + "_gmm.png"), clusters)
                 if skeleton is not None:
                     self.render_skeleton(result, skeleton, os.path.join(out, name + "_skeleton.png"))
             self.timed(timings, "render", render)

@@ -14,6 +14,7 @@
 #include "vtkNew.h"
 #include "vtkPolyData.h"
 #include "vtkSphereSource.h"
+#include "vtkTable.h"
 
 #include <gtest/gtest.h>
 
@@ -207,4 +208,37 @@ TEST(SDFGMMPartition, DegenerateInputsAreDefined)
   emptyPartition->Update();
   EXPECT_EQ(emptyRecorder->Errors, 0);
   EXPECT_EQ(emptyRecorder->Warnings, 1);
+}
+
+TEST_F(FigurePartition, HistogramTableMatchesTheFacesAndTheMixture)
+{
+  vtkNew<vtkSDFGMMPartition> partition;
+  partition->SetInputData(RestNormalized);
+  partition->SetNumberOfClusters(3);
+  partition->Update();
+  vtkTable* table = partition->GetHistogram();
+  ASSERT_NE(table, nullptr);
+  ASSERT_EQ(table->GetNumberOfRows(), 64);
+  vtkDataArray* centers = vtkDataArray::SafeDownCast(table->GetColumnByName("BinCenter"));
+  vtkDataArray* counts = vtkDataArray::SafeDownCast(table->GetColumnByName("Count"));
+  ASSERT_TRUE(centers && counts && table->GetColumnByName("Density") && table->GetColumnByName("Mixture"));
+  double total = 0.0;
+  for (vtkIdType b = 0; b < counts->GetNumberOfTuples(); ++b)
+  {
+    total += counts->GetComponent(b, 0);
+  }
+  EXPECT_EQ(total, RestNormalized->GetNumberOfCells());
+  const double width = centers->GetComponent(1, 0) - centers->GetComponent(0, 0);
+  vtkDataArray* weights = partition->GetOutput()->GetFieldData()->GetArray("SDFGMMWeights");
+  for (int c = 0; c < 3; ++c)
+  {
+    vtkDataArray* curve = vtkDataArray::SafeDownCast(table->GetColumnByName(("Component" + std::to_string(c)).c_str()));
+    ASSERT_NE(curve, nullptr);
+    double integral = 0.0;
+    for (vtkIdType b = 0; b < curve->GetNumberOfTuples(); ++b)
+    {
+      integral += curve->GetComponent(b, 0) * width;
+    }
+    EXPECT_NEAR(integral, weights->GetComponent(c, 0), 0.02 * weights->GetComponent(c, 0)) << "component " << c;
+  }
 }

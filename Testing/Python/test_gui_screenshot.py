@@ -3,6 +3,7 @@
 screenshot; the image must show the mesh in at least k distinct unlit part colours."""
 import collections
 import os
+import random
 import subprocess
 import sys
 import tempfile
@@ -14,7 +15,7 @@ with tempfile.TemporaryDirectory() as work:
     png = os.path.join(work, "gui.png")
     environment = dict(os.environ, SHAPEDIAMETER_GUI_SCREENSHOT=png, SHAPEDIAMETER_GUI_CLUSTERS=str(k))
     environment.pop("DISPLAY", None)
-    command = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "paraview", "--dr",
+    command = ["xvfb-run", "-a", "-n", str(random.randint(100, 5100)), "-s", "-screen 0 1280x1024x24", "paraview", "--dr",
                "--plugin-search-paths=" + os.path.dirname(plugin), "--plugins=ShapeDiameter",
                "--script=" + script, "--exit"]
     result = subprocess.run(command, env=environment, capture_output=True, text=True, timeout=600)

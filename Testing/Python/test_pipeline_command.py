@@ -24,10 +24,11 @@ def fail(message, result=None):
 
 with tempfile.TemporaryDirectory() as out:
     mesh = os.path.join(source, "Data", "camel.off")
-    result = run(mesh, "--output-dir", out, "--quiet")
+    result = run(mesh, "--output-dir", out, "--quiet", "--plot")
     if result.returncode != 0:
         fail("pipeline failed", result)
-    for suffix in (".vtp", "_sdf.png", "_timings.json", ".seg", "_parts.png", "_skeleton.vtp", "_skeleton.png"):
+    for suffix in (".vtp", "_sdf.png", "_timings.json", ".seg", "_parts.png", "_skeleton.vtp", "_skeleton.png",
+                   "_gmm.png"):
         if not os.path.isfile(os.path.join(out, "camel" + suffix)):
             fail("missing output camel%s" % suffix, result)
     with open(os.path.join(out, "camel_timings.json")) as stream:
@@ -42,7 +43,7 @@ with tempfile.TemporaryDirectory() as out:
 
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkIOImage import vtkPNGReader
-    for picture in ("camel_sdf.png", "camel_parts.png", "camel_skeleton.png"):
+    for picture in ("camel_sdf.png", "camel_parts.png", "camel_skeleton.png", "camel_gmm.png"):
         png = vtkPNGReader()
         png.SetFileName(os.path.join(out, picture))
         png.Update()
