@@ -6,7 +6,10 @@
 #include "MeshTypes.h"
 #include "Parallel.h"
 
+#include "vtkSmartPointer.h"
 #include "vtkType.h"
+
+#include <algorithm>
 
 #include <string>
 #include <utility>
@@ -71,6 +74,22 @@ std::string ReadCellScalars(vtkAlgorithm* algorithm, vtkPolyData* input, const c
 
 /// ReadCellScalars for a given array name.
 std::string ReadNamedCellScalars(vtkPolyData* input, std::vector<double>& values, const std::string& arrayName);
+
+/// A named VTK array holding `values` as tuples of `components` (array types with
+/// SetNumberOfComponents/SetNumberOfTuples/GetPointer, e.g. vtkDoubleArray, vtkIdTypeArray).
+template <typename ArrayT, typename ValueT>
+vtkSmartPointer<ArrayT> MakeArray(const char* name, const std::vector<ValueT>& values, int components = 1)
+{
+  auto array = vtkSmartPointer<ArrayT>::New();
+  if (name)
+  {
+    array->SetName(name);
+  }
+  array->SetNumberOfComponents(components);
+  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / static_cast<std::size_t>(components)));
+  std::copy(values.begin(), values.end(), array->GetPointer(0));
+  return array;
+}
 
 /// A core ParallelFor running on vtkSMPTools' STDThread backend with `threads`
 /// workers (0 = all cores), whatever backend the application selected globally.

@@ -2,6 +2,7 @@
 #include "vtkOFFReader.h"
 
 #include "OFFParser.h"
+#include "SurfaceConversion.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -24,24 +25,7 @@ vtkStandardNewMacro(vtkOFFReader);
 
 namespace
 {
-template <typename ArrayT, typename ValueT>
-vtkNew<ArrayT> MakeTupleArray(const char* name, int components, const std::vector<ValueT>& values)
-{
-  vtkNew<ArrayT> array;
-  array->SetName(name);
-  array->SetNumberOfComponents(components);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / components));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
-  return array;
-}
-
-vtkNew<vtkIdTypeArray> MakeIdArray(const std::vector<std::int64_t>& values)
-{
-  vtkNew<vtkIdTypeArray> array;
-  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
-  return array;
-}
+using shapediameter::adapter::MakeArray;
 } // namespace
 
 vtkOFFReader::vtkOFFReader()
@@ -105,27 +89,28 @@ int vtkOFFReader::RequestData(
   this->UpdateProgress(0.5);
 
   vtkNew<vtkPoints> points;
-  points->SetData(MakeTupleArray<vtkDoubleArray>("Points", 3, mesh.points));
+  points->SetData(MakeArray<vtkDoubleArray>("Points", mesh.points, 3));
   output->SetPoints(points);
 
   vtkNew<vtkCellArray> polygons;
-  polygons->SetData(MakeIdArray(mesh.faceOffsets), MakeIdArray(mesh.faceConnectivity));
+  polygons->SetData(MakeArray<vtkIdTypeArray>(nullptr, mesh.faceOffsets),
+    MakeArray<vtkIdTypeArray>(nullptr, mesh.faceConnectivity));
   output->SetPolys(polygons);
 
   if (!mesh.vertexColors.empty())
   {
     output->GetPointData()->SetScalars(
-      MakeTupleArray<vtkUnsignedCharArray>("Colors", 4, mesh.vertexColors));
+      MakeArray<vtkUnsignedCharArray>("Colors", mesh.vertexColors, 4));
   }
   if (!mesh.vertexNormals.empty())
   {
     output->GetPointData()->SetNormals(
-      MakeTupleArray<vtkDoubleArray>("Normals", 3, mesh.vertexNormals));
+      MakeArray<vtkDoubleArray>("Normals", mesh.vertexNormals, 3));
   }
   if (!mesh.faceColors.empty())
   {
     output->GetCellData()->SetScalars(
-      MakeTupleArray<vtkUnsignedCharArray>("Colors", 4, mesh.faceColors));
+      MakeArray<vtkUnsignedCharArray>("Colors", mesh.faceColors, 4));
   }
   this->UpdateProgress(1.0);
   return 1;

@@ -82,16 +82,12 @@ int vtkSDFBilateralSmooth::RequestData(
     normalization.Alpha = this->Alpha;
     const std::vector<double> normalized = NormalizeLogarithmic(polygonValues, normalization);
 
-    vtkNew<vtkDoubleArray> smoothedArray;
-    smoothedArray->SetName(SMOOTHED_ARRAY_NAME);
-    smoothedArray->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
-    std::copy(smoothed.Values.begin(), smoothed.Values.end(), smoothedArray->GetPointer(0));
+    output->GetCellData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SMOOTHED_ARRAY_NAME, smoothed.Values));
     vtkNew<vtkDoubleArray> normalizedArray;
     normalizedArray->SetName(NORMALIZED_ARRAY_NAME);
     normalizedArray->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
     normalizedArray->FillValue(0.0);
     std::copy(normalized.begin(), normalized.end(), normalizedArray->GetPointer(first));
-    output->GetCellData()->AddArray(smoothedArray);
     output->GetCellData()->AddArray(normalizedArray);
     // Active, so ParaView's array selection of the next stage (the partition) defaults to it.
     output->GetCellData()->SetActiveScalars(NORMALIZED_ARRAY_NAME);

@@ -30,13 +30,9 @@ namespace
 {
 using namespace shapediameter;
 
-vtkNew<vtkDoubleArray> DoubleArray(const char* name, const std::vector<double>& values)
+vtkSmartPointer<vtkDoubleArray> DoubleArray(const char* name, const std::vector<double>& values)
 {
-  vtkNew<vtkDoubleArray> array;
-  array->SetName(name);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
-  return array;
+  return adapter::MakeArray<vtkDoubleArray>(name, values);
 }
 
 /// An int cell array over all cells: `fill` outside [first, first + values.size()).

@@ -30,23 +30,15 @@ namespace
 {
 using namespace shapediameter;
 
-vtkNew<vtkDoubleArray> DoubleArray(const char* name, const std::vector<double>& values)
+vtkSmartPointer<vtkDoubleArray> DoubleArray(const char* name, const std::vector<double>& values)
 {
-  vtkNew<vtkDoubleArray> array;
-  array->SetName(name);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
-  return array;
+  return adapter::MakeArray<vtkDoubleArray>(name, values);
 }
 
 template <typename T>
-vtkNew<vtkIdTypeArray> IdArray(const char* name, const std::vector<T>& values)
+vtkSmartPointer<vtkIdTypeArray> IdArray(const char* name, const std::vector<T>& values)
 {
-  vtkNew<vtkIdTypeArray> array;
-  array->SetName(name);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
-  return array;
+  return adapter::MakeArray<vtkIdTypeArray>(name, values);
 }
 
 vtkNew<vtkPoints> ToPoints(const PointMatrix& positions)
@@ -89,11 +81,8 @@ void WriteSkeleton(const SkeletonResult& skeleton, vtkPolyData* output)
   output->SetVerts(vertices);
   output->SetLines(lines);
   output->GetCellData()->AddArray(IdArray(vtkSDFSkeleton::BONE_ID_ARRAY_NAME, boneIds));
-  vtkNew<vtkIntArray> connection;
-  connection->SetName(vtkSDFSkeleton::IS_CONNECTION_ARRAY_NAME);
-  connection->SetNumberOfTuples(static_cast<vtkIdType>(isConnection.size()));
-  std::copy(isConnection.begin(), isConnection.end(), connection->GetPointer(0));
-  output->GetCellData()->AddArray(connection);
+  output->GetCellData()->AddArray(
+    adapter::MakeArray<vtkIntArray>(vtkSDFSkeleton::IS_CONNECTION_ARRAY_NAME, isConnection));
 }
 } // namespace
 

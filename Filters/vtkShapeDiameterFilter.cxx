@@ -181,13 +181,8 @@ int vtkShapeDiameterFilter::RequestData(
       std::vector<std::int64_t> offsets, neighbours;
       PointAdjacency(surface, offsets, neighbours);
       FillFromNeighbours(result.values, result.validRays, offsets, neighbours);
-      const vtkIdType pointCount = input->GetNumberOfPoints();
-      auto sdf = MakeDoubleArray(SDF_ARRAY_NAME, pointCount);
-      auto rays = MakeIntArray(VALID_RAYS_ARRAY_NAME, pointCount);
-      std::copy(result.values.begin(), result.values.end(), sdf->GetPointer(0));
-      std::copy(result.validRays.begin(), result.validRays.end(), rays->GetPointer(0));
-      output->GetPointData()->AddArray(sdf);
-      output->GetPointData()->AddArray(rays);
+      output->GetPointData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SDF_ARRAY_NAME, result.values));
+      output->GetPointData()->AddArray(adapter::MakeArray<vtkIntArray>(VALID_RAYS_ARRAY_NAME, result.validRays));
       output->GetPointData()->SetActiveScalars(SDF_ARRAY_NAME);
     }
     else
