@@ -81,6 +81,7 @@ void WriteSkeleton(const SkeletonResult& skeleton, vtkPolyData* output)
   output->SetVerts(vertices);
   output->SetLines(lines);
   output->GetCellData()->AddArray(IdArray(vtkSDFSkeleton::BONE_ID_ARRAY_NAME, boneIds));
+  output->GetCellData()->SetActiveScalars(vtkSDFSkeleton::BONE_ID_ARRAY_NAME); // default colouring
   output->GetCellData()->AddArray(
     adapter::MakeArray<vtkIntArray>(vtkSDFSkeleton::IS_CONNECTION_ARRAY_NAME, isConnection));
 }
@@ -172,6 +173,7 @@ int vtkSDFSkeleton::RequestData(
     }
     surfaceOutput->GetCellData()->AddArray(IdArray(NODE_ID_ARRAY_NAME, nodeIds));
     surfaceOutput->GetCellData()->AddArray(IdArray(SURFACE_BONE_ID_ARRAY_NAME, boneIds));
+    surfaceOutput->GetCellData()->SetActiveScalars(SURFACE_BONE_ID_ARRAY_NAME);
 
     // Port 2: the projected cloud, with the input cell of every point.
     cloudOutput->SetPoints(ToPoints(skeleton.CloudPositions));

@@ -118,6 +118,23 @@ class Pipeline:
         timings[key] = round(time.perf_counter() - start, 6)
         return result
 
+    def show_progress(self, proxy, stage):
+        """A live per-stage progress line on a terminal's stderr, from the filter's own
+        progress events (nothing with --quiet or when stderr is not a terminal)."""
+        if self.arguments.quiet or not sys.__stderr__.isatty():
+            return
+        algorithm = proxy.GetClientSideObject()
+        shown = [-1]
+
+        def report(caller, event):
+            percent = int(100 * caller.GetProgress())
+            if percent != shown[0] and (percent - shown[0] >= 5 or percent == 100):
+                shown[0] = percent
+                end = "\n" if percent == 100 else ""
+                print("\r%-10s %3d%%" % (stage, percent), end=end, file=sys.__stderr__, flush=True)
+
+        algorithm.AddObserver("ProgressEvent", report)
+
     def read(self, path):
         simple = self.simple
         if path.lower().endswith(".off"):
@@ -142,10 +159,12 @@ class Pipeline:
             current = self.simple.ShapeDiameter(Input=current, NumberOfRays=arguments.rays,
                                                 ConeAngle=arguments.cone_angle,
                                                 NumberOfThreads=arguments.threads)
+            self.show_progress(current, "sdf")
             self.timed(timings, "sdf", current.UpdatePipeline)
         if self.has("SDFBilateralSmooth"):
             current = self.simple.SDFBilateralSmooth(Input=current, NumberOfThreads=arguments.threads,
                                                      SDFArray=["CELLS", "SDF"])
+            self.show_progress(current, "smooth")
             self.timed(timings, "smooth", current.UpdatePipeline)
         return current
 
@@ -161,6 +180,7 @@ class Pipeline:
         if model is not None:
             properties["Model"] = model
         partition = self.simple.SDFGMMPartition(**properties)
+        self.show_progress(partition, "partition")
         partition.UpdatePipeline()
         return partition
 
@@ -236,6 +256,7 @@ class Pipeline:
         skeleton = self.simple.SDFSkeleton(Input=source, NumberOfSamples=self.arguments.samples,
                                            NumberOfThreads=self.arguments.threads,
                                            SDFArray=["CELLS", "SDFSmoothed"])
+        self.show_progress(skeleton, "skeleton")
         skeleton.UpdatePipeline()
         return skeleton
 
