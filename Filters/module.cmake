@@ -16,10 +16,19 @@ endforeach ()
 
 vtk_module_add_module(ShapeDiameter::Filters
   CLASSES ${_classes_abs}
-  SOURCES "${_filters_dir}/SurfaceConversion.cxx" $<TARGET_OBJECTS:ShapeDiameterCore>
-  PRIVATE_HEADERS "${_filters_dir}/SurfaceConversion.h")
+  SOURCES "${_filters_dir}/SurfaceConversion.cxx" "${_filters_dir}/DistributedSupport.cxx"
+    $<TARGET_OBJECTS:ShapeDiameterCore>
+  PRIVATE_HEADERS "${_filters_dir}/SurfaceConversion.h" "${_filters_dir}/DistributedSupport.h")
 vtk_module_include(ShapeDiameter::Filters
   PUBLIC "$<BUILD_INTERFACE:${_filters_dir}>"
   PRIVATE "${_filters_dir}/Core")
 vtk_module_link(ShapeDiameter::Filters PRIVATE embree Eigen3::Eigen Threads::Threads)
 vtk_module_compile_options(ShapeDiameter::Filters PRIVATE -Wall -Wextra)
+# Distributed runs: with ParaView's MPI module, processes waiting for process 0 sleep instead
+# of spinning in MPI (Filters/DistributedSupport.cxx). Linked by file, not as a target nor a
+# module dependency: the installed package must not make its C++ consumers find
+# MPI (VTK::ParallelMPI -> VTK::mpi -> MPI::MPI_C, which needs the C language).
+if (TARGET VTK::ParallelMPI)
+  vtk_module_link(ShapeDiameter::Filters PRIVATE "$<TARGET_FILE:VTK::ParallelMPI>")
+  vtk_module_definitions(ShapeDiameter::Filters PRIVATE SHAPEDIAMETER_HAVE_MPI)
+endif ()

@@ -112,6 +112,32 @@ int vtkOFFReader::RequestData(
     output->GetCellData()->SetScalars(
       MakeArray<vtkUnsignedCharArray>("Colors", mesh.faceColors, 4));
   }
+
+  // ---- Distributed runs (Filters/DistributedSupport.h): when several pieces are asked for,
+  // number the points and faces in file order (GlobalIds attributes `GlobalPointIds` and
+  // `GlobalCellIds`), so the filters can rebuild the original mesh, in its original order,
+  // from the pieces RedistributeDataSet makes. Serial runs get no extra array.
+  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (pieces > 1)
+  {
+    for (const bool cells : { false, true })
+    {
+      const vtkIdType count = cells ? output->GetNumberOfCells() : output->GetNumberOfPoints();
+      vtkNew<vtkIdTypeArray> ids;
+      ids->SetName(cells ? "GlobalCellIds" : "GlobalPointIds");
+      ids->SetNumberOfTuples(count);
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        ids->SetValue(i, i);
+      }
+      vtkDataSetAttributes* data = cells ? static_cast<vtkDataSetAttributes*>(output->GetCellData())
+                                         : static_cast<vtkDataSetAttributes*>(output->GetPointData());
+      data->SetGlobalIds(ids);
+    }
+  }
+  // ---- end of distributed runs
   this->UpdateProgress(1.0);
   return 1;
 }

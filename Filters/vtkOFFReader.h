@@ -25,7 +25,12 @@
  * 4-D OFF are rejected with an error.
  *
  * Parallel pieces: the whole file is read on piece 0; other pieces produce an
- * empty output (redistribute with RedistributeDataSet when running under MPI).
+ * empty output (redistribute with RedistributeDataSet when running under MPI). When
+ * more than one piece is requested, the output also carries the GlobalIds attributes
+ * `GlobalPointIds` (point data) and `GlobalCellIds` (cell data), vtkIdType, numbering
+ * points and faces in file order: the module's filters use them to rebuild the original
+ * mesh from the redistributed pieces (Filters/DistributedSupport.h). Serial runs (one
+ * piece) get neither array.
  */
 #ifndef vtkOFFReader_h
 #define vtkOFFReader_h

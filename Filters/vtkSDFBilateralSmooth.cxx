@@ -4,6 +4,7 @@
 #include "BilateralSmoothing.h"
 #include "FaceGraph.h"
 #include "Normalization.h"
+#include "DistributedSupport.h"
 #include "SurfaceConversion.h"
 #include "vtkShapeDiameterFilter.h"
 
@@ -32,6 +33,15 @@ vtkSDFBilateralSmooth::~vtkSDFBilateralSmooth() = default;
 int vtkSDFBilateralSmooth::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  // ---- Distributed runs (Filters/DistributedSupport.h): under MPI this serial body runs
+  // once, on process 0, on the whole surface gathered in its original order; every process
+  // gets its own cells back with the new arrays.
+  if (shapediameter::distributed::IsDistributedRequest(inputVector, outputVector))
+  {
+    return shapediameter::distributed::RunOnWholeSurface(this, inputVector, outputVector, { 0 },
+      [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); });
+  }
+  // ---- end of distributed runs
   using namespace shapediameter;
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);

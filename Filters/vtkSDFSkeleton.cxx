@@ -3,6 +3,7 @@
 
 #include "Orientation.h"
 #include "Skeleton.h"
+#include "DistributedSupport.h"
 #include "SurfaceConversion.h"
 #include "vtkSDFBilateralSmooth.h"
 #include "vtkSDFGMMPartition.h"
@@ -99,6 +100,15 @@ vtkSDFSkeleton::~vtkSDFSkeleton() = default;
 int vtkSDFSkeleton::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  // ---- Distributed runs (Filters/DistributedSupport.h): under MPI this serial body runs
+  // once, on process 0, on the whole surface gathered in its original order; every process
+  // gets its own cells back with the new arrays.
+  if (shapediameter::distributed::IsDistributedRequest(inputVector, outputVector))
+  {
+    return shapediameter::distributed::RunOnWholeSurface(this, inputVector, outputVector, { 1 },
+      [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); });
+  }
+  // ---- end of distributed runs
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* skeletonOutput = vtkPolyData::GetData(outputVector, 0);
   vtkPolyData* surfaceOutput = vtkPolyData::GetData(outputVector, 1);

@@ -5,6 +5,7 @@
 #include "FaceGraph.h"
 #include "Orientation.h"
 #include "ShapeDiameter.h"
+#include "DistributedSupport.h"
 #include "SurfaceConversion.h"
 
 #include "vtkCellArray.h"
@@ -124,6 +125,15 @@ vtkShapeDiameterFilter::~vtkShapeDiameterFilter() = default;
 int vtkShapeDiameterFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  // ---- Distributed runs (Filters/DistributedSupport.h): under MPI this serial body runs
+  // once, on process 0, on the whole surface gathered in its original order; every process
+  // gets its own cells back with the new arrays.
+  if (shapediameter::distributed::IsDistributedRequest(inputVector, outputVector))
+  {
+    return shapediameter::distributed::RunOnWholeSurface(this, inputVector, outputVector, { 0 },
+      [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); });
+  }
+  // ---- end of distributed runs
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   output->ShallowCopy(input);

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Distributed runs (ParaView's pvbatch / pvserver under mpiexec): every filter of the module
+// needs the whole surface (rays cross pieces, the face graph crosses pieces, the mixture and
+// the skeleton are global). The filters therefore run their unchanged serial algorithm ONCE,
+// on process 0, on the whole surface gathered from every process in its original cell and
+// point order, and each process gets back its own cells with the new arrays. With global
+// ids on the input (vtkOFFReader adds them under MPI) results are bit-identical to a serial
+// run whatever the number of processes (Testing/Python/mpi_compare.py checks it).
+//
+// Private to the module: not installed, not wrapped.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+class vtkAlgorithm;
+class vtkInformationVector;
+
+namespace shapediameter::distributed
+{
+
+/**
+ * True when the request is one piece of a distributed run: an output (or the first input)
+ * asks for one of N > 1 pieces and the global vtkMultiProcessController has N processes.
+ * Every process of such a run executes the filter together (ParaView updates all ranks),
+ * which RunOnWholeSurface relies on. False in every serial run (no controller, one
+ * process, or one piece requested, e.g. a filter updated by hand on one rank): then the
+ * filter does nothing distributed, at no cost.
+ */
+bool IsDistributedRequest(vtkInformationVector** inputVector, vtkInformationVector* outputVector);
+
+/// The filter's serial RequestData, called with substitute information vectors.
+using SerialBody = std::function<int(vtkInformationVector** inputVector, vtkInformationVector* outputVector)>;
+
+/**
+ * Runs `serial` on the whole surface and hands each process its part. Collective: every
+ * process of the global controller must call it.
+ *
+ * 1. The polydata on input port 0 of every process is sent to process 0 (point-to-point:
+ *    vtkCommunicator splits messages above 2 GiB, a gather's MPI counts would overflow).
+ * 2. Process 0 rebuilds the whole surface: cells sorted by their global id (the cell
+ *    GlobalIds attribute, e.g. `GlobalCellIds` that vtkOFFReader adds in distributed runs;
+ *    else RedistributeDataSet's `vtkOriginalCellIds`, which are global when one process held
+ *    the whole input, accepted when equal ids always mean the same corners; else process
+ *    order), a cell present on several processes (BoundaryMode "Assign to all regions")
+ *    kept once, points merged by their global id (point GlobalIds attribute, e.g. the
+ *    reader's `GlobalPointIds`; else by identical coordinates, in order of first use) and
+ *    sorted by it. With the reader's ids this is the original mesh in its original order,
+ *    hence results bit-identical to a serial run; with the fallbacks, identical as long as
+ *    the fallback reproduces the original order (vtkOriginalCellIds after a single-piece
+ *    reader: checked on camel), otherwise valid but dependent on the decomposition.
+ *    Ghost-type arrays are dropped from the whole surface.
+ * 3. `serial` runs on process 0 only; the other input ports are passed unchanged.
+ * 4. Every port listed in `scatteredPorts` (the input surface plus new arrays) goes back to
+ *    each process as its own cells and points: its input, plus every cell and point array
+ *    the filter made (arrays passed through stay the process's own), the field data of the
+ *    whole result, and the polygon winding when the filter changed it (AutoOrient). The other output ports (skeleton, point cloud, histogram) are complete on
+ *    process 0 and empty on the others, so that ParaView's gathering does not repeat them.
+ *
+ * Returns `serial`'s result (the same on every process).
+ *
+ * Memory: process 0 holds the received pieces, the whole surface and the filter's new
+ * arrays on it at once (about 2x one copy of the surface with its arrays, plus the
+ * algorithm's own working set on the whole surface, as in a serial run); every other process
+ * holds its own piece and, while it is received, a copy of it with the new arrays.
+ * Waiting processes sleep (with ParaView's MPI: polling a non-blocking receive) instead of
+ * spinning, so process 0's threads keep the node's cores.
+ * Setting SHAPEDIAMETER_DISTRIBUTED_TIMING=1 in the environment prints the time of each
+ * step on process 0 (stderr).
+ */
+int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const SerialBody& serial);
+
+} // namespace shapediameter::distributed
