@@ -2,7 +2,6 @@
 #include "vtkShapeDiameterFilter.h"
 
 #include "EmbreeRayCaster.h"
-#include "FaceGraph.h"
 #include "Orientation.h"
 #include "ShapeDiameter.h"
 #include "DistributedSupport.h"
@@ -24,6 +23,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <optional>
 
 vtkStandardNewMacro(vtkShapeDiameterFilter);
 
@@ -153,9 +153,19 @@ int vtkShapeDiameterFilter::RequestData(
 
   try
   {
+    // Triangle adjacency over manifold edges: orientation walks it, the neighbour fill of
+    // faces without a valid ray uses it (one edge sort for both).
+    std::optional<TriangleAdjacency> adjacency;
+    auto triangleAdjacency = [&]() -> const TriangleAdjacency& {
+      if (!adjacency)
+      {
+        adjacency = BuildTriangleAdjacency(surface.Triangles);
+      }
+      return *adjacency;
+    };
     if (this->AutoOrient)
     {
-      const OrientationResult orientation = OrientOutward(surface.Points, surface.Triangles);
+      const OrientationResult orientation = OrientOutward(surface.Points, surface.Triangles, triangleAdjacency());
       if (orientation.FlippedTriangles > 0)
       {
         ApplyFlips(surface.Triangles, orientation.Flip);
@@ -197,8 +207,16 @@ int vtkShapeDiameterFilter::RequestData(
     }
     else
     {
-      const FaceGraph graph = BuildFaceGraph(surface.Points, surface.Triangles, parallelFor);
-      FillFromNeighbours(result.values, result.validRays, graph.Offsets, graph.Neighbors);
+      if (std::find(result.validRays.begin(), result.validRays.end(), 0) != result.validRays.end())
+      {
+        FillFromNeighbours(
+          result.values, result.validRays, triangleAdjacency().Offsets, triangleAdjacency().Neighbours);
+      }
+      auto triangleArea = [&surface](std::size_t t) {
+        const Eigen::RowVector3d a = surface.Points.row(surface.Triangles(t, 0));
+        return 0.5 *
+          (surface.Points.row(surface.Triangles(t, 1)) - a).cross(surface.Points.row(surface.Triangles(t, 2)) - a).norm();
+      };
       const vtkIdType cellCount = surface.NumberOfCells();
       auto sdf = MakeDoubleArray(SDF_ARRAY_NAME, cellCount);
       auto rays = MakeIntArray(VALID_RAYS_ARRAY_NAME, cellCount);
@@ -210,8 +228,10 @@ int vtkShapeDiameterFilter::RequestData(
         int rayCount = 0;
         for (auto t = static_cast<std::size_t>(begin); t < static_cast<std::size_t>(end); ++t)
         {
-          weighted += graph.Areas[t] * result.values[t];
-          area += graph.Areas[t];
+          // A cell of one triangle (the common case) needs no area.
+          const double triangleWeight = end - begin > 1 ? triangleArea(t) : 1.0;
+          weighted += triangleWeight * result.values[t];
+          area += triangleWeight;
           plain += result.values[t];
           rayCount += result.validRays[t];
         }

@@ -32,8 +32,8 @@
  * Output: the input with every cell (in order) and every array, plus
  * - `SDF` (double): the shape diameter in the mesh's length units;
  * - `SDFValidRays` (int): rays kept after filtering; 0 marks a value filled in from the
- *   neighbouring faces (no valid ray, e.g. a face looking out through a hole, or a
- *   degenerate face). A component with no valid face at all gets the median SDF of the
+ *   neighbouring faces across manifold edges (no valid ray, e.g. a face looking out
+ *   through a hole, or a degenerate face). A component with no valid face at all gets the median SDF of the
  *   whole mesh (0 if no face has a value). Vertices and lines get SDF 0 and 0 rays.
  * Polygons of any size and triangle strips are split into triangles internally; a
  * cell's SDF is the area-weighted mean of its triangles' values and SDFValidRays their

@@ -8,6 +8,7 @@
 #include <array>
 #include <queue>
 #include <stdexcept>
+#include <tuple>
 
 namespace shapediameter
 {
@@ -20,54 +21,6 @@ struct DirectedEdge
   std::int64_t Triangle;
   bool Forward; // the triangle runs the edge from Low to High
 };
-
-/// For each manifold edge: the two triangles and whether they run it the same way.
-struct EdgeLink
-{
-  std::int64_t Other;
-  bool SameDirection;
-};
-
-std::vector<std::vector<EdgeLink>> BuildLinks(const TrianglesView& triangles)
-{
-  const std::int64_t count = triangles.rows();
-  std::vector<DirectedEdge> edges;
-  edges.reserve(static_cast<std::size_t>(count) * 3);
-  for (std::int64_t t = 0; t < count; ++t)
-  {
-    for (int corner = 0; corner < 3; ++corner)
-    {
-      const std::int64_t a = triangles(t, corner);
-      const std::int64_t b = triangles(t, (corner + 1) % 3);
-      if (a != b)
-      {
-        edges.push_back({ std::min(a, b), std::max(a, b), t, a < b });
-      }
-    }
-  }
-  std::sort(edges.begin(), edges.end(), [](const DirectedEdge& x, const DirectedEdge& y) {
-    return x.Low != y.Low ? x.Low < y.Low : x.High != y.High ? x.High < y.High : x.Triangle < y.Triangle;
-  });
-  std::vector<std::vector<EdgeLink>> links(static_cast<std::size_t>(count));
-  for (std::size_t begin = 0; begin < edges.size();)
-  {
-    std::size_t end = begin + 1;
-    while (end < edges.size() && edges[end].Low == edges[begin].Low && edges[end].High == edges[begin].High)
-    {
-      ++end;
-    }
-    if (end - begin == 2 && edges[begin].Triangle != edges[begin + 1].Triangle)
-    {
-      const DirectedEdge& x = edges[begin];
-      const DirectedEdge& y = edges[begin + 1];
-      const bool same = x.Forward == y.Forward;
-      links[static_cast<std::size_t>(x.Triangle)].push_back({ y.Triangle, same });
-      links[static_cast<std::size_t>(y.Triangle)].push_back({ x.Triangle, same });
-    }
-    begin = end;
-  }
-  return links;
-}
 
 /// Total area of the component's triangles.
 double Area(const PointsView& points, const TrianglesView& triangles, const std::vector<std::int64_t>& members)
@@ -109,7 +62,71 @@ double SignedVolume(const PointsView& points, const TrianglesView& triangles,
 }
 } // namespace
 
+TriangleAdjacency BuildTriangleAdjacency(const TrianglesView& triangles)
+{
+  const std::int64_t count = triangles.rows();
+  std::vector<DirectedEdge> edges;
+  edges.reserve(static_cast<std::size_t>(count) * 3);
+  for (std::int64_t t = 0; t < count; ++t)
+  {
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      const std::int64_t a = triangles(t, corner);
+      const std::int64_t b = triangles(t, (corner + 1) % 3);
+      if (a != b)
+      {
+        edges.push_back({ std::min(a, b), std::max(a, b), t, a < b });
+      }
+    }
+  }
+  std::sort(edges.begin(), edges.end(), [](const DirectedEdge& x, const DirectedEdge& y) {
+    return x.Low != y.Low ? x.Low < y.Low : x.High != y.High ? x.High < y.High : x.Triangle < y.Triangle;
+  });
+  // Manifold edges only: (triangle, neighbour, same direction) twice per edge, then CSR.
+  std::vector<std::tuple<std::int64_t, std::int64_t, std::uint8_t>> links;
+  links.reserve(edges.size());
+  for (std::size_t begin = 0; begin < edges.size();)
+  {
+    std::size_t end = begin + 1;
+    while (end < edges.size() && edges[end].Low == edges[begin].Low && edges[end].High == edges[begin].High)
+    {
+      ++end;
+    }
+    if (end - begin == 2 && edges[begin].Triangle != edges[begin + 1].Triangle)
+    {
+      const DirectedEdge& x = edges[begin];
+      const DirectedEdge& y = edges[begin + 1];
+      const std::uint8_t same = x.Forward == y.Forward;
+      links.emplace_back(x.Triangle, y.Triangle, same);
+      links.emplace_back(y.Triangle, x.Triangle, same);
+    }
+    begin = end;
+  }
+  std::sort(links.begin(), links.end());
+  TriangleAdjacency adjacency;
+  adjacency.Offsets.assign(static_cast<std::size_t>(count) + 1, 0);
+  adjacency.Neighbours.reserve(links.size());
+  adjacency.SameDirection.reserve(links.size());
+  for (const auto& [triangle, neighbour, same] : links)
+  {
+    ++adjacency.Offsets[static_cast<std::size_t>(triangle) + 1];
+    adjacency.Neighbours.push_back(neighbour);
+    adjacency.SameDirection.push_back(same);
+  }
+  for (std::size_t t = 0; t < static_cast<std::size_t>(count); ++t)
+  {
+    adjacency.Offsets[t + 1] += adjacency.Offsets[t];
+  }
+  return adjacency;
+}
+
 OrientationResult OrientOutward(const PointsView& points, const TrianglesView& triangles)
+{
+  return OrientOutward(points, triangles, BuildTriangleAdjacency(triangles));
+}
+
+OrientationResult OrientOutward(
+  const PointsView& points, const TrianglesView& triangles, const TriangleAdjacency& adjacency)
 {
   const std::int64_t count = triangles.rows();
   for (std::int64_t t = 0; t < count; ++t)
@@ -122,7 +139,6 @@ OrientationResult OrientOutward(const PointsView& points, const TrianglesView& t
       }
     }
   }
-  const auto links = BuildLinks(triangles);
 
   OrientationResult result;
   result.Flip.assign(static_cast<std::size_t>(count), 0);
@@ -144,18 +160,21 @@ OrientationResult OrientOutward(const PointsView& points, const TrianglesView& t
       const std::int64_t t = queue.front();
       queue.pop();
       members.push_back(t);
-      for (const EdgeLink& link : links[static_cast<std::size_t>(t)])
+      for (auto entry = adjacency.Offsets[static_cast<std::size_t>(t)];
+           entry < adjacency.Offsets[static_cast<std::size_t>(t) + 1]; ++entry)
       {
+        const std::int64_t neighbour = adjacency.Neighbours[static_cast<std::size_t>(entry)];
         // Same direction on a shared edge means opposite windings: the neighbour must
         // end up with the other flip state than ours.
-        const std::uint8_t wanted = link.SameDirection ? !result.Flip[static_cast<std::size_t>(t)]
-                                                       : result.Flip[static_cast<std::size_t>(t)];
-        auto& other = result.Flip[static_cast<std::size_t>(link.Other)];
-        if (!visited[static_cast<std::size_t>(link.Other)])
+        const std::uint8_t wanted = adjacency.SameDirection[static_cast<std::size_t>(entry)]
+          ? !result.Flip[static_cast<std::size_t>(t)]
+          : result.Flip[static_cast<std::size_t>(t)];
+        auto& other = result.Flip[static_cast<std::size_t>(neighbour)];
+        if (!visited[static_cast<std::size_t>(neighbour)])
         {
-          visited[static_cast<std::size_t>(link.Other)] = 1;
+          visited[static_cast<std::size_t>(neighbour)] = 1;
           other = wanted;
-          queue.push(link.Other);
+          queue.push(neighbour);
         }
         else if (other != wanted)
         {

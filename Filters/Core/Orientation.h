@@ -44,9 +44,27 @@ struct OrientationResult
   std::size_t NonOrientableComponents = 0;
 };
 
+/// Triangles sharing a manifold edge (exactly two triangles), CSR: the neighbours of t are
+/// Neighbours[Offsets[t] .. Offsets[t + 1]), sorted. SameDirection tells, per entry, whether
+/// the two triangles run the shared edge the same way (inconsistent winding).
+struct TriangleAdjacency
+{
+  std::vector<std::int64_t> Offsets;
+  std::vector<std::int64_t> Neighbours;
+  std::vector<std::uint8_t> SameDirection;
+};
+
+/// The manifold-edge adjacency of a triangle mesh (sort of the 3m half-edges).
+TriangleAdjacency BuildTriangleAdjacency(const TrianglesView& triangles);
+
 /// Computes which triangles to flip (see the header comment). Throws std::out_of_range on a
 /// vertex index out of range.
 OrientationResult OrientOutward(const PointsView& points, const TrianglesView& triangles);
+
+/// The same with an adjacency already built by BuildTriangleAdjacency (callers that need the
+/// adjacency for something else build it once).
+OrientationResult OrientOutward(
+  const PointsView& points, const TrianglesView& triangles, const TriangleAdjacency& adjacency);
 
 /// Applies the flips in place: reverses the vertex order (a, b, c) -> (c, b, a) of every
 /// flipped triangle, as reversing the polygon it came from does.
