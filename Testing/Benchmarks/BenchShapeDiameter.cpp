@@ -6,9 +6,10 @@
 // source triangle and hits whose geometric normal Ng has a non-negative dot product with the
 // origin normal), keeping the first valid hit only: no statistics, no double-precision
 // refinement, no virtual calls. It includes Embree directly on purpose: it is the independent
-// baseline, not product code. BM_ShapeDiameter runs the full core (EmbreeRayCaster +
-// ComputeShapeDiameter). The /2 variants use ThreadedFor(2); the *WithBuild variants include building
-// the BVH (and, for the SDF, the face origins). The /1 variants run on one thread and measure
+// baseline, not product code (RawEmbreeBaseline.h, shared with BenchPipeline).
+// BM_ShapeDiameter runs the full core (EmbreeRayCaster + ComputeShapeDiameter). The /2
+// variants use ThreadedFor(2); the *WithBuild variants include building the BVH (and, for
+// the SDF, the face origins). The /1 variants run on one thread and measure
 // CPU time, which is far less noisy on a shared machine. Each benchmark is repeated 5 times;
 // after the runs the program prints the ratios SDF / raw of the fastest repetitions (add
 // --benchmark_enable_random_interleaving=true to interleave them); the target is <= 1.25.
@@ -20,10 +21,10 @@
 #include "ConeSampling.h"
 #include "EmbreeRayCaster.h"
 #include "../Core/SDFTestShapes.h"
+#include "RawEmbreeBaseline.h"
 #include "ShapeDiameter.h"
 
 #include <benchmark/benchmark.h>
-#include <embree3/rtcore.h>
 
 #include <algorithm>
 #include <chrono>
@@ -112,115 +113,16 @@ const testshapes::TriangleMesh& BenchMesh()
 }
 
 // ---------------------------------------------------------------------------------------
-// Raw Embree baseline
+// Raw Embree baseline (shared with BenchPipeline: RawEmbreeBaseline.h)
 
-struct RawContext
-{
-  RTCIntersectContext Context; // first member: Embree hands this pointer to the filter
-  float Normal[3];
-  unsigned int Source;
-};
-
-void RawFilter(const RTCFilterFunctionNArguments* args)
-{
-  const auto* context = reinterpret_cast<const RawContext*>(args->context);
-  for (unsigned int i = 0; i < args->N; ++i)
-  {
-    if (args->valid[i] == 0)
-    {
-      continue;
-    }
-    const float dot = RTCHitN_Ng_x(args->hit, args->N, i) * context->Normal[0] +
-      RTCHitN_Ng_y(args->hit, args->N, i) * context->Normal[1] +
-      RTCHitN_Ng_z(args->hit, args->N, i) * context->Normal[2];
-    if (RTCHitN_primID(args->hit, args->N, i) == context->Source || dot >= 0)
-    {
-      args->valid[i] = 0;
-    }
-  }
-}
-
-struct RawScene
-{
-  RTCDevice Device = nullptr;
-  RTCScene Scene = nullptr;
-  std::vector<float> Vertices;
-  std::vector<unsigned int> Indices;
-
-  explicit RawScene(const testshapes::TriangleMesh& mesh)
-  {
-    Vertices.resize(3 * static_cast<std::size_t>(mesh.Points.rows()) + 1);
-    for (Eigen::Index i = 0; i < mesh.Points.rows(); ++i)
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        Vertices[static_cast<std::size_t>(3 * i + c)] = static_cast<float>(mesh.Points(i, c));
-      }
-    }
-    Indices.assign(mesh.Triangles.data(), mesh.Triangles.data() + mesh.Triangles.size());
-    Device = rtcNewDevice(nullptr);
-    Scene = rtcNewScene(Device);
-    rtcSetSceneBuildQuality(Scene, RTC_BUILD_QUALITY_MEDIUM);
-    RTCGeometry geometry = rtcNewGeometry(Device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-      Vertices.data(), 0, 3 * sizeof(float), static_cast<std::size_t>(mesh.Points.rows()));
-    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-      Indices.data(), 0, 3 * sizeof(unsigned int), static_cast<std::size_t>(mesh.Triangles.rows()));
-    rtcSetGeometryIntersectFilterFunction(geometry, &RawFilter);
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometry(Scene, geometry);
-    rtcReleaseGeometry(geometry);
-    rtcCommitScene(Scene);
-  }
-  ~RawScene()
-  {
-    rtcReleaseScene(Scene);
-    rtcReleaseDevice(Device);
-  }
-  RawScene(const RawScene&) = delete;
-  RawScene& operator=(const RawScene&) = delete;
-};
+using bench::CastRaw;
+using bench::RawRays;
+using bench::RawScene;
 
 /// The SDF's rays, precomputed in float: 30 directions per face.
-struct RawRays
-{
-  std::vector<float> Origins, Normals, Directions;
-  int RaysPerFace = 0;
-};
-
 const RawRays& BenchRays()
 {
-  static const RawRays rays = [] {
-    const testshapes::TriangleMesh& mesh = BenchMesh();
-    const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
-    const ConePattern pattern = MakeConePattern(30, 120);
-    RawRays r;
-    r.RaysPerFace = pattern.GetNumberOfRays();
-    const auto faces = static_cast<std::size_t>(origins.Points.rows());
-    r.Origins.resize(3 * faces);
-    r.Normals.resize(3 * faces);
-    r.Directions.resize(3 * faces * 30);
-    std::vector<double> directions(90);
-    for (std::size_t f = 0; f < faces; ++f)
-    {
-      const auto row = static_cast<Eigen::Index>(f);
-      const double axis[3] = { -origins.Normals(row, 0), -origins.Normals(row, 1),
-        -origins.Normals(row, 2) };
-      double x[3], y[3];
-      MakeConeFrame(axis, origins.FirstAxes.row(row).data(), x, y);
-      OrientConePattern(pattern, axis, x, y, directions.data());
-      for (int c = 0; c < 3; ++c)
-      {
-        r.Origins[3 * f + c] = static_cast<float>(origins.Points(row, c));
-        r.Normals[3 * f + c] = static_cast<float>(origins.Normals(row, c));
-      }
-      for (std::size_t k = 0; k < 90; ++k)
-      {
-        r.Directions[90 * f + k] = static_cast<float>(directions[k]);
-      }
-    }
-    return r;
-  }();
+  static const RawRays rays = bench::MakeRawRays(BenchMesh().Points, BenchMesh().Triangles);
   return rays;
 }
 
@@ -231,58 +133,9 @@ ParallelFor MakeParallelFor(benchmark::State& state)
   return threads <= 1 ? ParallelFor(SerialFor) : ThreadedFor(threads);
 }
 
-double CastRaw(const RawScene& scene, const RawRays& rays, const ParallelFor& parallelFor)
-{
-  const std::size_t faces = rays.Origins.size() / 3;
-  std::vector<double> partialSums(faces, 0.0);
-  parallelFor(faces, [&](std::size_t begin, std::size_t end) {
-    RawContext context;
-    RTCRayHit rayHit;
-    for (std::size_t f = begin; f < end; ++f)
-    {
-      rtcInitIntersectContext(&context.Context);
-      context.Normal[0] = rays.Normals[3 * f];
-      context.Normal[1] = rays.Normals[3 * f + 1];
-      context.Normal[2] = rays.Normals[3 * f + 2];
-      context.Source = static_cast<unsigned int>(f);
-      double sum = 0;
-      for (int i = 0; i < rays.RaysPerFace; ++i)
-      {
-        const float* d = rays.Directions.data() + 90 * f + 3 * static_cast<std::size_t>(i);
-        rayHit.ray.org_x = rays.Origins[3 * f];
-        rayHit.ray.org_y = rays.Origins[3 * f + 1];
-        rayHit.ray.org_z = rays.Origins[3 * f + 2];
-        rayHit.ray.dir_x = d[0];
-        rayHit.ray.dir_y = d[1];
-        rayHit.ray.dir_z = d[2];
-        rayHit.ray.tnear = 0.0f;
-        rayHit.ray.tfar = std::numeric_limits<float>::infinity();
-        rayHit.ray.time = 0.0f;
-        rayHit.ray.mask = 0xFFFFFFFFu;
-        rayHit.ray.id = 0;
-        rayHit.ray.flags = 0;
-        rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene.Scene, &context.Context, &rayHit);
-        if (rayHit.hit.geomID != RTC_INVALID_GEOMETRY_ID)
-        {
-          sum += rayHit.ray.tfar;
-        }
-      }
-      partialSums[f] = sum;
-    }
-  });
-  double total = 0;
-  for (const double s : partialSums)
-  {
-    total += s;
-  }
-  return total;
-}
-
 void BM_RawEmbree(benchmark::State& state)
 {
-  const RawScene scene(BenchMesh());
+  const RawScene scene(BenchMesh().Points, BenchMesh().Triangles);
   const RawRays& rays = BenchRays();
   const ParallelFor parallelFor = MakeParallelFor(state);
   for (auto _ : state)
@@ -299,7 +152,7 @@ void BM_RawEmbreeWithBuild(benchmark::State& state)
   const ParallelFor parallelFor = MakeParallelFor(state);
   for (auto _ : state)
   {
-    const RawScene scene(BenchMesh());
+    const RawScene scene(BenchMesh().Points, BenchMesh().Triangles);
     benchmark::DoNotOptimize(CastRaw(scene, rays, parallelFor));
   }
 }
@@ -341,7 +194,7 @@ void BM_ShapeDiameterWithBuild(benchmark::State& state)
 void BM_PairedRatio(benchmark::State& state)
 {
   const testshapes::TriangleMesh& mesh = BenchMesh();
-  const RawScene scene(mesh);
+  const RawScene scene(mesh.Points, mesh.Triangles);
   const RawRays& rays = BenchRays();
   const EmbreeRayCaster caster(mesh.Points, mesh.Triangles);
   const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);

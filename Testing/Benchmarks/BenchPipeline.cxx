@@ -1,0 +1,953 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Google Benchmark of the whole pipeline through the VTK filters, per stage, with ratios
+// measured in the same run.
+//
+// Usage
+//   BenchPipeline [Google Benchmark flags] [MESH.off ...]
+//   BenchPipeline --chain-once MESH.off    read + the whole chain once, stage times on stdout
+//                                          (for /usr/bin/time -v: peak RSS of the chain)
+// Meshes: the positional arguments, else SHAPEDIAMETER_BENCH_MESH (one path, or several
+// separated by ':'), else Data/armadillo.off. Each benchmark is named <Stage>/<mesh file stem>.
+// Environment: SHAPEDIAMETER_BENCH_REPEATS (default 5) timed repeats per benchmark,
+// SHAPEDIAMETER_BENCH_THREADS (default 2) NumberOfThreads of every filter.
+//
+// Benchmarks (every one runs REPEATS iterations and reports min_ms and median_ms counters;
+// on a shared machine the minimum is the most faithful estimate, other processes only add):
+//   Read          vtkOFFReader.
+//   SDF, RawEmbree, Smooth, Partition, Skeleton   one stage alone, on the cached output of
+//                 the previous stage (the filter re-executes every iteration).
+//   Paired        per iteration: raw Embree (BVH build + cast), the SDF filter and the
+//                 smoothing filter; raw and SDF alternate their order every iteration so both
+//                 see the same machine load. Counters: sdf_over_raw_min (min SDF / min raw),
+//                 sdf_over_raw_median (median of the per-iteration ratios), smooth_over_sdf_*
+//                 likewise. Targets: SDF / raw <= 1.25, smooth / SDF <= 0.15 (208k faces).
+//   Chain         reader output -> SDF -> Smooth -> Partition -> Skeleton, every stage
+//                 re-executed; total and per-stage counters.
+//   SDFBreakdown  the SDF filter's steps re-enacted with the same core calls as
+//                 vtkShapeDiameterFilter::RequestData (triangulate, orient, BVH, origins,
+//                 cast + statistics, face graph, fill), next to the filter itself: where the
+//                 filter's time goes beyond the raw cast.
+//   SmoothBreakdown, PartitionBreakdown   the same for vtkSDFBilateralSmooth (face graph,
+//                 geodesic neighbourhoods, iterations, normalisation) and vtkSDFGMMPartition
+//                 (face graph, EM, posteriors, energy, alpha-expansion, segments).
+// Every *_min_ms / *_median_ms counter is also in --benchmark_out JSON; Paired and Chain add
+// *_cpu_* counters (process CPU time, all threads) that a loaded machine disturbs less.
+//
+// The raw baseline (RawEmbreeBaseline.h) casts exactly the filter's rays: the triangles come
+// from the same triangulation and orientation as the filter's (adapter::Triangulate,
+// OrientOutward), the origins and cone pattern from MakeFaceOrigins / MakeConePattern, and it
+// runs on the same vtkSMPTools STDThread ParallelFor with the same thread count.
+// It uses the module's private SurfaceConversion.h on purpose: the benchmark must see the
+// surface exactly as the filters do.
+#include "RawEmbreeBaseline.h"
+
+#include "AlphaExpansion.h"
+#include "BilateralSmoothing.h"
+#include "EmbreeRayCaster.h"
+#include "FaceGraph.h"
+#include "GaussianMixture.h"
+#include "Normalization.h"
+#include "Orientation.h"
+#include "PartitionEnergy.h"
+#include "ShapeDiameter.h"
+#include "SurfaceConversion.h"
+
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkNew.h"
+#include "vtkOFFReader.h"
+#include "vtkPolyData.h"
+#include "vtkSDFBilateralSmooth.h"
+#include "vtkSDFGMMPartition.h"
+#include "vtkSDFSkeleton.h"
+#include "vtkShapeDiameterFilter.h"
+#include "vtkSmartPointer.h"
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <functional>
+#include <iterator>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace
+{
+using namespace shapediameter;
+using Clock = std::chrono::steady_clock;
+
+// ---------------------------------------------------------------------------------------
+// Settings
+
+int EnvInt(const char* name, int fallback, int lowest)
+{
+  const char* text = std::getenv(name);
+  if (!text || !*text)
+  {
+    return fallback;
+  }
+  char* end = nullptr;
+  const long value = std::strtol(text, &end, 10);
+  if (*end != '\0' || value < lowest || value > 1000000)
+  {
+    throw std::runtime_error(std::string(name) + "='" + text + "' is not an integer >= " +
+      std::to_string(lowest));
+  }
+  return static_cast<int>(value);
+}
+
+int Repeats()
+{
+  static const int repeats = EnvInt("SHAPEDIAMETER_BENCH_REPEATS", 5, 1);
+  return repeats;
+}
+
+int Threads()
+{
+  static const int threads = EnvInt("SHAPEDIAMETER_BENCH_THREADS", 2, 1);
+  return threads;
+}
+
+double Milliseconds(Clock::time_point begin, Clock::time_point end)
+{
+  return std::chrono::duration<double, std::milli>(end - begin).count();
+}
+
+/// CPU time of the whole process (all threads), ms: less disturbed than the wall clock when
+/// other processes compete for the cores, but it also counts threads that spin while waiting.
+double ProcessCpuMilliseconds()
+{
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return 1e3 * static_cast<double>(now.tv_sec) + 1e-6 * static_cast<double>(now.tv_nsec);
+}
+
+/// Timed samples of one quantity, in ms.
+class Samples
+{
+public:
+  void Add(double ms) { this->Values.push_back(ms); }
+  double Min() const
+  {
+    return this->Values.empty() ? 0.0 : *std::min_element(this->Values.begin(), this->Values.end());
+  }
+  double Median() const
+  {
+    if (this->Values.empty())
+    {
+      return 0.0;
+    }
+    std::vector<double> sorted = this->Values;
+    std::sort(sorted.begin(), sorted.end());
+    const std::size_t n = sorted.size();
+    return n % 2 == 1 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+  }
+
+private:
+  std::vector<double> Values;
+};
+
+/// Sets <prefix>min_ms and <prefix>median_ms.
+void SetCounters(benchmark::State& state, const std::string& prefix, const Samples& samples)
+{
+  state.counters[prefix + "min_ms"] = samples.Min();
+  state.counters[prefix + "median_ms"] = samples.Median();
+}
+
+// ---------------------------------------------------------------------------------------
+// Pipeline stages with checks: a filter that fails reports vtkErrorMacro and passes its
+// input through quickly, which must never be mistaken for a fast run.
+
+void RequireCellArray(vtkPolyData* data, const char* name, const char* stage)
+{
+  if (!data || !data->GetCellData()->GetArray(name))
+  {
+    throw std::runtime_error(std::string(stage) + " produced no cell array '" + name +
+      "' (see the VTK error above)");
+  }
+}
+
+vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path)
+{
+  vtkNew<vtkOFFReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkSmartPointer<vtkPolyData> mesh = reader->GetOutput();
+  if (mesh->GetNumberOfPolys() == 0)
+  {
+    throw std::runtime_error("vtkOFFReader read no polygon from " + path);
+  }
+  return mesh;
+}
+
+/// The four filters connected in a pipeline on a given surface.
+struct Chain
+{
+  vtkNew<vtkShapeDiameterFilter> SDF;
+  vtkNew<vtkSDFBilateralSmooth> Smooth;
+  vtkNew<vtkSDFGMMPartition> Partition;
+  vtkNew<vtkSDFSkeleton> Skeleton;
+
+  explicit Chain(vtkPolyData* surface)
+  {
+    this->SDF->SetInputData(surface);
+    this->SDF->SetNumberOfThreads(Threads());
+    this->Smooth->SetInputConnection(this->SDF->GetOutputPort());
+    this->Smooth->SetNumberOfThreads(Threads());
+    this->Partition->SetInputConnection(this->Smooth->GetOutputPort());
+    this->Partition->SetNumberOfThreads(Threads());
+    this->Skeleton->SetInputConnection(this->Partition->GetOutputPort());
+    this->Skeleton->SetNumberOfThreads(Threads());
+  }
+
+  /// Re-executes every stage in order; per-stage wall-clock times in ms (and process CPU
+  /// times in `cpuMs` when given).
+  std::vector<double> Run(std::vector<double>* cpuMs = nullptr)
+  {
+    std::vector<double> ms;
+    const auto timed = [&](vtkAlgorithm* stage) {
+      const double c0 = ProcessCpuMilliseconds();
+      const auto t0 = Clock::now();
+      stage->Update();
+      ms.push_back(Milliseconds(t0, Clock::now()));
+      if (cpuMs)
+      {
+        cpuMs->push_back(ProcessCpuMilliseconds() - c0);
+      }
+    };
+    this->SDF->Modified();
+    timed(this->SDF);
+    RequireCellArray(this->SDF->GetOutput(), vtkShapeDiameterFilter::SDF_ARRAY_NAME, "vtkShapeDiameterFilter");
+    timed(this->Smooth);
+    RequireCellArray(this->Smooth->GetOutput(), vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME, "vtkSDFBilateralSmooth");
+    timed(this->Partition);
+    RequireCellArray(this->Partition->GetOutput(), vtkSDFGMMPartition::CLUSTER_ARRAY_NAME, "vtkSDFGMMPartition");
+    timed(this->Skeleton);
+    if (this->Skeleton->GetSkeleton()->GetNumberOfPoints() == 0)
+    {
+      throw std::runtime_error("vtkSDFSkeleton produced an empty skeleton (see the VTK error above)");
+    }
+    return ms;
+  }
+};
+
+// ---------------------------------------------------------------------------------------
+// Per-mesh data, loaded lazily and kept for one mesh at a time (benchmarks of one mesh are
+// registered together, so a mesh is read once unless random interleaving is asked for).
+
+struct MeshData
+{
+  std::string Path;
+  vtkSmartPointer<vtkPolyData> Surface;
+  // Stage outputs (shallow copies), computed on first use.
+  vtkSmartPointer<vtkPolyData> WithSDF, Smoothed, Partitioned;
+  // The filter's triangles (triangulated and oriented as vtkShapeDiameterFilter does) and rays.
+  std::unique_ptr<adapter::TriangulatedSurface> Triangulated;
+  std::unique_ptr<bench::RawRays> Rays;
+};
+
+std::unique_ptr<MeshData> CurrentMesh;
+
+MeshData& Mesh(const std::string& path)
+{
+  if (!CurrentMesh || CurrentMesh->Path != path)
+  {
+    CurrentMesh.reset(); // free the previous mesh first
+    auto mesh = std::make_unique<MeshData>();
+    mesh->Path = path;
+    mesh->Surface = ReadMesh(path);
+    std::cout << "mesh " << path << ": " << mesh->Surface->GetNumberOfPoints() << " points, "
+              << mesh->Surface->GetNumberOfPolys() << " polygons" << std::endl;
+    CurrentMesh = std::move(mesh);
+  }
+  return *CurrentMesh;
+}
+
+vtkPolyData* WithSDF(MeshData& mesh)
+{
+  if (!mesh.WithSDF)
+  {
+    vtkNew<vtkShapeDiameterFilter> sdf;
+    sdf->SetInputData(mesh.Surface);
+    sdf->SetNumberOfThreads(Threads());
+    sdf->Update();
+    RequireCellArray(sdf->GetOutput(), vtkShapeDiameterFilter::SDF_ARRAY_NAME, "vtkShapeDiameterFilter");
+    mesh.WithSDF = vtkSmartPointer<vtkPolyData>::New();
+    mesh.WithSDF->ShallowCopy(sdf->GetOutput());
+  }
+  return mesh.WithSDF;
+}
+
+vtkPolyData* Smoothed(MeshData& mesh)
+{
+  if (!mesh.Smoothed)
+  {
+    vtkNew<vtkSDFBilateralSmooth> smooth;
+    smooth->SetInputData(WithSDF(mesh));
+    smooth->SetNumberOfThreads(Threads());
+    smooth->Update();
+    RequireCellArray(smooth->GetOutput(), vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME, "vtkSDFBilateralSmooth");
+    mesh.Smoothed = vtkSmartPointer<vtkPolyData>::New();
+    mesh.Smoothed->ShallowCopy(smooth->GetOutput());
+  }
+  return mesh.Smoothed;
+}
+
+vtkPolyData* Partitioned(MeshData& mesh)
+{
+  if (!mesh.Partitioned)
+  {
+    vtkNew<vtkSDFGMMPartition> partition;
+    partition->SetInputData(Smoothed(mesh));
+    partition->SetNumberOfThreads(Threads());
+    partition->Update();
+    RequireCellArray(partition->GetOutput(), vtkSDFGMMPartition::CLUSTER_ARRAY_NAME, "vtkSDFGMMPartition");
+    mesh.Partitioned = vtkSmartPointer<vtkPolyData>::New();
+    mesh.Partitioned->ShallowCopy(partition->GetOutput());
+  }
+  return mesh.Partitioned;
+}
+
+/// The triangles exactly as vtkShapeDiameterFilter casts from (AutoOrient on).
+const adapter::TriangulatedSurface& Triangulated(MeshData& mesh)
+{
+  if (!mesh.Triangulated)
+  {
+    auto surface = std::make_unique<adapter::TriangulatedSurface>();
+    const std::string reason = adapter::Triangulate(mesh.Surface, *surface);
+    if (!reason.empty())
+    {
+      throw std::runtime_error("cannot triangulate " + mesh.Path + ": " + reason);
+    }
+    ApplyFlips(surface->Triangles, OrientOutward(surface->Points, surface->Triangles).Flip);
+    mesh.Triangulated = std::move(surface);
+  }
+  return *mesh.Triangulated;
+}
+
+const bench::RawRays& Rays(MeshData& mesh)
+{
+  if (!mesh.Rays)
+  {
+    const adapter::TriangulatedSurface& surface = Triangulated(mesh);
+    vtkNew<vtkShapeDiameterFilter> defaults;
+    mesh.Rays = std::make_unique<bench::RawRays>(bench::MakeRawRays(
+      surface.Points, surface.Triangles, defaults->GetNumberOfRays(), defaults->GetConeAngle()));
+  }
+  return *mesh.Rays;
+}
+
+/// Raw Embree: BVH build + cast; build and cast times in ms.
+std::pair<double, double> RunRaw(MeshData& mesh, const ParallelFor& parallelFor)
+{
+  const adapter::TriangulatedSurface& surface = Triangulated(mesh);
+  const bench::RawRays& rays = Rays(mesh);
+  const auto t0 = Clock::now();
+  const bench::RawScene scene(surface.Points, surface.Triangles);
+  const auto t1 = Clock::now();
+  benchmark::DoNotOptimize(bench::CastRaw(scene, rays, parallelFor));
+  const auto t2 = Clock::now();
+  return { Milliseconds(t0, t1), Milliseconds(t1, t2) };
+}
+
+/// Re-executes `filter` every iteration and reports min/median.
+void TimeFilter(benchmark::State& state, vtkAlgorithm* filter, const std::function<void()>& check)
+{
+  Samples samples;
+  for (auto _ : state)
+  {
+    filter->Modified();
+    const auto t0 = Clock::now();
+    filter->Update();
+    const auto t1 = Clock::now();
+    samples.Add(Milliseconds(t0, t1));
+    state.SetIterationTime(Milliseconds(t0, t1) / 1000.0);
+  }
+  check();
+  SetCounters(state, "", samples);
+}
+
+// ---------------------------------------------------------------------------------------
+// Benchmarks
+
+/// Runs `body`, turning exceptions into a skipped benchmark with the reason.
+void Guarded(benchmark::State& state, const std::function<void()>& body)
+{
+  try
+  {
+    body();
+  }
+  catch (const std::exception& error)
+  {
+    state.SkipWithError(error.what());
+  }
+}
+
+void BM_Read(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    vtkNew<vtkOFFReader> reader;
+    reader->SetFileName(path.c_str());
+    TimeFilter(state, reader, [&] {
+      if (reader->GetOutput()->GetNumberOfPolys() == 0)
+      {
+        throw std::runtime_error("vtkOFFReader read no polygon from " + path);
+      }
+    });
+    state.counters["faces"] = static_cast<double>(reader->GetOutput()->GetNumberOfPolys());
+  });
+}
+
+void BM_SDF(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    vtkNew<vtkShapeDiameterFilter> sdf;
+    sdf->SetInputData(mesh.Surface);
+    sdf->SetNumberOfThreads(Threads());
+    TimeFilter(state, sdf, [&] {
+      RequireCellArray(sdf->GetOutput(), vtkShapeDiameterFilter::SDF_ARRAY_NAME, "vtkShapeDiameterFilter");
+    });
+  });
+}
+
+void BM_RawEmbree(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(Threads());
+    Samples build, cast, total;
+    for (auto _ : state)
+    {
+      const auto [buildMs, castMs] = RunRaw(mesh, parallelFor);
+      build.Add(buildMs);
+      cast.Add(castMs);
+      total.Add(buildMs + castMs);
+      state.SetIterationTime((buildMs + castMs) / 1000.0);
+    }
+    SetCounters(state, "", total);
+    SetCounters(state, "build_", build);
+    SetCounters(state, "cast_", cast);
+    state.counters["rays"] = static_cast<double>(Rays(mesh).NumberOfRays());
+  });
+}
+
+void BM_Smooth(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    vtkNew<vtkSDFBilateralSmooth> smooth;
+    smooth->SetInputData(WithSDF(mesh));
+    smooth->SetNumberOfThreads(Threads());
+    TimeFilter(state, smooth, [&] {
+      RequireCellArray(smooth->GetOutput(), vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME, "vtkSDFBilateralSmooth");
+    });
+  });
+}
+
+void BM_Partition(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    vtkNew<vtkSDFGMMPartition> partition;
+    partition->SetInputData(Smoothed(mesh));
+    partition->SetNumberOfThreads(Threads());
+    TimeFilter(state, partition, [&] {
+      RequireCellArray(partition->GetOutput(), vtkSDFGMMPartition::CLUSTER_ARRAY_NAME, "vtkSDFGMMPartition");
+    });
+  });
+}
+
+void BM_Skeleton(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    vtkNew<vtkSDFSkeleton> skeleton;
+    skeleton->SetInputData(Partitioned(mesh));
+    skeleton->SetNumberOfThreads(Threads());
+    TimeFilter(state, skeleton, [&] {
+      if (skeleton->GetSkeleton()->GetNumberOfPoints() == 0)
+      {
+        throw std::runtime_error("vtkSDFSkeleton produced an empty skeleton");
+      }
+    });
+  });
+}
+
+void BM_Paired(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(Threads());
+    vtkNew<vtkShapeDiameterFilter> sdf;
+    sdf->SetInputData(mesh.Surface);
+    sdf->SetNumberOfThreads(Threads());
+    vtkNew<vtkSDFBilateralSmooth> smooth;
+    smooth->SetInputConnection(sdf->GetOutputPort());
+    smooth->SetNumberOfThreads(Threads());
+    Rays(mesh); // precomputed outside the timing, like the raw baseline's scene inputs
+
+    Samples rawBuild, rawCast, raw, sdfTimes, smoothTimes, sdfOverRaw, smoothOverSdf;
+    Samples rawCpu, sdfCpu, smoothCpu;
+    int iteration = 0;
+    for (auto _ : state)
+    {
+      double sdfMs = 0, sdfCpuMs = 0, rawCpuMs = 0;
+      std::pair<double, double> rawMs;
+      const auto runSdf = [&] {
+        sdf->Modified();
+        const double c0 = ProcessCpuMilliseconds();
+        const auto t0 = Clock::now();
+        sdf->Update();
+        sdfMs = Milliseconds(t0, Clock::now());
+        sdfCpuMs = ProcessCpuMilliseconds() - c0;
+      };
+      const auto runRaw = [&] {
+        const double c0 = ProcessCpuMilliseconds();
+        rawMs = RunRaw(mesh, parallelFor);
+        rawCpuMs = ProcessCpuMilliseconds() - c0;
+      };
+      if (iteration++ % 2 == 0)
+      {
+        runRaw();
+        runSdf();
+      }
+      else
+      {
+        runSdf();
+        runRaw();
+      }
+      RequireCellArray(sdf->GetOutput(), vtkShapeDiameterFilter::SDF_ARRAY_NAME, "vtkShapeDiameterFilter");
+      smooth->Modified();
+      const double c0 = ProcessCpuMilliseconds();
+      const auto t0 = Clock::now();
+      smooth->Update();
+      const double smoothMs = Milliseconds(t0, Clock::now());
+      smoothCpu.Add(ProcessCpuMilliseconds() - c0);
+      RequireCellArray(smooth->GetOutput(), vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME, "vtkSDFBilateralSmooth");
+
+      const double rawTotal = rawMs.first + rawMs.second;
+      rawBuild.Add(rawMs.first);
+      rawCast.Add(rawMs.second);
+      raw.Add(rawTotal);
+      rawCpu.Add(rawCpuMs);
+      sdfTimes.Add(sdfMs);
+      sdfCpu.Add(sdfCpuMs);
+      smoothTimes.Add(smoothMs);
+      sdfOverRaw.Add(sdfMs / rawTotal);
+      smoothOverSdf.Add(smoothMs / sdfMs);
+      state.SetIterationTime((rawTotal + sdfMs + smoothMs) / 1000.0);
+    }
+    SetCounters(state, "raw_build_", rawBuild);
+    SetCounters(state, "raw_cast_", rawCast);
+    SetCounters(state, "raw_", raw);
+    SetCounters(state, "sdf_", sdfTimes);
+    SetCounters(state, "smooth_", smoothTimes);
+    SetCounters(state, "raw_cpu_", rawCpu);
+    SetCounters(state, "sdf_cpu_", sdfCpu);
+    SetCounters(state, "smooth_cpu_", smoothCpu);
+    state.counters["sdf_over_raw_min"] = sdfTimes.Min() / raw.Min();
+    state.counters["sdf_over_raw_median"] = sdfOverRaw.Median();
+    state.counters["smooth_over_sdf_min"] = smoothTimes.Min() / sdfTimes.Min();
+    state.counters["smooth_over_sdf_median"] = smoothOverSdf.Median();
+    state.counters["sdf_over_raw_cpu"] = sdfCpu.Min() / rawCpu.Min();
+    state.counters["smooth_over_sdf_cpu"] = smoothCpu.Min() / sdfCpu.Min();
+    state.counters["faces"] = static_cast<double>(mesh.Surface->GetNumberOfPolys());
+  });
+}
+
+void BM_Chain(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    Chain chain(mesh.Surface);
+    Samples total, totalCpu;
+    std::vector<Samples> stages(4), stagesCpu(4);
+    for (auto _ : state)
+    {
+      std::vector<double> cpuMs;
+      const std::vector<double> ms = chain.Run(&cpuMs);
+      double sum = 0, sumCpu = 0;
+      for (std::size_t s = 0; s < ms.size(); ++s)
+      {
+        stages[s].Add(ms[s]);
+        stagesCpu[s].Add(cpuMs[s]);
+        sum += ms[s];
+        sumCpu += cpuMs[s];
+      }
+      total.Add(sum);
+      totalCpu.Add(sumCpu);
+      state.SetIterationTime(sum / 1000.0);
+    }
+    SetCounters(state, "", total);
+    SetCounters(state, "cpu_", totalCpu);
+    const std::string names[] = { "sdf_", "smooth_", "partition_", "skeleton_" };
+    for (std::size_t s = 0; s < stages.size(); ++s)
+    {
+      SetCounters(state, names[s], stages[s]);
+      SetCounters(state, names[s] + "cpu_", stagesCpu[s]);
+    }
+    state.counters["faces"] = static_cast<double>(mesh.Surface->GetNumberOfPolys());
+  });
+}
+
+/// Named steps timed one after the other within an iteration (fastest repeat per step).
+class Laps
+{
+public:
+  explicit Laps(std::vector<std::string> names)
+    : Names(std::move(names))
+    , Steps(this->Names.size())
+  {
+  }
+  void Start()
+  {
+    this->Next = 0;
+    this->Sum = 0;
+    this->Last = Clock::now();
+  }
+  /// Ends the next step.
+  void Lap()
+  {
+    const auto now = Clock::now();
+    const double ms = Milliseconds(this->Last, now);
+    this->Steps.at(this->Next++).Add(ms);
+    this->Sum += ms;
+    this->Last = now;
+  }
+  /// Ends the iteration; returns the sum of its steps.
+  double Finish()
+  {
+    if (this->Next != this->Steps.size())
+    {
+      throw std::logic_error("Laps: a step was not timed");
+    }
+    this->Sums.Add(this->Sum);
+    return this->Sum;
+  }
+  void SetCounters(benchmark::State& state) const
+  {
+    ::SetCounters(state, "steps_", this->Sums);
+    for (std::size_t s = 0; s < this->Steps.size(); ++s)
+    {
+      ::SetCounters(state, this->Names[s] + "_", this->Steps[s]);
+    }
+  }
+
+private:
+  std::vector<std::string> Names;
+  std::vector<Samples> Steps;
+  Samples Sums;
+  std::size_t Next = 0;
+  double Sum = 0;
+  Clock::time_point Last;
+};
+
+/// Times `filter` (re-executed) after the steps of one iteration; returns its time in ms.
+double TimeOnce(vtkAlgorithm* filter)
+{
+  filter->Modified();
+  const auto t0 = Clock::now();
+  filter->Update();
+  return Milliseconds(t0, Clock::now());
+}
+
+/// vtkShapeDiameterFilter::RequestData's steps, each timed, next to the filter itself.
+void BM_SDFBreakdown(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(Threads());
+    vtkNew<vtkShapeDiameterFilter> sdf;
+    sdf->SetInputData(mesh.Surface);
+    sdf->SetNumberOfThreads(Threads());
+    Laps laps({ "triangulate", "orient", "bvh", "origins", "cast", "facegraph", "fill" });
+    Samples filterTimes;
+    for (auto _ : state)
+    {
+      laps.Start();
+      adapter::TriangulatedSurface surface;
+      const std::string reason = adapter::Triangulate(mesh.Surface, surface);
+      if (!reason.empty())
+      {
+        throw std::runtime_error(reason);
+      }
+      laps.Lap();
+      ApplyFlips(surface.Triangles, OrientOutward(surface.Points, surface.Triangles).Flip);
+      laps.Lap();
+      const EmbreeRayCaster caster(surface.Points, surface.Triangles);
+      laps.Lap();
+      const RayOrigins origins = MakeFaceOrigins(surface.Points, surface.Triangles);
+      laps.Lap();
+      ShapeDiameterResult result =
+        ComputeShapeDiameter(caster, origins, ShapeDiameterOptions(), parallelFor);
+      laps.Lap();
+      const FaceGraph graph = BuildFaceGraph(surface.Points, surface.Triangles, parallelFor);
+      laps.Lap();
+      FillFromNeighbours(result.values, result.validRays, graph.Offsets, graph.Neighbors);
+      laps.Lap();
+      laps.Finish();
+      benchmark::DoNotOptimize(result.values.data());
+
+      const double filterMs = TimeOnce(sdf);
+      filterTimes.Add(filterMs);
+      state.SetIterationTime(filterMs / 1000.0);
+    }
+    RequireCellArray(sdf->GetOutput(), vtkShapeDiameterFilter::SDF_ARRAY_NAME, "vtkShapeDiameterFilter");
+    SetCounters(state, "", filterTimes);
+    laps.SetCounters(state);
+  });
+}
+
+/// vtkSDFBilateralSmooth::RequestData's steps (default parameters), next to the filter.
+/// "neighborhoods" runs the geodesic neighbourhood searches alone (SmoothBilateral repeats
+/// them), to show their share of "smooth".
+void BM_SmoothBreakdown(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    vtkPolyData* input = WithSDF(mesh);
+    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(Threads());
+    vtkNew<vtkSDFBilateralSmooth> smooth;
+    smooth->SetInputData(input);
+    smooth->SetNumberOfThreads(Threads());
+    Laps laps({ "convert", "facegraph", "neighborhoods", "smooth", "normalize" });
+    Samples filterTimes;
+    for (auto _ : state)
+    {
+      laps.Start();
+      std::vector<double> values;
+      std::string reason = adapter::ReadNamedCellScalars(input, values, vtkShapeDiameterFilter::SDF_ARRAY_NAME);
+      std::vector<std::int64_t> offsets, connectivity;
+      adapter::PolygonCells(input, offsets, connectivity);
+      const PointMatrix points = adapter::PointsOf(input);
+      if (!reason.empty())
+      {
+        throw std::runtime_error(reason);
+      }
+      laps.Lap();
+      const FaceGraph graph = BuildFaceGraph(points, offsets, connectivity, parallelFor);
+      laps.Lap();
+      const BilateralSmoothingOptions options;
+      const double radius = options.NeighborhoodRadius * options.SpatialSigma * graph.MeanEdgeLength;
+      std::vector<std::size_t> found(graph.FaceCount());
+      parallelFor(graph.FaceCount(), [&](std::size_t begin, std::size_t end) {
+        DualGeodesicSearch search(graph);
+        std::vector<GeodesicNeighbor> neighbors;
+        for (std::size_t face = begin; face < end; ++face)
+        {
+          search.Run(static_cast<std::int64_t>(face), radius, options.MaxNeighbors, neighbors);
+          found[face] = neighbors.size();
+        }
+      });
+      benchmark::DoNotOptimize(found.data());
+      laps.Lap();
+      const BilateralSmoothingResult smoothed = SmoothBilateral(graph, values, options, parallelFor);
+      laps.Lap();
+      benchmark::DoNotOptimize(NormalizeLogarithmic(smoothed.Values).data());
+      laps.Lap();
+      laps.Finish();
+
+      const double filterMs = TimeOnce(smooth);
+      filterTimes.Add(filterMs);
+      state.SetIterationTime(filterMs / 1000.0);
+    }
+    RequireCellArray(smooth->GetOutput(), vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME, "vtkSDFBilateralSmooth");
+    SetCounters(state, "", filterTimes);
+    laps.SetCounters(state);
+  });
+}
+
+/// vtkSDFGMMPartition::RequestData's steps (default parameters, no model input), next to
+/// the filter.
+void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    vtkPolyData* input = Smoothed(mesh);
+    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(Threads());
+    vtkNew<vtkSDFGMMPartition> partition;
+    partition->SetInputData(input);
+    partition->SetNumberOfThreads(Threads());
+    Laps laps({ "convert", "facegraph", "gmm", "posteriors", "energy", "alphaexpansion", "segments" });
+    Samples filterTimes;
+    for (auto _ : state)
+    {
+      laps.Start();
+      std::vector<double> values;
+      const std::string reason =
+        adapter::ReadNamedCellScalars(input, values, vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME);
+      if (!reason.empty())
+      {
+        throw std::runtime_error(reason);
+      }
+      std::vector<std::int64_t> offsets, connectivity;
+      adapter::PolygonCells(input, offsets, connectivity);
+      const PointMatrix points = adapter::PointsOf(input);
+      laps.Lap();
+      const FaceGraph graph = BuildFaceGraph(points, offsets, connectivity, parallelFor);
+      const Eigen::Map<const Eigen::VectorXd> faceValues(values.data(), static_cast<Eigen::Index>(values.size()));
+      laps.Lap();
+      GaussianMixtureOptions fit;
+      fit.restarts = partition->GetRestarts();
+      fit.maxIterations = partition->GetMaximumIterations();
+      fit.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(partition->GetSeed()));
+      const GaussianMixtureModel model = FitGaussianMixture(faceValues, partition->GetNumberOfClusters(), fit);
+      laps.Lap();
+      const PosteriorMatrix posteriors = ComputePosteriors(model, faceValues, parallelFor);
+      laps.Lap();
+      DualGraphView view;
+      view.offsets = graph.Offsets.data();
+      view.neighbours = graph.Neighbors.data();
+      view.normalAngle = graph.NormalAngles.data();
+      view.concave = graph.Concave.data();
+      view.edgeLength = graph.SharedEdgeLengths.data();
+      view.faceCount = graph.FaceCount();
+      PartitionEnergyOptions energyOptions;
+      energyOptions.lambda = partition->GetLambda();
+      energyOptions.probabilityEpsilon = partition->GetEpsilon();
+      energyOptions.convexityFactor = partition->GetConvexityFactor();
+      const PartitionEnergy energy = BuildPartitionEnergy(posteriors, view, energyOptions);
+      laps.Lap();
+      const AlphaExpansionResult cut = MinimizeByAlphaExpansion(energy, AlphaExpansionOptions());
+      laps.Lap();
+      const ConnectedSegments segments = FindConnectedSegments(view, cut.labels, graph.Areas);
+      benchmark::DoNotOptimize(segments.segment.data());
+      laps.Lap();
+      laps.Finish();
+      state.counters["alphaexpansion_moves"] = static_cast<double>(cut.moves);
+
+      const double filterMs = TimeOnce(partition);
+      filterTimes.Add(filterMs);
+      state.SetIterationTime(filterMs / 1000.0);
+    }
+    RequireCellArray(partition->GetOutput(), vtkSDFGMMPartition::CLUSTER_ARRAY_NAME, "vtkSDFGMMPartition");
+    SetCounters(state, "", filterTimes);
+    laps.SetCounters(state);
+  });
+}
+
+std::string Stem(const std::string& path)
+{
+  const std::size_t slash = path.find_last_of('/');
+  std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  const std::size_t dot = name.rfind('.');
+  return dot == std::string::npos || dot == 0 ? name : name.substr(0, dot);
+}
+
+void RegisterMesh(const std::string& path)
+{
+  using Function = void (*)(benchmark::State&, const std::string&);
+  const std::pair<const char*, Function> stages[] = { { "Read", BM_Read }, { "SDF", BM_SDF },
+    { "RawEmbree", BM_RawEmbree }, { "Smooth", BM_Smooth }, { "Partition", BM_Partition },
+    { "Skeleton", BM_Skeleton }, { "Paired", BM_Paired }, { "Chain", BM_Chain },
+    { "SDFBreakdown", BM_SDFBreakdown }, { "SmoothBreakdown", BM_SmoothBreakdown },
+    { "PartitionBreakdown", BM_PartitionBreakdown } };
+  for (const auto& [stage, function] : stages)
+  {
+    const std::string name = std::string(stage) + "/" + Stem(path);
+    benchmark::RegisterBenchmark(name.c_str(), function, path)
+      ->Iterations(Repeats())
+      ->UseManualTime()
+      ->Unit(benchmark::kMillisecond);
+  }
+}
+
+std::vector<std::string> SplitColon(const std::string& text)
+{
+  std::vector<std::string> parts;
+  std::size_t begin = 0;
+  while (begin <= text.size())
+  {
+    const std::size_t end = std::min(text.find(':', begin), text.size());
+    if (end > begin)
+    {
+      parts.push_back(text.substr(begin, end - begin));
+    }
+    begin = end + 1;
+  }
+  return parts;
+}
+
+/// --chain-once: read + chain once, stage times in seconds on one line.
+int RunChainOnce(const std::string& path)
+{
+  const auto t0 = Clock::now();
+  vtkSmartPointer<vtkPolyData> surface = ReadMesh(path);
+  const double readMs = Milliseconds(t0, Clock::now());
+  Chain chain(surface);
+  const std::vector<double> ms = chain.Run();
+  double total = 0;
+  for (const double m : ms)
+  {
+    total += m;
+  }
+  std::printf("chain-once %s faces=%lld read_s=%.3f sdf_s=%.3f smooth_s=%.3f partition_s=%.3f "
+              "skeleton_s=%.3f chain_s=%.3f\n",
+    path.c_str(), static_cast<long long>(surface->GetNumberOfPolys()), readMs / 1000, ms[0] / 1000,
+    ms[1] / 1000, ms[2] / 1000, ms[3] / 1000, total / 1000);
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  try
+  {
+    if (argc >= 2 && std::strcmp(argv[1], "--chain-once") == 0)
+    {
+      if (argc != 3)
+      {
+        std::cerr << "usage: " << argv[0] << " --chain-once MESH.off\n";
+        return 2;
+      }
+      return RunChainOnce(argv[2]);
+    }
+
+    benchmark::Initialize(&argc, argv);
+    std::vector<std::string> meshes;
+    for (int i = 1; i < argc; ++i)
+    {
+      if (argv[i][0] == '-')
+      {
+        std::cerr << argv[0] << ": unrecognized option " << argv[i] << "\n";
+        return 2;
+      }
+      meshes.emplace_back(argv[i]);
+    }
+    if (meshes.empty())
+    {
+      const char* fromEnvironment = std::getenv("SHAPEDIAMETER_BENCH_MESH");
+      meshes = fromEnvironment && *fromEnvironment
+        ? SplitColon(fromEnvironment)
+        : std::vector<std::string>{ std::string(SHAPEDIAMETER_DATA_DIR) + "/armadillo.off" };
+    }
+    Repeats(); // report a bad setting before anything runs
+    Threads();
+    for (const std::string& mesh : meshes)
+    {
+      RegisterMesh(mesh);
+    }
+    std::cout << "BenchPipeline: " << Repeats() << " repeats, NumberOfThreads " << Threads()
+              << std::endl;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    CurrentMesh.reset();
+    return 0;
+  }
+  catch (const std::exception& error)
+  {
+    std::cerr << argv[0] << ": " << error.what() << "\n";
+    return 1;
+  }
+}
