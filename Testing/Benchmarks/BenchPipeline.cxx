@@ -265,7 +265,7 @@ MeshData& Mesh(const std::string& path)
     auto mesh = std::make_unique<MeshData>();
     mesh->Path = path;
     mesh->Surface = ReadMesh(path);
-    std::cout << "mesh " << path << ": " << mesh->Surface->GetNumberOfPoints() << " points, "
+    std::clog << "mesh " << path << ": " << mesh->Surface->GetNumberOfPoints() << " points, "
               << mesh->Surface->GetNumberOfPolys() << " polygons" << std::endl;
     CurrentMesh = std::move(mesh);
   }
@@ -379,6 +379,9 @@ void TimeFilter(benchmark::State& state, vtkAlgorithm* filter, const std::functi
 // ---------------------------------------------------------------------------------------
 // Benchmarks
 
+/// Set when a benchmark failed: the program then exits with status 1.
+bool AnyBenchmarkFailed = false;
+
 /// Runs `body`, turning exceptions into a skipped benchmark with the reason.
 void Guarded(benchmark::State& state, const std::function<void()>& body)
 {
@@ -388,6 +391,7 @@ void Guarded(benchmark::State& state, const std::function<void()>& body)
   }
   catch (const std::exception& error)
   {
+    AnyBenchmarkFailed = true;
     state.SkipWithError(error.what());
   }
 }
@@ -938,11 +942,16 @@ int main(int argc, char** argv)
     {
       RegisterMesh(mesh);
     }
-    std::cout << "BenchPipeline: " << Repeats() << " repeats, NumberOfThreads " << Threads()
+    std::clog << "BenchPipeline: " << Repeats() << " repeats, NumberOfThreads " << Threads()
               << std::endl;
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     CurrentMesh.reset();
+    if (AnyBenchmarkFailed)
+    {
+      std::cerr << argv[0] << ": some benchmarks failed (ERROR OCCURRED above)\n";
+      return 1;
+    }
     return 0;
   }
   catch (const std::exception& error)
