@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "OFFParser.h"
+#include "TextFiles.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -15,20 +16,6 @@ namespace shapediameter
 
 namespace
 {
-
-std::string ComposeMessage(std::int64_t line, const std::string& reason, const std::string& source)
-{
-  std::string message;
-  if (!source.empty())
-  {
-    message += source + ": ";
-  }
-  if (line > 0)
-  {
-    message += "line " + std::to_string(line) + ": ";
-  }
-  return message + reason;
-}
 
 /// A whitespace-delimited token, [begin, end) inside the caller's buffer.
 struct Token
@@ -332,7 +319,7 @@ std::int64_t ReadCount(const Token& token, std::int64_t line, const char* what)
 
 OFFParseError::OFFParseError(
   std::int64_t line, const std::string& reason, const std::string& source)
-  : std::runtime_error(ComposeMessage(line, reason, source))
+  : std::runtime_error(LineMessage(line, reason, source))
   , LineNumber(line > 0 ? line : 0)
   , ReasonText(reason)
 {
@@ -591,37 +578,19 @@ OFFMesh ParseOFF(const char* data, std::size_t size)
 
 OFFMesh ReadOFFFile(const std::string& path)
 {
-  struct FileCloser
+  std::string content;
+  switch (ReadWholeFile(path, content))
   {
-    void operator()(std::FILE* file) const { std::fclose(file); }
-  };
-  const std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
-  if (!file)
-  {
-    throw OFFParseError(0, std::string("cannot open file: ") + std::strerror(errno), path);
-  }
-  std::vector<char> buffer;
-  std::size_t used = 0;
-  for (;;)
-  {
-    if (buffer.size() - used < (1u << 16))
-    {
-      buffer.resize(std::max<std::size_t>(2 * buffer.size(), used + (1u << 20)));
-    }
-    const std::size_t got = std::fread(buffer.data() + used, 1, buffer.size() - used, file.get());
-    used += got;
-    if (got == 0)
-    {
+    case FileReadFailure::Open:
+      throw OFFParseError(0, std::string("cannot open file: ") + std::strerror(errno), path);
+    case FileReadFailure::Read:
+      throw OFFParseError(0, std::string("cannot read file: ") + std::strerror(errno), path);
+    case FileReadFailure::None:
       break;
-    }
-  }
-  if (std::ferror(file.get()))
-  {
-    throw OFFParseError(0, std::string("cannot read file: ") + std::strerror(errno), path);
   }
   try
   {
-    return ParseOFF(buffer.data(), used);
+    return ParseOFF(content.data(), content.size());
   }
   catch (const OFFParseError& error)
   {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "SegmentationMetrics.h"
+#include "TextFiles.h"
 
 #include <Eigen/Geometry>
 #include <nanoflann.hpp>
@@ -22,20 +23,6 @@ namespace shapediameter
 
 namespace
 {
-
-std::string ComposeMessage(std::int64_t line, const std::string& reason, const std::string& source)
-{
-  std::string message;
-  if (!source.empty())
-  {
-    message += source + ": ";
-  }
-  if (line > 0)
-  {
-    message += "line " + std::to_string(line) + ": ";
-  }
-  return message + reason;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Surface: triangles (fan-triangulated polygons) with the polygon each comes from.
@@ -225,7 +212,7 @@ double ChooseTwo(double count)
 // ---------------------------------------------------------------------------------------------
 
 SegFileError::SegFileError(std::int64_t line, const std::string& reason, const std::string& source)
-  : std::runtime_error(ComposeMessage(line, reason, source))
+  : std::runtime_error(LineMessage(line, reason, source))
   , LineNumber(line)
 {
 }
@@ -879,23 +866,15 @@ std::vector<int> ParseSeg(const char* data, std::size_t size, const std::string&
 
 std::vector<int> ReadSegFile(const std::string& path)
 {
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (!file)
-  {
-    throw SegFileError(0, std::string("cannot open: ") + std::strerror(errno), path);
-  }
   std::string content;
-  char buffer[1 << 16];
-  std::size_t got = 0;
-  while ((got = std::fread(buffer, 1, sizeof(buffer), file)) > 0)
+  switch (ReadWholeFile(path, content))
   {
-    content.append(buffer, got);
-  }
-  const bool failed = std::ferror(file) != 0;
-  std::fclose(file);
-  if (failed)
-  {
-    throw SegFileError(0, "read error", path);
+    case FileReadFailure::Open:
+      throw SegFileError(0, std::string("cannot open: ") + std::strerror(errno), path);
+    case FileReadFailure::Read:
+      throw SegFileError(0, "read error", path);
+    case FileReadFailure::None:
+      break;
   }
   return ParseSeg(content.data(), content.size(), path);
 }
