@@ -30,12 +30,12 @@ def parse_arguments(argv):
                         help="input meshes: " + ", ".join(e[1:].upper() for e in READABLE))
     parser.add_argument("--output-dir", default="out", help="where results are written")
     parser.add_argument("--threads", type=int, default=os.cpu_count() or 1,
-                        help="worker threads (default: all cores)")
+                        help="worker threads (default: all %(default)s cores)")
     parser.add_argument("--rays", type=int, default=30, help="rays per cone (SDF)")
     parser.add_argument("--cone-angle", type=float, default=120.0, help="cone opening angle in degrees (SDF)")
     parser.add_argument("--clusters", default="5", help="number of GMM clusters k, or 'auto'")
-    parser.add_argument("--lambda", dest="smoothness", type=float, default=None,
-                        help="graph-cut smoothness weight (default: the filter's)")
+    parser.add_argument("--lambda", dest="smoothness", type=float, default=argparse.SUPPRESS,
+                        help="graph-cut smoothness weight (default: the filter's, 0.3)")
     parser.add_argument("--samples", type=int, default=10000, help="skeleton surface samples")
     parser.add_argument("--family", action="store_true",
                         help="fit one GMM on all meshes together and partition each with it")
@@ -175,7 +175,7 @@ class Pipeline:
         # what the session saw before, not only on this input.
         properties = dict(Input=source, NumberOfClusters=clusters, NumberOfThreads=arguments.threads,
                           NormalizedSDFArray=["CELLS", "SDFNormalized"])
-        if arguments.smoothness is not None:
+        if hasattr(arguments, "smoothness"):
             properties["Lambda"] = arguments.smoothness
         if model is not None:
             properties["Model"] = model
@@ -202,18 +202,14 @@ class Pipeline:
         simple.Delete(display)
         simple.Delete(view)
 
-    def render_parts(self, source, png, clusters):
+    def render_parts(self, source, png):
         """Clusters in categorical colours, unlit (flat colours identify parts exactly)."""
         simple = self.simple
         view = self.new_view()
         display = simple.Show(source, view)
         simple.ColorBy(display, ("CELLS", "SDFCluster"))
+        # The plugin's default colour map for SDFCluster is categorical (ShapeDiameterColorDefaults).
         lut = simple.GetColorTransferFunction("SDFCluster")
-        lut.InterpretValuesAsCategories = 1
-        lut.ApplyPreset("Brewer Qualitative Set1", True)
-        lut.Annotations = sum([[str(i), "cluster %d" % i] for i in range(clusters)], [])
-        lut.IndexedColors = lut.IndexedColors[:3 * clusters] if len(lut.IndexedColors) >= 3 * clusters \
-            else (list(lut.IndexedColors) * clusters)[:3 * clusters]
         display.Ambient = 1.0
         display.Diffuse = 0.0
         display.SetScalarBarVisibility(view, True)
@@ -363,7 +359,7 @@ class Pipeline:
                 self.render(result, os.path.join(out, name + "_sdf.png"), sdf)
                 if cells.GetArray("SDFCluster") is not None:
                     clusters = int(data.GetFieldData().GetArray("SDFClusterCount").GetValue(0))
-                    self.render_parts(result, os.path.join(out, name + "_parts.png"), clusters)
+                    self.render_parts(result, os.path.join(out, name + "_parts.png"))
                     if arguments.plot:
                         self.render_histogram(result, os.path.join(out, name + "_gmm.png"), clusters)
                 if skeleton is not None:

@@ -2,8 +2,9 @@
 """Run inside a real `paraview` GUI (--script): the chain on a bundled mesh, one screenshot.
 
 Environment: SHAPEDIAMETER_DATA_DIR, SHAPEDIAMETER_GUI_SCREENSHOT (PNG to write),
-SHAPEDIAMETER_GUI_CLUSTERS (k).
+SHAPEDIAMETER_GUI_CLUSTERS (k). Writes <screenshot>.json: the colouring state.
 """
+import json
 import os
 import traceback
 
@@ -19,12 +20,14 @@ def main():
     parts = simple.SDFGMMPartition(Input=smooth, NumberOfClusters=k,
                                    NormalizedSDFArray=["CELLS", "SDFNormalized"])
     view = simple.GetActiveViewOrCreate("RenderView")
+    # No ColorBy / LUT calls: what is checked is the colouring a user gets by default.
     display = simple.Show(parts, view)
-    simple.ColorBy(display, ("CELLS", "SDFCluster"))
     lut = simple.GetColorTransferFunction("SDFCluster")
-    lut.InterpretValuesAsCategories = 1
-    lut.ApplyPreset("Brewer Qualitative Set1", True)
-    lut.Annotations = sum([[str(i), "cluster %d" % i] for i in range(k)], [])
+    with open(os.environ["SHAPEDIAMETER_GUI_SCREENSHOT"] + ".json", "w") as stream:
+        json.dump({"ColorArrayName": list(display.ColorArrayName),
+                   "InterpretValuesAsCategories": lut.InterpretValuesAsCategories,
+                   "ActiveAnnotatedValues": list(lut.ActiveAnnotatedValues),
+                   "IndexedColors": list(lut.IndexedColors)}, stream)
     display.Ambient = 1.0
     display.Diffuse = 0.0
     display.SetScalarBarVisibility(view, False)

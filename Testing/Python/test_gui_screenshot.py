@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """A real ParaView GUI process (under xvfb-run) loads the plugin, builds the chain and saves a
-screenshot; the image must show the mesh in at least k distinct unlit part colours."""
+screenshot without any colouring call; by default the parts must be coloured by SDFCluster with the
+plugin's categorical colour map, and the image must show at least k of its colours."""
 import collections
+import json
 import os
 import random
 import subprocess
@@ -24,6 +26,15 @@ with tempfile.TemporaryDirectory() as work:
         details = open(error).read() if os.path.isfile(error) else result.stdout + result.stderr
         sys.exit("the GUI wrote no screenshot (exit %d)\n%s" % (result.returncode, details))
 
+    state = json.load(open(png + ".json"))
+    print("default colouring:", {key: value for key, value in state.items() if key != "IndexedColors"})
+    if state["ColorArrayName"] != ["CELLS", "SDFCluster"] or state["InterpretValuesAsCategories"] != 1:
+        sys.exit("the partition is not coloured by SDFCluster with a categorical map by default")
+    if state["ActiveAnnotatedValues"] != [str(label) for label in range(k)]:
+        sys.exit("legend values %r, expected the %d labels present" % (state["ActiveAnnotatedValues"], k))
+    palette = {tuple(int(round(255 * c)) for c in state["IndexedColors"][i:i + 3])
+               for i in range(0, len(state["IndexedColors"]), 3)}
+
     from vtkmodules.vtkIOImage import vtkPNGReader
     from vtkmodules.util.numpy_support import vtk_to_numpy
     reader = vtkPNGReader()
@@ -40,3 +51,7 @@ with tempfile.TemporaryDirectory() as work:
         sys.exit("the screenshot is blank (%.3f of pixels covered)" % covered)
     if len(frequent) < k:
         sys.exit("expected at least %d part colours, found %d" % (k, len(frequent)))
+    # Unlit: each frequent colour is exactly a palette entry (±1 for 8-bit rounding).
+    strangers = [c for c in frequent if not any(max(abs(a - b) for a, b in zip(c, p)) <= 1 for p in palette)]
+    if strangers:
+        sys.exit("colours not from the categorical palette: %s" % strangers)
