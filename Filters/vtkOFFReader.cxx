@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkOFFReader.h"
 
+#include "MeshPieces.h"
 #include "OFFParser.h"
 #include "SurfaceConversion.h"
 
@@ -19,7 +20,10 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <fstream>
+#include <utility>
+#include <vector>
 
 vtkStandardNewMacro(vtkOFFReader);
 
@@ -66,20 +70,32 @@ int vtkOFFReader::RequestData(
   const int piece = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
     ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
     : 0;
-  if (piece > 0)
-  {
-    return 1; // the whole file goes to piece 0 (documented)
-  }
+  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
   if (this->FileName.empty())
   {
     vtkErrorMacro("No FileName set.");
     return 0;
   }
 
+  // ---- Distributed runs (Filters/DistributedSupport.h): each piece keeps its share of the
+  // faces, and points and faces are numbered in file order (GlobalIds attributes
+  // `GlobalPointIds`, `GlobalCellIds`) so the filters can rebuild the original mesh, in its
+  // original order, from any distribution of the pieces. Serial runs get no extra array.
   shapediameter::OFFMesh mesh;
+  std::vector<std::int64_t> globalPointIds;
+  std::vector<std::int64_t> globalCellIds;
   try
   {
     mesh = shapediameter::ReadOFFFile(this->FileName);
+    if (pieces > 1)
+    {
+      shapediameter::MeshPiece share = shapediameter::ExtractFacePiece(mesh, piece, pieces);
+      mesh = std::move(share.mesh);
+      globalPointIds = std::move(share.globalPointIds);
+      globalCellIds = std::move(share.globalFaceIds);
+    }
   }
   catch (const std::exception& error)
   {
@@ -113,29 +129,10 @@ int vtkOFFReader::RequestData(
       MakeArray<vtkUnsignedCharArray>("Colors", mesh.faceColors, 4));
   }
 
-  // ---- Distributed runs (Filters/DistributedSupport.h): when several pieces are asked for,
-  // number the points and faces in file order (GlobalIds attributes `GlobalPointIds` and
-  // `GlobalCellIds`), so the filters can rebuild the original mesh, in its original order,
-  // from the pieces RedistributeDataSet makes. Serial runs get no extra array.
-  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
-    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
-    : 1;
   if (pieces > 1)
   {
-    for (const bool cells : { false, true })
-    {
-      const vtkIdType count = cells ? output->GetNumberOfCells() : output->GetNumberOfPoints();
-      vtkNew<vtkIdTypeArray> ids;
-      ids->SetName(cells ? "GlobalCellIds" : "GlobalPointIds");
-      ids->SetNumberOfTuples(count);
-      for (vtkIdType i = 0; i < count; ++i)
-      {
-        ids->SetValue(i, i);
-      }
-      vtkDataSetAttributes* data = cells ? static_cast<vtkDataSetAttributes*>(output->GetCellData())
-                                         : static_cast<vtkDataSetAttributes*>(output->GetPointData());
-      data->SetGlobalIds(ids);
-    }
+    output->GetPointData()->SetGlobalIds(MakeArray<vtkIdTypeArray>("GlobalPointIds", globalPointIds));
+    output->GetCellData()->SetGlobalIds(MakeArray<vtkIdTypeArray>("GlobalCellIds", globalCellIds));
   }
   // ---- end of distributed runs
   this->UpdateProgress(1.0);

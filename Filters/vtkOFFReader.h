@@ -24,13 +24,15 @@
  * reader never crashes or allocates from an unchecked count. Binary OFF and
  * 4-D OFF are rejected with an error.
  *
- * Parallel pieces: the whole file is read on piece 0; other pieces produce an
- * empty output (redistribute with RedistributeDataSet when running under MPI). When
- * more than one piece is requested, the output also carries the GlobalIds attributes
- * `GlobalPointIds` (point data) and `GlobalCellIds` (cell data), vtkIdType, numbering
- * points and faces in file order: the module's filters use them to rebuild the original
- * mesh from the redistributed pieces (Filters/DistributedSupport.h). Serial runs (one
- * piece) get neither array.
+ * Parallel pieces: when N > 1 pieces are requested (MPI: pvbatch, pvserver), piece p keeps
+ * the faces [F·p/N, F·(p+1)/N) in file order with the vertices they use (border vertices
+ * appear in each piece that uses them; vertices no face uses stay on piece 0); every piece
+ * parses the whole file, so each rank briefly holds the whole mesh. The output then also
+ * carries the GlobalIds attributes `GlobalPointIds` (point data) and `GlobalCellIds` (cell
+ * data), vtkIdType, numbering points and faces in file order: the module's filters use them
+ * to rebuild the original mesh from the pieces, however they were redistributed afterwards
+ * (Filters/DistributedSupport.h). Serial runs (one piece) get neither array. File order need
+ * not be spatially compact; insert RedistributeDataSet for spatially balanced pieces.
  */
 #ifndef vtkOFFReader_h
 #define vtkOFFReader_h

@@ -205,6 +205,7 @@ int vtkSDFSkeleton::RequestData(
     cloudData->AddArray(IdArray(SOURCE_FACE_ARRAY_NAME, sourceCells));
     cloudData->AddArray(DoubleArray(RADIUS_ARRAY_NAME, skeleton.CloudRadius));
     cloudData->AddArray(DoubleArray(CONFIDENCE_ARRAY_NAME, skeleton.CloudConfidence));
+    cloudData->SetActiveScalars(CONFIDENCE_ARRAY_NAME); // default colouring: how line-like each point's neighbourhood is
     if (vtkDataArray* clusters = input->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME))
     {
       vtkNew<vtkIntArray> pointClusters;

@@ -41,6 +41,7 @@
  *   `SkeletonNodeId`, `SkeletonBoneId` (−1 for vertices and lines);
  * - port 2 "Projected Points": the cloud P as vertices with point arrays `SourceFaceId`
  *   (input cell id), `Radius`, `Confidence`, and `SDFCluster` when the input has it.
+ * Active scalars (what ParaView colours by): `BoneId`, `SkeletonBoneId`, `Confidence`.
  *
  * Bad input: no polygon, no usable SDF array (missing, non-numeric, several components,
  * non-finite or negative values), non-finite coordinates → vtkErrorMacro; ports 0 and 2

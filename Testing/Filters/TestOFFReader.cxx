@@ -10,8 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <vector>
 
 using shapediameter::testing::DataFile;
 using shapediameter::testing::MessageRecorder;
@@ -83,4 +85,48 @@ TEST(OFFReader, MissingFileIsAnError)
   EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 0);
   EXPECT_EQ(vtkOFFReader::CanReadFile("/nonexistent/mesh.off"), 0);
   EXPECT_EQ(vtkOFFReader::CanReadFile(DataFile("camel.off").c_str()), 1);
+}
+
+TEST(OFFReader, PiecesShareTheFacesAndCarryGlobalIds)
+{
+  vtkNew<vtkOFFReader> serial;
+  serial->SetFileName(DataFile("camel.off").c_str());
+  serial->Update();
+  vtkPolyData* whole = serial->GetOutput();
+  EXPECT_EQ(whole->GetPointData()->GetGlobalIds(), nullptr) << "serial runs carry no global ids";
+  const vtkIdType faces = whole->GetNumberOfCells();
+  constexpr int pieces = 3;
+  std::vector<int> seen(static_cast<std::size_t>(faces), 0);
+  for (int piece = 0; piece < pieces; ++piece)
+  {
+    vtkNew<vtkOFFReader> reader;
+    reader->SetFileName(DataFile("camel.off").c_str());
+    reader->UpdatePiece(piece, pieces, 0);
+    vtkPolyData* part = reader->GetOutput();
+    EXPECT_NEAR(part->GetNumberOfCells(), faces / pieces, 1) << "piece " << piece;
+    vtkDataArray* cellIds = part->GetCellData()->GetGlobalIds();
+    vtkDataArray* pointIds = part->GetPointData()->GetGlobalIds();
+    ASSERT_NE(cellIds, nullptr);
+    ASSERT_NE(pointIds, nullptr);
+    EXPECT_STREQ(cellIds->GetName(), "GlobalCellIds");
+    EXPECT_STREQ(pointIds->GetName(), "GlobalPointIds");
+    ASSERT_EQ(pointIds->GetNumberOfTuples(), part->GetNumberOfPoints());
+    for (vtkIdType c = 0; c < part->GetNumberOfCells(); ++c)
+    {
+      const auto global = static_cast<vtkIdType>(cellIds->GetComponent(c, 0));
+      ++seen[static_cast<std::size_t>(global)];
+      vtkIdType count = 0;
+      const vtkIdType* ids = nullptr;
+      vtkIdType wholeCount = 0;
+      const vtkIdType* wholeIds = nullptr;
+      part->GetCellPoints(c, count, ids);
+      whole->GetCellPoints(global, wholeCount, wholeIds);
+      ASSERT_EQ(count, wholeCount);
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        EXPECT_EQ(static_cast<vtkIdType>(pointIds->GetComponent(ids[i], 0)), wholeIds[i]);
+      }
+    }
+  }
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), faces) << "every face in exactly one piece";
 }

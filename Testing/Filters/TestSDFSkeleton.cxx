@@ -159,6 +159,13 @@ TEST(SDFSkeleton, OutputsAreLinkedAndDeterministic)
   EXPECT_EQ(one.Cloud->GetNumberOfPoints(), 10000);
   EXPECT_NE(one.Cloud->GetPointData()->GetArray("SDFCluster"), nullptr);
   EXPECT_NE(one.Surface->GetCellData()->GetArray("SDFCluster"), nullptr) << "input arrays pass through";
+  // What ParaView colours each port by when it is shown.
+  ASSERT_NE(one.Skeleton->GetCellData()->GetScalars(), nullptr);
+  EXPECT_STREQ(one.Skeleton->GetCellData()->GetScalars()->GetName(), "BoneId");
+  ASSERT_NE(one.Surface->GetCellData()->GetScalars(), nullptr);
+  EXPECT_STREQ(one.Surface->GetCellData()->GetScalars()->GetName(), "SkeletonBoneId");
+  ASSERT_NE(one.Cloud->GetPointData()->GetScalars(), nullptr);
+  EXPECT_STREQ(one.Cloud->GetPointData()->GetScalars()->GetName(), "Confidence");
   // Same seed, different thread counts: the same skeleton.
   ASSERT_EQ(one.Skeleton->GetNumberOfPoints(), two.Skeleton->GetNumberOfPoints());
   for (vtkIdType p = 0; p < one.Skeleton->GetNumberOfPoints(); ++p)

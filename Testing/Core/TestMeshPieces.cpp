@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Splitting a mesh into the pieces of a distributed run: every face in exactly one piece, every
+// vertex reference resolving to the same coordinates and attributes, global ids consistent.
+#include "MeshPieces.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace
+{
+
+using shapediameter::ExtractFacePiece;
+using shapediameter::MeshPiece;
+using shapediameter::OFFMesh;
+using shapediameter::ParseOFF;
+
+/// A strip of `faces` coloured triangles over coloured, normal-carrying vertices, plus one
+/// vertex no face uses (index 2 + faces: the last).
+OFFMesh Strip(int faces)
+{
+  std::string text = "CNOFF\n" + std::to_string(faces + 3) + " " + std::to_string(faces) + " 0\n";
+  for (int v = 0; v < faces + 3; ++v)
+  {
+    text += std::to_string(v / 2) + " " + std::to_string(v % 2) + " 0  0 0 1  " + std::to_string(v % 256) +
+      " 0 0 255\n";
+  }
+  for (int f = 0; f < faces; ++f)
+  {
+    text += "3 " + std::to_string(f) + " " + std::to_string(f + 1) + " " + std::to_string(f + 2) + " " +
+      std::to_string(f % 256) + " 10 20\n";
+  }
+  return ParseOFF(text.data(), text.size());
+}
+
+TEST(MeshPieces, EveryFaceOnceWithItsVerticesAndAttributes)
+{
+  const OFFMesh whole = Strip(10);
+  for (const int pieces : { 1, 2, 3, 4, 7, 10, 13 })
+  {
+    std::vector<int> faceSeen(whole.FaceCount(), 0);
+    std::vector<int> vertexSeen(whole.VertexCount(), 0);
+    std::size_t largest = 0;
+    std::size_t smallest = whole.FaceCount();
+    for (int piece = 0; piece < pieces; ++piece)
+    {
+      const MeshPiece part = ExtractFacePiece(whole, piece, pieces);
+      ASSERT_EQ(part.globalFaceIds.size(), part.mesh.FaceCount());
+      ASSERT_EQ(part.globalPointIds.size(), part.mesh.VertexCount());
+      ASSERT_EQ(part.mesh.vertexNormals.size(), 3 * part.mesh.VertexCount());
+      ASSERT_EQ(part.mesh.vertexColors.size(), 4 * part.mesh.VertexCount());
+      ASSERT_EQ(part.mesh.faceColors.size(), 4 * part.mesh.FaceCount());
+      largest = std::max(largest, part.mesh.FaceCount());
+      smallest = std::min(smallest, part.mesh.FaceCount());
+      for (std::size_t v = 0; v < part.globalPointIds.size(); ++v)
+      {
+        const auto global = static_cast<std::size_t>(part.globalPointIds[v]);
+        ++vertexSeen[global];
+        if (v > 0)
+        {
+          EXPECT_LT(part.globalPointIds[v - 1], part.globalPointIds[v]) << "vertices in file order";
+        }
+        for (int c = 0; c < 3; ++c)
+        {
+          EXPECT_EQ(part.mesh.points[3 * v + c], whole.points[3 * global + c]);
+          EXPECT_EQ(part.mesh.vertexNormals[3 * v + c], whole.vertexNormals[3 * global + c]);
+        }
+        EXPECT_EQ(part.mesh.vertexColors[4 * v], whole.vertexColors[4 * global]);
+      }
+      for (std::size_t f = 0; f < part.mesh.FaceCount(); ++f)
+      {
+        const auto global = static_cast<std::size_t>(part.globalFaceIds[f]);
+        ++faceSeen[global];
+        ASSERT_EQ(part.mesh.faceOffsets[f + 1] - part.mesh.faceOffsets[f],
+          whole.faceOffsets[global + 1] - whole.faceOffsets[global]);
+        for (std::int64_t i = 0; i < part.mesh.faceOffsets[f + 1] - part.mesh.faceOffsets[f]; ++i)
+        {
+          const auto local = static_cast<std::size_t>(part.mesh.faceConnectivity[part.mesh.faceOffsets[f] + i]);
+          ASSERT_LT(local, part.mesh.VertexCount());
+          EXPECT_EQ(part.globalPointIds[local], whole.faceConnectivity[whole.faceOffsets[global] + i]);
+        }
+        EXPECT_EQ(part.mesh.faceColors[4 * f], whole.faceColors[4 * global]);
+      }
+    }
+    for (std::size_t f = 0; f < faceSeen.size(); ++f)
+    {
+      EXPECT_EQ(faceSeen[f], 1) << "face " << f << " with " << pieces << " pieces";
+    }
+    for (std::size_t v = 0; v < vertexSeen.size(); ++v)
+    {
+      EXPECT_GE(vertexSeen[v], 1) << "vertex " << v << " with " << pieces << " pieces";
+    }
+    EXPECT_LE(largest - smallest, 1u) << "balanced pieces";
+  }
+}
+
+TEST(MeshPieces, UnusedVerticesGoToPieceZeroOnly)
+{
+  const OFFMesh whole = Strip(6);
+  const auto unused = static_cast<std::int64_t>(whole.VertexCount() - 1);
+  const MeshPiece first = ExtractFacePiece(whole, 0, 3);
+  const MeshPiece last = ExtractFacePiece(whole, 2, 3);
+  EXPECT_EQ(first.globalPointIds.back(), unused);
+  EXPECT_NE(last.globalPointIds.back(), unused);
+  EXPECT_EQ(last.globalFaceIds, (std::vector<std::int64_t>{ 4, 5 }));
+  // Border vertices are shared: face 1 (piece 0) and face 2 (piece 1) both use vertices 2 and 3.
+  EXPECT_EQ(first.globalPointIds, (std::vector<std::int64_t>{ 0, 1, 2, 3, 8 }));
+  EXPECT_EQ(ExtractFacePiece(whole, 1, 3).globalPointIds, (std::vector<std::int64_t>{ 2, 3, 4, 5 }));
+}
+
+TEST(MeshPieces, MorePiecesThanFacesAndBadRequests)
+{
+  const OFFMesh whole = Strip(2);
+  EXPECT_EQ(ExtractFacePiece(whole, 0, 5).mesh.FaceCount(), 0u);
+  EXPECT_EQ(ExtractFacePiece(whole, 0, 5).globalPointIds, (std::vector<std::int64_t>{ 4 })) << "the unused vertex";
+  EXPECT_EQ(ExtractFacePiece(whole, 4, 5).mesh.FaceCount(), 1u);
+  EXPECT_EQ(ExtractFacePiece(whole, 3, 5).mesh.VertexCount(), 0u);
+  EXPECT_THROW(ExtractFacePiece(whole, 5, 5), std::invalid_argument);
+  EXPECT_THROW(ExtractFacePiece(whole, -1, 2), std::invalid_argument);
+  EXPECT_THROW(ExtractFacePiece(whole, 0, 0), std::invalid_argument);
+  const OFFMesh empty = ParseOFF("OFF\n0 0 0\n", 10);
+  EXPECT_EQ(ExtractFacePiece(empty, 1, 2).mesh.FaceCount(), 0u);
+}
+
+} // namespace
