@@ -233,13 +233,7 @@ int vtkSDFGMMPartition::RequestData(
     const PosteriorMatrix posteriors = ComputePosteriors(model, faceValues, parallelFor);
     this->UpdateProgress(0.2);
 
-    DualGraphView view;
-    view.offsets = graph.Offsets.data();
-    view.neighbours = graph.Neighbors.data();
-    view.normalAngle = graph.NormalAngles.data();
-    view.concave = graph.Concave.data();
-    view.edgeLength = graph.SharedEdgeLengths.data();
-    view.faceCount = graph.FaceCount();
+    const DualGraphView view = MakeDualGraphView(graph);
     PartitionEnergyOptions energyOptions;
     energyOptions.lambda = this->Lambda;
     energyOptions.probabilityEpsilon = this->Epsilon;

@@ -35,7 +35,7 @@ def parse_arguments(argv):
     parser.add_argument("--cone-angle", type=float, default=120.0, help="cone opening angle in degrees (SDF)")
     parser.add_argument("--clusters", default="5", help="number of GMM clusters k, or 'auto'")
     parser.add_argument("--lambda", dest="smoothness", type=float, default=argparse.SUPPRESS,
-                        help="graph-cut smoothness weight (default: the filter's, 0.3)")
+                        help="graph-cut smoothness weight (default: the filter's, 0.03)")
     parser.add_argument("--samples", type=int, default=10000, help="skeleton surface samples")
     parser.add_argument("--family", action="store_true",
                         help="fit one GMM on all meshes together and partition each with it")

@@ -98,11 +98,35 @@ void ValidateTopology(const DualGraphView& graph)
   }
 }
 
-double LengthScale(const DualGraphView& graph, const PartitionEnergyOptions& options)
+/// The factors that make E a discretisation of an energy over the surface (see the header):
+/// data cost times area / mean area, pair weight times edge length * faceCount / sqrt(total
+/// area). Fallbacks for a surface of zero total area: data factor 1, pair factor edge length /
+/// mean edge length (1 when that is 0 too).
+struct GeometricWeights
 {
-  if (!options.weightByEdgeLength)
+  std::vector<double> face; ///< empty = all 1
+  double perUnitLength = 0.0; ///< 0 = all pair factors 1
+};
+
+GeometricWeights ComputeGeometricWeights(const DualGraphView& graph, const PartitionEnergyOptions& options)
+{
+  GeometricWeights weights;
+  if (!options.geometricWeights || graph.faceCount == 0)
   {
-    return 0.0;
+    return weights;
+  }
+  const double totalArea = std::accumulate(graph.faceArea, graph.faceArea + graph.faceCount, 0.0);
+  const auto faceCount = static_cast<double>(graph.faceCount);
+  if (totalArea > 0.0 && std::isfinite(totalArea))
+  {
+    const double meanArea = totalArea / faceCount;
+    weights.face.assign(graph.faceArea, graph.faceArea + graph.faceCount);
+    for (double& w : weights.face)
+    {
+      w /= meanArea;
+    }
+    weights.perUnitLength = faceCount / std::sqrt(totalArea);
+    return weights;
   }
   double sum = 0.0;
   std::size_t count = 0;
@@ -118,10 +142,24 @@ double LengthScale(const DualGraphView& graph, const PartitionEnergyOptions& opt
     }
   }
   const double mean = count > 0 ? sum / static_cast<double>(count) : 0.0;
-  return mean > 0.0 && std::isfinite(mean) ? 1.0 / mean : 0.0;
+  weights.perUnitLength = mean > 0.0 && std::isfinite(mean) ? 1.0 / mean : 0.0;
+  return weights;
 }
 
 } // namespace
+
+DualGraphView MakeDualGraphView(const FaceGraph& graph)
+{
+  DualGraphView view;
+  view.offsets = graph.Offsets.data();
+  view.neighbours = graph.Neighbors.data();
+  view.normalAngle = graph.NormalAngles.data();
+  view.concave = graph.Concave.data();
+  view.edgeLength = graph.SharedEdgeLengths.data();
+  view.faceArea = graph.Areas.data();
+  view.faceCount = graph.FaceCount();
+  return view;
+}
 
 double PartitionEnergy::Evaluate(const std::vector<int>& labels) const
 {
@@ -157,9 +195,23 @@ double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOpt
   return -std::log(std::max(scaled / kPi, options.minAngleRatio));
 }
 
-void ValidateDualGraph(const DualGraphView& graph, bool requireEdgeLength)
+void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry)
 {
   ValidateTopology(graph);
+  if (requireGeometry && graph.faceCount > 0)
+  {
+    if (graph.faceArea == nullptr)
+    {
+      throw PartitionEnergyError("dual graph: face areas are missing (needed for geometric weights)");
+    }
+    for (std::size_t f = 0; f < graph.faceCount; ++f)
+    {
+      if (!InRange(graph.faceArea[f], 0.0, std::numeric_limits<double>::max()))
+      {
+        throw PartitionEnergyError("dual graph: area of face " + std::to_string(f) + " is negative, NaN or infinite");
+      }
+    }
+  }
   const std::size_t entryCount = EntryCount(graph);
   if (entryCount == 0)
   {
@@ -169,9 +221,9 @@ void ValidateDualGraph(const DualGraphView& graph, bool requireEdgeLength)
   {
     throw PartitionEnergyError("dual graph: normal angles or concave flags are missing");
   }
-  if (requireEdgeLength && graph.edgeLength == nullptr)
+  if (requireGeometry && graph.edgeLength == nullptr)
   {
-    throw PartitionEnergyError("dual graph: edge lengths are missing (needed for length weighting)");
+    throw PartitionEnergyError("dual graph: edge lengths are missing (needed for geometric weights)");
   }
   for (std::size_t e = 0; e < entryCount; ++e)
   {
@@ -179,7 +231,7 @@ void ValidateDualGraph(const DualGraphView& graph, bool requireEdgeLength)
     {
       throw PartitionEnergyError("dual graph: normal angle " + std::to_string(e) + " is NaN or infinite");
     }
-    if (requireEdgeLength && !InRange(graph.edgeLength[e], 0.0, std::numeric_limits<double>::max()))
+    if (requireGeometry && !InRange(graph.edgeLength[e], 0.0, std::numeric_limits<double>::max()))
     {
       throw PartitionEnergyError("dual graph: edge length " + std::to_string(e) + " is negative, NaN or infinite");
     }
@@ -190,7 +242,7 @@ PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posterior
   const DualGraphView& graph, const PartitionEnergyOptions& options)
 {
   ValidateOptions(options);
-  ValidateDualGraph(graph, options.weightByEdgeLength);
+  ValidateDualGraph(graph, options.geometricWeights);
   const std::size_t n = graph.faceCount;
   if (static_cast<std::size_t>(posteriors.rows()) != n || posteriors.cols() < 1)
   {
@@ -201,8 +253,10 @@ PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posterior
   energy.labelCount = static_cast<int>(posteriors.cols());
   const auto k = static_cast<std::size_t>(energy.labelCount);
   energy.dataCost.resize(n * k);
+  const GeometricWeights weights = ComputeGeometricWeights(graph, options);
   for (std::size_t f = 0; f < n; ++f)
   {
+    const double faceWeight = weights.face.empty() ? 1.0 : weights.face[f];
     for (std::size_t l = 0; l < k; ++l)
     {
       const double p = posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l));
@@ -210,10 +264,9 @@ PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posterior
       {
         throw PartitionEnergyError("partition energy: posterior of face " + std::to_string(f) + " is NaN or infinite");
       }
-      energy.dataCost[f * k + l] = -std::log(std::clamp(p, 0.0, 1.0) + options.probabilityEpsilon);
+      energy.dataCost[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.probabilityEpsilon);
     }
   }
-  const double inverseMeanLength = LengthScale(graph, options);
   const std::size_t pairCount = EntryCount(graph) / 2;
   energy.pairFirst.reserve(pairCount);
   energy.pairSecond.reserve(pairCount);
@@ -228,9 +281,9 @@ PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posterior
         continue;
       }
       double weight = options.lambda * SmoothnessTerm(graph.normalAngle[e], graph.concave[e] != 0, options);
-      if (inverseMeanLength > 0.0)
+      if (weights.perUnitLength > 0.0)
       {
-        weight *= graph.edgeLength[e] * inverseMeanLength;
+        weight *= graph.edgeLength[e] * weights.perUnitLength;
       }
       energy.pairFirst.push_back(static_cast<std::int64_t>(f));
       energy.pairSecond.push_back(g);

@@ -40,13 +40,14 @@ struct SyntheticPartitionProblem
 {
   std::size_t faceCount = 0;
   std::vector<std::int64_t> offsets, neighbours;
-  std::vector<double> angle, length;
+  std::vector<double> angle, length, area;
   std::vector<std::uint8_t> concave;
   Eigen::VectorXd values;
 
   explicit SyntheticPartitionProblem(int side)
   {
     faceCount = 2 * static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
+    area.assign(faceCount, 0.5);
     std::mt19937_64 generator(42);
     // Region of a face: bands in x with wavy borders -> three SDF levels (0.8, 0.5, 0.2).
     std::vector<int> region(faceCount);
@@ -125,6 +126,7 @@ struct SyntheticPartitionProblem
     view.normalAngle = angle.data();
     view.concave = concave.data();
     view.edgeLength = length.data();
+    view.faceArea = area.data();
     view.faceCount = faceCount;
     return view;
   }

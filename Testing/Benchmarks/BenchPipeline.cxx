@@ -809,13 +809,7 @@ void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
       laps.Lap();
       const PosteriorMatrix posteriors = ComputePosteriors(model, faceValues, parallelFor);
       laps.Lap();
-      DualGraphView view;
-      view.offsets = graph.Offsets.data();
-      view.neighbours = graph.Neighbors.data();
-      view.normalAngle = graph.NormalAngles.data();
-      view.concave = graph.Concave.data();
-      view.edgeLength = graph.SharedEdgeLengths.data();
-      view.faceCount = graph.FaceCount();
+      const DualGraphView view = MakeDualGraphView(graph);
       PartitionEnergyOptions energyOptions;
       energyOptions.lambda = partition->GetLambda();
       energyOptions.probabilityEpsilon = partition->GetEpsilon();

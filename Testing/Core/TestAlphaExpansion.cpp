@@ -23,17 +23,19 @@ double Uniform(std::mt19937_64& generator)
   return static_cast<double>(generator() >> 11) * (1.0 / 9007199254740992.0);
 }
 
-/// A dual graph in CSR form built from undirected edges (a, b, angle, concave, length).
+/// A dual graph in CSR form built from undirected edges (a, b, angle, concave, length); every
+/// face has area 1.
 struct TestGraph
 {
   std::vector<std::int64_t> offsets, neighbours;
-  std::vector<double> angle, length;
+  std::vector<double> angle, length, area;
   std::vector<std::uint8_t> concave;
   std::size_t faceCount = 0;
 
   using Edge = std::tuple<int, int, double, bool, double>;
   TestGraph(std::size_t faces, const std::vector<Edge>& edges)
-    : faceCount(faces)
+    : area(faces, 1.0)
+    , faceCount(faces)
   {
     std::vector<std::vector<std::tuple<int, double, bool, double>>> adjacency(faces);
     for (const auto& [a, b, phi, isConcave, len] : edges)
@@ -63,6 +65,7 @@ struct TestGraph
     view.normalAngle = angle.data();
     view.concave = concave.data();
     view.edgeLength = length.data();
+    view.faceArea = area.data();
     view.faceCount = faceCount;
     return view;
   }
@@ -157,15 +160,30 @@ TEST(PartitionEnergy, BuildAndEvaluateHandComputedCase)
   ASSERT_EQ(energy.pairWeight.size(), 2u);
   EXPECT_NEAR(energy.DataCost(0, 0), -std::log(0.9 + 1e-8), 1e-12);
   EXPECT_NEAR(energy.DataCost(2, 0), -std::log(1e-8), 1e-9);
-  // Mean length 2: the factors are 0.5 and 1.5.
-  EXPECT_NEAR(energy.pairWeight[0], 0.5 * std::log(2.0) * 0.5, 1e-12);
-  EXPECT_NEAR(energy.pairWeight[1], 0.5 * -std::log(0.04) * 1.5, 1e-12);
+  // Areas 1: data factors 1; pair factor = length * faceCount / sqrt(total area) = length * sqrt(3).
+  EXPECT_NEAR(energy.pairWeight[0], 0.5 * std::log(2.0) * 1.0 * std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(energy.pairWeight[1], 0.5 * -std::log(0.04) * 3.0 * std::sqrt(3.0), 1e-12);
   const double expected = -std::log(0.9 + 1e-8) - std::log(0.5 + 1e-8) - std::log(1.0 + 1e-8) +
     energy.pairWeight[1];
   EXPECT_NEAR(energy.Evaluate({ 0, 0, 1 }), expected, 1e-12);
   EXPECT_EQ(MostProbableLabels(energy), std::vector<int>({ 0, 0, 1 }));
 
-  options.weightByEdgeLength = false;
+  // Unequal areas weight the data term by area / mean area (mean 2 here).
+  TestGraph uneven = graph;
+  uneven.area = { 1.0, 1.0, 4.0 };
+  const PartitionEnergy weighted = BuildPartitionEnergy(posteriors, uneven.View(), options);
+  EXPECT_NEAR(weighted.DataCost(0, 0), 0.5 * -std::log(0.9 + 1e-8), 1e-12);
+  EXPECT_NEAR(weighted.DataCost(2, 0), 2.0 * -std::log(1e-8), 1e-9);
+  EXPECT_NEAR(weighted.pairWeight[0], 0.5 * std::log(2.0) * 1.0 * 3.0 / std::sqrt(6.0), 1e-12);
+
+  // Zero total area: data factors 1, pair factors length / mean length (mean 2).
+  TestGraph flat = graph;
+  flat.area = { 0.0, 0.0, 0.0 };
+  const PartitionEnergy fallback = BuildPartitionEnergy(posteriors, flat.View(), options);
+  EXPECT_NEAR(fallback.DataCost(2, 0), -std::log(1e-8), 1e-9);
+  EXPECT_NEAR(fallback.pairWeight[1], 0.5 * -std::log(0.04) * 1.5, 1e-12);
+
+  options.geometricWeights = false;
   const PartitionEnergy unweighted = BuildPartitionEnergy(posteriors, graph.View(), options);
   EXPECT_NEAR(unweighted.pairWeight[0], 0.5 * std::log(2.0), 1e-12);
 
@@ -192,11 +210,20 @@ TEST(PartitionEnergy, BadGraphsAndPosteriorsThrow)
   TestGraph negativeLength = good;
   negativeLength.length[1] = -1.0;
   EXPECT_THROW(BuildPartitionEnergy(posteriors, negativeLength.View()), PartitionEnergyError);
+  TestGraph negativeArea = good;
+  negativeArea.area[0] = -1.0;
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, negativeArea.View()), PartitionEnergyError);
+  TestGraph nanArea = good;
+  nanArea.area[1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, nanArea.View()), PartitionEnergyError);
+  DualGraphView noAreas = good.View();
+  noAreas.faceArea = nullptr;
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, noAreas), PartitionEnergyError);
   DualGraphView noLengths = good.View();
   noLengths.edgeLength = nullptr;
   EXPECT_THROW(BuildPartitionEnergy(posteriors, noLengths), PartitionEnergyError);
   PartitionEnergyOptions unweighted;
-  unweighted.weightByEdgeLength = false;
+  unweighted.geometricWeights = false;
   EXPECT_NO_THROW(BuildPartitionEnergy(posteriors, noLengths, unweighted));
   TestGraph decreasing = good;
   decreasing.offsets = { 0, 2, 1 };

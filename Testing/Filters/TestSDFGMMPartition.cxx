@@ -137,7 +137,7 @@ TEST_F(FigurePartition, TwoPosesAgreeAndTheSharedModelDoesNotHurt)
 {
   // k = 3: thick (torso), middle (head, legs), thin (arms). With k above the number of
   // thickness levels the per-mesh fits split a level differently in each pose; that is
-  // what the shared model is for (measured at k = 5: 7.8 % per mesh, 3.9 % shared).
+  // what the shared model is for (measured at k = 5 with the first energy: 7.8 % per mesh, 3.9 % shared).
   const int k = 3;
   const std::vector<int> rest = IntValues(Partition(RestNormalized, nullptr, k), "SDFCluster");
   const std::vector<int> bent = IntValues(Partition(BentNormalized, nullptr, k), "SDFCluster");
