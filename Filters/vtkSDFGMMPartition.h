@@ -34,7 +34,9 @@
  * Parameters (default, range; the ParaView proxy `SDFGMMPartition` mirrors them):
  * - NumberOfClusters k 5, [0, 16]; 0 = automatic: the k in [2, MaximumClusters] with the
  *   lowest BIC. The fit may use fewer clusters than asked when the data has fewer
- *   distinct values (e.g. a constant field gives one cluster).
+ *   distinct values (e.g. a constant field gives one cluster), and the graph cut may
+ *   leave a cluster without faces (a thickness level with no part large enough to pay
+ *   for its boundary; k = 5 on the dinosaur keeps 3). `SDFClusterCount` is the k fitted.
  * - MaximumClusters 8, [2, 16]: the upper end of the automatic range.
  * - Lambda λ 0.03, [0, 1000] (the paper gives no value): a cut as long as √(area)
  *   across a flat region costs 0.35 × the mean data cost of all faces. Larger = fewer,

@@ -1,9 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "AlphaExpansion.h"
 
-#include <boost/graph/boykov_kolmogorov_max_flow.hpp>
-#include <boost/graph/compressed_sparse_row_graph.hpp>
-#include <boost/property_map/property_map.hpp>
+#include "MaxFlow.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,11 +13,6 @@ namespace shapediameter
 {
 namespace
 {
-
-using FlowGraph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property,
-  boost::no_property, boost::no_property, std::uint32_t, std::uint32_t>;
-using FlowEdge = boost::graph_traits<FlowGraph>::edge_descriptor;
-using FlowVertex = boost::graph_traits<FlowGraph>::vertex_descriptor;
 
 /// Checks without ordered comparisons on NaN (they raise FE_INVALID when traps are on).
 bool InRange(double value, double low, double high)
@@ -103,98 +96,31 @@ class ExpansionGraph
 public:
   explicit ExpansionGraph(const PartitionEnergy& energy)
     : Energy(energy)
-    , FaceCount(energy.faceCount)
+    , Graph(energy.faceCount, energy.pairFirst, energy.pairSecond)
+    , KeepCost(energy.faceCount)
+    , AlphaCost(energy.faceCount)
   {
-    const std::size_t n = FaceCount;
-    const std::size_t pairs = energy.pairWeight.size();
-    const std::size_t edgeCount = 4 * n + 2 * pairs;
-    if (n + 2 > std::numeric_limits<std::uint32_t>::max() ||
-      edgeCount > std::numeric_limits<std::uint32_t>::max())
-    {
-      throw PartitionEnergyError("alpha expansion: graph too large for 32-bit indices");
-    }
-    Source = static_cast<std::uint32_t>(n);
-    Sink = static_cast<std::uint32_t>(n + 1);
-
-    // Out-edges of face f, in this order: f->s, f->t, then f->neighbour for each pair.
-    std::vector<std::uint32_t> rowStart(n + 1, 0);
-    std::vector<std::uint32_t> degree(n, 2);
-    for (std::size_t p = 0; p < pairs; ++p)
-    {
-      ++degree[static_cast<std::size_t>(energy.pairFirst[p])];
-      ++degree[static_cast<std::size_t>(energy.pairSecond[p])];
-    }
-    for (std::size_t f = 0; f < n; ++f)
-    {
-      rowStart[f + 1] = rowStart[f] + degree[f];
-    }
-    const std::uint32_t sourceStart = rowStart[n];
-    const std::uint32_t sinkStart = sourceStart + static_cast<std::uint32_t>(n);
-
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges(edgeCount);
-    std::vector<std::uint32_t> reverse(edgeCount);
-    std::vector<std::uint32_t> fill(rowStart.begin(), rowStart.end() - 1);
-    for (std::size_t f = 0; f < n; ++f)
-    {
-      const auto face = static_cast<std::uint32_t>(f);
-      const std::uint32_t toSource = fill[f]++, toSink = fill[f]++;
-      const std::uint32_t fromSource = sourceStart + face, fromSink = sinkStart + face;
-      edges[toSource] = { face, Source };
-      edges[toSink] = { face, Sink };
-      edges[fromSource] = { Source, face };
-      edges[fromSink] = { Sink, face };
-      reverse[toSource] = fromSource;
-      reverse[fromSource] = toSource;
-      reverse[toSink] = fromSink;
-      reverse[fromSink] = toSink;
-    }
-    SourceEdge.resize(n);
-    SinkEdge.resize(n);
-    for (std::size_t f = 0; f < n; ++f)
-    {
-      SourceEdge[f] = sourceStart + static_cast<std::uint32_t>(f);
-      SinkEdge[f] = rowStart[f] + 1;
-    }
-    ForwardEdge.resize(pairs);
-    for (std::size_t p = 0; p < pairs; ++p)
-    {
-      const auto a = static_cast<std::uint32_t>(energy.pairFirst[p]);
-      const auto b = static_cast<std::uint32_t>(energy.pairSecond[p]);
-      const std::uint32_t forward = fill[a]++, backward = fill[b]++;
-      edges[forward] = { a, b };
-      edges[backward] = { b, a };
-      reverse[forward] = backward;
-      reverse[backward] = forward;
-      ForwardEdge[p] = forward;
-    }
-
-    Graph = FlowGraph(boost::edges_are_sorted, edges.begin(), edges.end(), n + 2);
-    Reverse.resize(edgeCount);
-    for (std::size_t e = 0; e < edgeCount; ++e)
-    {
-      Reverse[e] = FlowEdge(edges[reverse[e]].first, reverse[e]);
-    }
-    Capacity.assign(edgeCount, 0.0);
-    Residual.assign(edgeCount, 0.0);
-    Predecessor.resize(n + 2);
-    Color.resize(n + 2);
-    Distance.resize(n + 2);
-    KeepCost.resize(n);
-    AlphaCost.resize(n);
   }
 
   /// Writes into `result` the optimal move from `labels` towards alpha.
   void Move(const std::vector<int>& labels, int alpha, std::vector<int>& result)
   {
-    const std::size_t n = FaceCount;
+    const std::size_t n = Energy.faceCount;
     for (std::size_t f = 0; f < n; ++f)
     {
       KeepCost[f] = Energy.DataCost(f, labels[f]);
       AlphaCost[f] = Energy.DataCost(f, alpha);
     }
-    // Pair table (y_a, y_b): E00 = w[x_a != x_b], E01 = w[x_a != alpha], E10 = w[x_b != alpha],
-    // E11 = 0, written as E00 + (E10 - E00) y_a + (E11 - E10) y_b + (E01 + E10 - E00 - E11)
-    // (1 - y_a) y_b; the constant E00 is dropped (E is evaluated directly afterwards).
+    // Pair table (y_a, y_b): A = E00 = w[x_a != x_b], B = E01 = w[x_a != alpha],
+    // C = E10 = w[x_b != alpha], D = E11 = 0, written as
+    //   A + u_a y_a + u_b y_b + c_ab (1 - y_a) y_b + c_ba y_a (1 - y_b),
+    // u_a + u_b = D - A, c_ab = B - A - u_b >= 0, c_ba = C - A - u_a >= 0 (possible because
+    // B + C >= A + D). The unaries are split evenly where the arcs allow: a pair of equal
+    // labels then costs w in both arc directions and adds no terminal capacity, so the
+    // max-flow only routes what the data term really asks for (the one-sided form
+    // u_a = C - A, u_b = D - C put +-w on both faces of every edge and made the flow carry
+    // them across the whole surface, several times slower). The constant A is dropped (E is
+    // evaluated directly afterwards).
     for (std::size_t p = 0; p < Energy.pairWeight.size(); ++p)
     {
       const auto a = static_cast<std::size_t>(Energy.pairFirst[p]);
@@ -203,48 +129,39 @@ public:
       const double e00 = labels[a] != labels[b] ? w : 0.0;
       const double e01 = labels[a] != alpha ? w : 0.0;
       const double e10 = labels[b] != alpha ? w : 0.0;
-      AlphaCost[a] += e10 - e00;
-      AlphaCost[b] -= e10;
-      Capacity[ForwardEdge[p]] = e01 + e10 - e00;
+      double unaryA = -0.5 * e00;
+      double unaryB = -0.5 * e00;
+      if (unaryA > e10 - e00)
+      {
+        unaryA = e10 - e00;
+        unaryB = -e00 - unaryA;
+      }
+      if (unaryB > e01 - e00)
+      {
+        unaryB = e01 - e00;
+        unaryA = -e00 - unaryB;
+      }
+      AlphaCost[a] += unaryA;
+      AlphaCost[b] += unaryB;
+      Graph.SetPairCapacities(p, std::max(0.0, e01 - e00 - unaryB), std::max(0.0, e10 - e00 - unaryA));
     }
     for (std::size_t f = 0; f < n; ++f)
     {
       const double common = std::min(KeepCost[f], AlphaCost[f]);
-      Capacity[SourceEdge[f]] = AlphaCost[f] - common;
-      Capacity[SinkEdge[f]] = KeepCost[f] - common;
+      Graph.SetTerminalCapacities(f, AlphaCost[f] - common, KeepCost[f] - common);
     }
-    const auto edgeIndex = boost::get(boost::edge_index, Graph);
-    const auto vertexIndex = boost::get(boost::vertex_index, Graph);
-    boost::boykov_kolmogorov_max_flow(Graph,
-      boost::make_iterator_property_map(Capacity.begin(), edgeIndex),
-      boost::make_iterator_property_map(Residual.begin(), edgeIndex),
-      boost::make_iterator_property_map(Reverse.begin(), edgeIndex),
-      boost::make_iterator_property_map(Predecessor.begin(), vertexIndex),
-      boost::make_iterator_property_map(Color.begin(), vertexIndex),
-      boost::make_iterator_property_map(Distance.begin(), vertexIndex), vertexIndex, Source, Sink);
+    Graph.Solve();
     result.resize(n);
     for (std::size_t f = 0; f < n; ++f)
     {
-      // Black = the source search tree = the faces reachable from s: they keep their label.
-      result[f] = Color[f] == boost::black_color ? labels[f] : alpha;
+      // The source side (reachable from s in the residual graph) keeps its label.
+      result[f] = Graph.InSourceSet(f) ? labels[f] : alpha;
     }
   }
 
 private:
   const PartitionEnergy& Energy;
-  std::size_t FaceCount;
-  std::uint32_t Source = 0;
-  std::uint32_t Sink = 0;
-  FlowGraph Graph;
-  std::vector<std::uint32_t> SourceEdge; // s->f
-  std::vector<std::uint32_t> SinkEdge;   // f->t
-  std::vector<std::uint32_t> ForwardEdge; // first->second of each pair
-  std::vector<double> Capacity;
-  std::vector<double> Residual;
-  std::vector<FlowEdge> Reverse;
-  std::vector<FlowEdge> Predecessor;
-  std::vector<boost::default_color_type> Color;
-  std::vector<long> Distance;
+  MaxFlowGraph Graph;
   std::vector<double> KeepCost;
   std::vector<double> AlphaCost;
 };
@@ -292,17 +209,34 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
   std::vector<int> candidate;
   const long totalMoves = static_cast<long>(options.maxCycles) * k;
   int movesWithoutDecrease = 0;
+  // An alpha-move from labels that no other move has changed since the last alpha-move cannot
+  // lower E (an expansion of an expansion of x is an expansion of x): it is counted as tried
+  // without solving it.
+  std::vector<long> lastTried(static_cast<std::size_t>(k), -1);
+  long lastApplied = -1;
   for (long move = 0; move < totalMoves; ++move)
   {
     const int alpha = static_cast<int>(move % k);
-    graph.Move(result.labels, alpha, candidate);
-    const double candidateEnergy = EnergyOf(energy, candidate);
-    const double margin = options.relativeTolerance * std::max(1.0, std::abs(result.energy));
-    if (candidateEnergy < result.energy - margin)
+    long& previous = lastTried[static_cast<std::size_t>(alpha)];
+    const bool known = previous >= 0 && lastApplied <= previous;
+    previous = move;
+    bool applied = false;
+    if (!known)
     {
-      result.labels.swap(candidate);
-      result.energy = candidateEnergy;
+      graph.Move(result.labels, alpha, candidate);
+      const double candidateEnergy = EnergyOf(energy, candidate);
+      const double margin = options.relativeTolerance * std::max(1.0, std::abs(result.energy));
+      if (candidateEnergy < result.energy - margin)
+      {
+        result.labels.swap(candidate);
+        result.energy = candidateEnergy;
+        applied = true;
+      }
+    }
+    if (applied)
+    {
       ++result.appliedMoves;
+      lastApplied = move;
       movesWithoutDecrease = 0;
     }
     else

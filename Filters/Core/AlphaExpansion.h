@@ -16,10 +16,14 @@
 //   minimum; for k > 2 it is within E_data(x*) + 2 E_smooth(x*) of the optimum x*.
 //
 // Backend
-//   boost::boykov_kolmogorov_max_flow on a boost::compressed_sparse_row_graph whose topology
-//   (every face, source, sink, both directions of every terminal and pair edge) is built once
-//   per call; each move only refills the capacities (double precision). Faces are limited to
-//   2^32 - 3 and graph edges to 2^32 - 1 (PartitionEnergyError beyond).
+//   MaxFlowGraph (MaxFlow.h, Boykov-Kolmogorov) on a graph whose topology (every face, one arc
+//   pair per adjacent face pair) is built once per call; each move only refills the
+//   capacities (double precision), with the pair terms split evenly between the two faces so
+//   that equal-label pairs add no terminal capacity. Faces and arcs are limited to 2^31 - 2
+//   (std::invalid_argument beyond). Replacing Boost.Graph's BK with it and the even split
+//   made the graph cut about 3x faster on the armadillo (same labels, same energy).
+//   A move whose result is known (no other move changed the labels since the last move of
+//   the same alpha) is counted as tried without solving it.
 //
 // Parameters (AlphaExpansionOptions)
 //   maxCycles          20     [1, 1e6]   full passes over the labels (typically 2-4 are used).

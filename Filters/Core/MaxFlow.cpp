@@ -1,0 +1,369 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "MaxFlow.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace shapediameter
+{
+
+MaxFlowGraph::MaxFlowGraph(
+  std::size_t nodeCount, const std::vector<std::int64_t>& first, const std::vector<std::int64_t>& second)
+{
+  constexpr std::size_t limit = static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()) - 1;
+  if (first.size() != second.size())
+  {
+    throw std::invalid_argument("max-flow graph: pair lists of different sizes");
+  }
+  if (nodeCount > limit || 2 * first.size() > limit)
+  {
+    throw std::invalid_argument("max-flow graph: too many nodes or arcs for 32-bit indices");
+  }
+  const auto n = static_cast<std::int64_t>(nodeCount);
+  std::vector<std::int32_t> degree(nodeCount, 0);
+  for (std::size_t p = 0; p < first.size(); ++p)
+  {
+    const std::int64_t a = first[p], b = second[p];
+    if (a < 0 || b < 0 || a >= n || b >= n || a == b)
+    {
+      throw std::invalid_argument("max-flow graph: pair " + std::to_string(p) + " has invalid nodes");
+    }
+    ++degree[static_cast<std::size_t>(a)];
+    ++degree[static_cast<std::size_t>(b)];
+  }
+  this->ArcStart.assign(nodeCount + 1, 0);
+  for (std::size_t i = 0; i < nodeCount; ++i)
+  {
+    this->ArcStart[i + 1] = this->ArcStart[i] + degree[i];
+  }
+  const std::size_t arcCount = 2 * first.size();
+  this->ArcHead.resize(arcCount);
+  this->ArcSister.resize(arcCount);
+  this->PairArc.resize(first.size());
+  std::vector<std::int32_t> fill(this->ArcStart.begin(), this->ArcStart.end() - 1);
+  for (std::size_t p = 0; p < first.size(); ++p)
+  {
+    const auto a = static_cast<std::int32_t>(first[p]);
+    const auto b = static_cast<std::int32_t>(second[p]);
+    const std::int32_t forward = fill[static_cast<std::size_t>(a)]++;
+    const std::int32_t backward = fill[static_cast<std::size_t>(b)]++;
+    this->ArcHead[static_cast<std::size_t>(forward)] = b;
+    this->ArcHead[static_cast<std::size_t>(backward)] = a;
+    this->ArcSister[static_cast<std::size_t>(forward)] = backward;
+    this->ArcSister[static_cast<std::size_t>(backward)] = forward;
+    this->PairArc[p] = forward;
+  }
+  this->ArcResidual.assign(arcCount, 0.0);
+  this->TerminalCapacity.assign(nodeCount, 0.0);
+  this->Parent.assign(nodeCount, NoParent);
+  this->InSinkTree.assign(nodeCount, 0);
+  this->Active.assign(nodeCount, 0);
+  this->Timestamp.assign(nodeCount, 0);
+  this->Distance.assign(nodeCount, 0);
+}
+
+void MaxFlowGraph::SetTerminalCapacities(std::size_t node, double fromSource, double toSink)
+{
+  // Only the difference needs a path through the graph; the common part flows s->i->t.
+  this->FlowFromTerminals += std::min(fromSource, toSink);
+  this->TerminalCapacity[node] = fromSource - toSink;
+}
+
+void MaxFlowGraph::SetPairCapacities(std::size_t pair, double forward, double backward)
+{
+  const auto arc = static_cast<std::size_t>(this->PairArc[pair]);
+  this->ArcResidual[arc] = forward;
+  this->ArcResidual[static_cast<std::size_t>(this->ArcSister[arc])] = backward;
+}
+
+void MaxFlowGraph::MakeActive(std::int32_t node)
+{
+  if (!this->Active[static_cast<std::size_t>(node)])
+  {
+    this->Active[static_cast<std::size_t>(node)] = 1;
+    if (this->ActiveHead > 4096 && 2 * this->ActiveHead > this->ActiveQueue.size())
+    {
+      // Drop the consumed front so the queue stays O(nodes) however often nodes reactivate.
+      this->ActiveQueue.erase(this->ActiveQueue.begin(), this->ActiveQueue.begin() + static_cast<std::ptrdiff_t>(this->ActiveHead));
+      this->ActiveHead = 0;
+    }
+    this->ActiveQueue.push_back(node);
+  }
+}
+
+std::int32_t MaxFlowGraph::NextActive()
+{
+  while (this->ActiveHead < this->ActiveQueue.size())
+  {
+    const std::int32_t node = this->ActiveQueue[this->ActiveHead++];
+    this->Active[static_cast<std::size_t>(node)] = 0;
+    if (this->Parent[static_cast<std::size_t>(node)] != NoParent)
+    {
+      return node;
+    }
+  }
+  this->ActiveQueue.clear();
+  this->ActiveHead = 0;
+  return -1;
+}
+
+bool MaxFlowGraph::Grow(std::int32_t node, std::int32_t& meetingArc)
+{
+  const auto i = static_cast<std::size_t>(node);
+  const bool sinkTree = this->InSinkTree[i] != 0;
+  for (std::int32_t a = this->ArcStart[i]; a < this->ArcStart[i + 1]; ++a)
+  {
+    const std::int32_t sister = this->ArcSister[static_cast<std::size_t>(a)];
+    // The arc the flow would take: i->j when growing the source tree, j->i for the sink tree.
+    const std::int32_t along = sinkTree ? sister : a;
+    if (!(this->ArcResidual[static_cast<std::size_t>(along)] > 0.0))
+    {
+      continue;
+    }
+    const auto j = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(a)]);
+    if (this->Parent[j] == NoParent)
+    {
+      this->InSinkTree[j] = sinkTree ? 1 : 0;
+      this->Parent[j] = sister;
+      this->Timestamp[j] = this->Timestamp[i];
+      this->Distance[j] = this->Distance[i] + 1;
+      this->MakeActive(static_cast<std::int32_t>(j));
+    }
+    else if ((this->InSinkTree[j] != 0) != sinkTree)
+    {
+      meetingArc = along; // from the source tree to the sink tree
+      return true;
+    }
+    else if (this->Timestamp[j] <= this->Timestamp[i] && this->Distance[j] > this->Distance[i])
+    {
+      // A shorter way to the terminal for j: paths stay short, augmentations cheap.
+      this->Parent[j] = sister;
+      this->Timestamp[j] = this->Timestamp[i];
+      this->Distance[j] = this->Distance[i] + 1;
+    }
+  }
+  return false;
+}
+
+void MaxFlowGraph::Augment(std::int32_t meetingArc)
+{
+  const auto meeting = static_cast<std::size_t>(meetingArc);
+  const std::int32_t sourceEnd = this->ArcHead[static_cast<std::size_t>(this->ArcSister[meeting])];
+  const std::int32_t sinkEnd = this->ArcHead[meeting];
+
+  // Bottleneck: source side (flow parent -> child), then sink side (child -> parent).
+  double bottleneck = this->ArcResidual[meeting];
+  std::size_t x = static_cast<std::size_t>(sourceEnd);
+  for (std::int32_t p = this->Parent[x]; p != TerminalParent; p = this->Parent[x])
+  {
+    bottleneck = std::min(bottleneck, this->ArcResidual[static_cast<std::size_t>(this->ArcSister[static_cast<std::size_t>(p)])]);
+    x = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(p)]);
+  }
+  bottleneck = std::min(bottleneck, this->TerminalCapacity[x]);
+  x = static_cast<std::size_t>(sinkEnd);
+  for (std::int32_t p = this->Parent[x]; p != TerminalParent; p = this->Parent[x])
+  {
+    bottleneck = std::min(bottleneck, this->ArcResidual[static_cast<std::size_t>(p)]);
+    x = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(p)]);
+  }
+  bottleneck = std::min(bottleneck, -this->TerminalCapacity[x]);
+
+  // Push it; every arc that saturates cuts its child off: an orphan.
+  this->ArcResidual[static_cast<std::size_t>(this->ArcSister[meeting])] += bottleneck;
+  this->ArcResidual[meeting] -= bottleneck;
+  x = static_cast<std::size_t>(sourceEnd);
+  for (std::int32_t p = this->Parent[x]; p != TerminalParent; p = this->Parent[x])
+  {
+    const auto up = static_cast<std::size_t>(p);
+    const auto down = static_cast<std::size_t>(this->ArcSister[up]);
+    this->ArcResidual[up] += bottleneck;
+    this->ArcResidual[down] -= bottleneck;
+    const std::size_t next = static_cast<std::size_t>(this->ArcHead[up]);
+    if (this->ArcResidual[down] == 0.0)
+    {
+      this->CutOff(x);
+    }
+    x = next;
+  }
+  this->TerminalCapacity[x] -= bottleneck;
+  if (this->TerminalCapacity[x] == 0.0)
+  {
+    this->CutOff(x);
+  }
+  x = static_cast<std::size_t>(sinkEnd);
+  for (std::int32_t p = this->Parent[x]; p != TerminalParent; p = this->Parent[x])
+  {
+    const auto up = static_cast<std::size_t>(p);
+    this->ArcResidual[static_cast<std::size_t>(this->ArcSister[up])] += bottleneck;
+    this->ArcResidual[up] -= bottleneck;
+    const std::size_t next = static_cast<std::size_t>(this->ArcHead[up]);
+    if (this->ArcResidual[up] == 0.0)
+    {
+      this->CutOff(x);
+    }
+    x = next;
+  }
+  this->TerminalCapacity[x] += bottleneck;
+  if (this->TerminalCapacity[x] == 0.0)
+  {
+    this->CutOff(x);
+  }
+  this->FlowValue += bottleneck;
+}
+
+void MaxFlowGraph::CutOff(std::size_t node)
+{
+  this->Parent[node] = OrphanParent;
+  this->Orphans.push_front(static_cast<std::int32_t>(node));
+}
+
+std::int64_t MaxFlowGraph::OriginDistance(std::int32_t node)
+{
+  std::int64_t distance = 0;
+  auto k = static_cast<std::size_t>(node);
+  while (true)
+  {
+    if (this->Timestamp[k] == this->Time)
+    {
+      distance += this->Distance[k];
+      break;
+    }
+    const std::int32_t p = this->Parent[k];
+    ++distance;
+    if (p == TerminalParent)
+    {
+      this->Timestamp[k] = this->Time;
+      this->Distance[k] = 1;
+      break;
+    }
+    if (p == OrphanParent)
+    {
+      return -1;
+    }
+    k = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(p)]);
+  }
+  // Remember the distances along the chain: later orphans stop here.
+  std::int64_t marked = distance;
+  for (k = static_cast<std::size_t>(node); this->Timestamp[k] != this->Time;
+       k = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(this->Parent[k])]))
+  {
+    this->Timestamp[k] = this->Time;
+    this->Distance[k] = marked--;
+  }
+  return distance;
+}
+
+void MaxFlowGraph::Adopt(std::int32_t node)
+{
+  const auto i = static_cast<std::size_t>(node);
+  const bool sinkTree = this->InSinkTree[i] != 0;
+  std::int32_t bestArc = NoParent;
+  std::int64_t bestDistance = std::numeric_limits<std::int64_t>::max();
+  for (std::int32_t a = this->ArcStart[i]; a < this->ArcStart[i + 1]; ++a)
+  {
+    // A parent j must be able to send (source tree: j->i) or receive (sink tree: i->j).
+    const std::int32_t along = sinkTree ? a : this->ArcSister[static_cast<std::size_t>(a)];
+    if (!(this->ArcResidual[static_cast<std::size_t>(along)] > 0.0))
+    {
+      continue;
+    }
+    const std::int32_t j = this->ArcHead[static_cast<std::size_t>(a)];
+    const auto jj = static_cast<std::size_t>(j);
+    if ((this->InSinkTree[jj] != 0) != sinkTree || this->Parent[jj] == NoParent)
+    {
+      continue;
+    }
+    const std::int64_t distance = this->OriginDistance(j);
+    if (distance >= 0 && distance < bestDistance)
+    {
+      bestArc = a;
+      bestDistance = distance;
+    }
+  }
+  if (bestArc != NoParent)
+  {
+    this->Parent[i] = bestArc;
+    this->Timestamp[i] = this->Time;
+    this->Distance[i] = bestDistance + 1;
+    return;
+  }
+  // No way back to its terminal: the node leaves the tree, its children become orphans and
+  // the neighbours that could grow into it again become active.
+  this->Parent[i] = NoParent;
+  for (std::int32_t a = this->ArcStart[i]; a < this->ArcStart[i + 1]; ++a)
+  {
+    const auto j = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(a)]);
+    const std::int32_t p = this->Parent[j];
+    if ((this->InSinkTree[j] != 0) != sinkTree || p == NoParent)
+    {
+      continue;
+    }
+    const std::int32_t along = sinkTree ? a : this->ArcSister[static_cast<std::size_t>(a)];
+    if (this->ArcResidual[static_cast<std::size_t>(along)] > 0.0)
+    {
+      this->MakeActive(static_cast<std::int32_t>(j));
+    }
+    if (p >= 0 && this->ArcHead[static_cast<std::size_t>(p)] == node)
+    {
+      this->Parent[j] = OrphanParent;
+      this->Orphans.push_back(static_cast<std::int32_t>(j));
+    }
+  }
+}
+
+double MaxFlowGraph::Solve()
+{
+  const std::size_t n = this->NodeCount();
+  this->ActiveQueue.clear();
+  this->ActiveHead = 0;
+  this->Orphans.clear();
+  this->Time = 0;
+  this->FlowValue = this->FlowFromTerminals;
+  this->FlowFromTerminals = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    this->Active[i] = 0;
+    this->Timestamp[i] = 0;
+    this->Distance[i] = 1;
+    this->InSinkTree[i] = this->TerminalCapacity[i] < 0.0 ? 1 : 0;
+    this->Parent[i] = this->TerminalCapacity[i] != 0.0 ? TerminalParent : NoParent;
+    if (this->Parent[i] == TerminalParent)
+    {
+      this->MakeActive(static_cast<std::int32_t>(i));
+    }
+  }
+  std::int32_t current = -1;
+  while (true)
+  {
+    std::int32_t node = current;
+    if (node < 0 || this->Parent[static_cast<std::size_t>(node)] == NoParent)
+    {
+      node = this->NextActive();
+      if (node < 0)
+      {
+        break;
+      }
+    }
+    current = -1;
+    std::int32_t meetingArc = -1;
+    if (!this->Grow(node, meetingArc))
+    {
+      continue; // no path through this node any more
+    }
+    ++this->Time;
+    this->Augment(meetingArc);
+    while (!this->Orphans.empty())
+    {
+      const std::int32_t orphan = this->Orphans.front();
+      this->Orphans.pop_front();
+      this->Adopt(orphan);
+    }
+    current = node; // it may reach the other tree again
+  }
+  return this->FlowValue;
+}
+
+} // namespace shapediameter
