@@ -40,8 +40,7 @@ MaxFlowGraph::MaxFlowGraph(
     this->ArcStart[i + 1] = this->ArcStart[i] + degree[i];
   }
   const std::size_t arcCount = 2 * first.size();
-  this->ArcHead.resize(arcCount);
-  this->ArcSister.resize(arcCount);
+  this->Arcs.resize(arcCount);
   this->PairArc.resize(first.size());
   std::vector<std::int32_t> fill(this->ArcStart.begin(), this->ArcStart.end() - 1);
   for (std::size_t p = 0; p < first.size(); ++p)
@@ -50,19 +49,14 @@ MaxFlowGraph::MaxFlowGraph(
     const auto b = static_cast<std::int32_t>(second[p]);
     const std::int32_t forward = fill[static_cast<std::size_t>(a)]++;
     const std::int32_t backward = fill[static_cast<std::size_t>(b)]++;
-    this->ArcHead[static_cast<std::size_t>(forward)] = b;
-    this->ArcHead[static_cast<std::size_t>(backward)] = a;
-    this->ArcSister[static_cast<std::size_t>(forward)] = backward;
-    this->ArcSister[static_cast<std::size_t>(backward)] = forward;
+    this->Arcs[static_cast<std::size_t>(forward)].head = b;
+    this->Arcs[static_cast<std::size_t>(backward)].head = a;
+    this->Arcs[static_cast<std::size_t>(forward)].sister = backward;
+    this->Arcs[static_cast<std::size_t>(backward)].sister = forward;
     this->PairArc[p] = forward;
   }
-  this->ArcResidual.assign(arcCount, 0.0);
   this->TerminalCapacity.assign(nodeCount, 0.0);
-  this->Parent.assign(nodeCount, NoParent);
-  this->InSinkTree.assign(nodeCount, 0);
-  this->Active.assign(nodeCount, 0);
-  this->Timestamp.assign(nodeCount, 0);
-  this->Distance.assign(nodeCount, 0);
+  this->Nodes.assign(nodeCount, Node());
 }
 
 void MaxFlowGraph::SetTerminalCapacities(std::size_t node, double fromSource, double toSink)
@@ -75,15 +69,15 @@ void MaxFlowGraph::SetTerminalCapacities(std::size_t node, double fromSource, do
 void MaxFlowGraph::SetPairCapacities(std::size_t pair, double forward, double backward)
 {
   const auto arc = static_cast<std::size_t>(this->PairArc[pair]);
-  this->ArcResidual[arc] = forward;
-  this->ArcResidual[static_cast<std::size_t>(this->ArcSister[arc])] = backward;
+  this->Arcs[arc].residual = forward;
+  this->Arcs[static_cast<std::size_t>(this->Arcs[arc].sister)].residual = backward;
 }
 
 void MaxFlowGraph::MakeActive(std::int32_t node)
 {
-  if (!this->Active[static_cast<std::size_t>(node)])
+  if (!this->Nodes[static_cast<std::size_t>(node)].active)
   {
-    this->Active[static_cast<std::size_t>(node)] = 1;
+    this->Nodes[static_cast<std::size_t>(node)].active = 1;
     if (this->ActiveHead > 4096 && 2 * this->ActiveHead > this->ActiveQueue.size())
     {
       // Drop the consumed front so the queue stays O(nodes) however often nodes reactivate.
@@ -99,8 +93,8 @@ std::int32_t MaxFlowGraph::NextActive()
   while (this->ActiveHead < this->ActiveQueue.size())
   {
     const std::int32_t node = this->ActiveQueue[this->ActiveHead++];
-    this->Active[static_cast<std::size_t>(node)] = 0;
-    if (this->Parent[static_cast<std::size_t>(node)] != NoParent)
+    this->Nodes[static_cast<std::size_t>(node)].active = 0;
+    if (this->Nodes[static_cast<std::size_t>(node)].parent != NoParent)
     {
       return node;
     }
@@ -113,36 +107,36 @@ std::int32_t MaxFlowGraph::NextActive()
 bool MaxFlowGraph::Grow(std::int32_t node, std::int32_t& meetingArc)
 {
   const auto i = static_cast<std::size_t>(node);
-  const bool sinkTree = this->InSinkTree[i] != 0;
+  const bool sinkTree = this->Nodes[i].inSinkTree != 0;
   for (std::int32_t a = this->ArcStart[i]; a < this->ArcStart[i + 1]; ++a)
   {
-    const std::int32_t sister = this->ArcSister[static_cast<std::size_t>(a)];
+    const std::int32_t sister = this->Arcs[static_cast<std::size_t>(a)].sister;
     // The arc the flow would take: i->j when growing the source tree, j->i for the sink tree.
     const std::int32_t along = sinkTree ? sister : a;
-    if (!(this->ArcResidual[static_cast<std::size_t>(along)] > 0.0))
+    if (!(this->Arcs[static_cast<std::size_t>(along)].residual > 0.0))
     {
       continue;
     }
-    const auto j = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(a)]);
-    if (this->Parent[j] == NoParent)
+    const auto j = static_cast<std::size_t>(this->Arcs[static_cast<std::size_t>(a)].head);
+    if (this->Nodes[j].parent == NoParent)
     {
-      this->InSinkTree[j] = sinkTree ? 1 : 0;
-      this->Parent[j] = sister;
-      this->Timestamp[j] = this->Timestamp[i];
-      this->Distance[j] = this->Distance[i] + 1;
+      this->Nodes[j].inSinkTree = sinkTree ? 1 : 0;
+      this->Nodes[j].parent = sister;
+      this->Nodes[j].timestamp = this->Nodes[i].timestamp;
+      this->Nodes[j].distance = this->Nodes[i].distance + 1;
       this->MakeActive(static_cast<std::int32_t>(j));
     }
-    else if ((this->InSinkTree[j] != 0) != sinkTree)
+    else if ((this->Nodes[j].inSinkTree != 0) != sinkTree)
     {
       meetingArc = along; // from the source tree to the sink tree
       return true;
     }
-    else if (this->Timestamp[j] <= this->Timestamp[i] && this->Distance[j] > this->Distance[i])
+    else if (this->Nodes[j].timestamp <= this->Nodes[i].timestamp && this->Nodes[j].distance > this->Nodes[i].distance)
     {
       // A shorter way to the terminal for j: paths stay short, augmentations cheap.
-      this->Parent[j] = sister;
-      this->Timestamp[j] = this->Timestamp[i];
-      this->Distance[j] = this->Distance[i] + 1;
+      this->Nodes[j].parent = sister;
+      this->Nodes[j].timestamp = this->Nodes[i].timestamp;
+      this->Nodes[j].distance = this->Nodes[i].distance + 1;
     }
   }
   return false;
@@ -151,38 +145,38 @@ bool MaxFlowGraph::Grow(std::int32_t node, std::int32_t& meetingArc)
 void MaxFlowGraph::Augment(std::int32_t meetingArc)
 {
   const auto meeting = static_cast<std::size_t>(meetingArc);
-  const std::int32_t sourceEnd = this->ArcHead[static_cast<std::size_t>(this->ArcSister[meeting])];
-  const std::int32_t sinkEnd = this->ArcHead[meeting];
+  const std::int32_t sourceEnd = this->Arcs[static_cast<std::size_t>(this->Arcs[meeting].sister)].head;
+  const std::int32_t sinkEnd = this->Arcs[meeting].head;
 
   // Bottleneck: source side (flow parent -> child), then sink side (child -> parent).
-  double bottleneck = this->ArcResidual[meeting];
+  double bottleneck = this->Arcs[meeting].residual;
   std::size_t x = static_cast<std::size_t>(sourceEnd);
-  for (std::int32_t p = this->Parent[x]; p != TerminalParent; p = this->Parent[x])
+  for (std::int32_t p = this->Nodes[x].parent; p != TerminalParent; p = this->Nodes[x].parent)
   {
-    bottleneck = std::min(bottleneck, this->ArcResidual[static_cast<std::size_t>(this->ArcSister[static_cast<std::size_t>(p)])]);
-    x = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(p)]);
+    bottleneck = std::min(bottleneck, this->Arcs[static_cast<std::size_t>(this->Arcs[static_cast<std::size_t>(p)].sister)].residual);
+    x = static_cast<std::size_t>(this->Arcs[static_cast<std::size_t>(p)].head);
   }
   bottleneck = std::min(bottleneck, this->TerminalCapacity[x]);
   x = static_cast<std::size_t>(sinkEnd);
-  for (std::int32_t p = this->Parent[x]; p != TerminalParent; p = this->Parent[x])
+  for (std::int32_t p = this->Nodes[x].parent; p != TerminalParent; p = this->Nodes[x].parent)
   {
-    bottleneck = std::min(bottleneck, this->ArcResidual[static_cast<std::size_t>(p)]);
-    x = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(p)]);
+    bottleneck = std::min(bottleneck, this->Arcs[static_cast<std::size_t>(p)].residual);
+    x = static_cast<std::size_t>(this->Arcs[static_cast<std::size_t>(p)].head);
   }
   bottleneck = std::min(bottleneck, -this->TerminalCapacity[x]);
 
   // Push it; every arc that saturates cuts its child off: an orphan.
-  this->ArcResidual[static_cast<std::size_t>(this->ArcSister[meeting])] += bottleneck;
-  this->ArcResidual[meeting] -= bottleneck;
+  this->Arcs[static_cast<std::size_t>(this->Arcs[meeting].sister)].residual += bottleneck;
+  this->Arcs[meeting].residual -= bottleneck;
   x = static_cast<std::size_t>(sourceEnd);
-  for (std::int32_t p = this->Parent[x]; p != TerminalParent; p = this->Parent[x])
+  for (std::int32_t p = this->Nodes[x].parent; p != TerminalParent; p = this->Nodes[x].parent)
   {
     const auto up = static_cast<std::size_t>(p);
-    const auto down = static_cast<std::size_t>(this->ArcSister[up]);
-    this->ArcResidual[up] += bottleneck;
-    this->ArcResidual[down] -= bottleneck;
-    const std::size_t next = static_cast<std::size_t>(this->ArcHead[up]);
-    if (this->ArcResidual[down] == 0.0)
+    const auto down = static_cast<std::size_t>(this->Arcs[up].sister);
+    this->Arcs[up].residual += bottleneck;
+    this->Arcs[down].residual -= bottleneck;
+    const std::size_t next = static_cast<std::size_t>(this->Arcs[up].head);
+    if (this->Arcs[down].residual == 0.0)
     {
       this->CutOff(x);
     }
@@ -194,13 +188,13 @@ void MaxFlowGraph::Augment(std::int32_t meetingArc)
     this->CutOff(x);
   }
   x = static_cast<std::size_t>(sinkEnd);
-  for (std::int32_t p = this->Parent[x]; p != TerminalParent; p = this->Parent[x])
+  for (std::int32_t p = this->Nodes[x].parent; p != TerminalParent; p = this->Nodes[x].parent)
   {
     const auto up = static_cast<std::size_t>(p);
-    this->ArcResidual[static_cast<std::size_t>(this->ArcSister[up])] += bottleneck;
-    this->ArcResidual[up] -= bottleneck;
-    const std::size_t next = static_cast<std::size_t>(this->ArcHead[up]);
-    if (this->ArcResidual[up] == 0.0)
+    this->Arcs[static_cast<std::size_t>(this->Arcs[up].sister)].residual += bottleneck;
+    this->Arcs[up].residual -= bottleneck;
+    const std::size_t next = static_cast<std::size_t>(this->Arcs[up].head);
+    if (this->Arcs[up].residual == 0.0)
     {
       this->CutOff(x);
     }
@@ -216,7 +210,7 @@ void MaxFlowGraph::Augment(std::int32_t meetingArc)
 
 void MaxFlowGraph::CutOff(std::size_t node)
 {
-  this->Parent[node] = OrphanParent;
+  this->Nodes[node].parent = OrphanParent;
   this->Orphans.push_front(static_cast<std::int32_t>(node));
 }
 
@@ -226,32 +220,32 @@ std::int64_t MaxFlowGraph::OriginDistance(std::int32_t node)
   auto k = static_cast<std::size_t>(node);
   while (true)
   {
-    if (this->Timestamp[k] == this->Time)
+    if (this->Nodes[k].timestamp == this->Time)
     {
-      distance += this->Distance[k];
+      distance += this->Nodes[k].distance;
       break;
     }
-    const std::int32_t p = this->Parent[k];
+    const std::int32_t p = this->Nodes[k].parent;
     ++distance;
     if (p == TerminalParent)
     {
-      this->Timestamp[k] = this->Time;
-      this->Distance[k] = 1;
+      this->Nodes[k].timestamp = this->Time;
+      this->Nodes[k].distance = 1;
       break;
     }
     if (p == OrphanParent)
     {
       return -1;
     }
-    k = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(p)]);
+    k = static_cast<std::size_t>(this->Arcs[static_cast<std::size_t>(p)].head);
   }
   // Remember the distances along the chain: later orphans stop here.
   std::int64_t marked = distance;
-  for (k = static_cast<std::size_t>(node); this->Timestamp[k] != this->Time;
-       k = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(this->Parent[k])]))
+  for (k = static_cast<std::size_t>(node); this->Nodes[k].timestamp != this->Time;
+       k = static_cast<std::size_t>(this->Arcs[static_cast<std::size_t>(this->Nodes[k].parent)].head))
   {
-    this->Timestamp[k] = this->Time;
-    this->Distance[k] = marked--;
+    this->Nodes[k].timestamp = this->Time;
+    this->Nodes[k].distance = static_cast<std::int32_t>(marked--);
   }
   return distance;
 }
@@ -259,20 +253,20 @@ std::int64_t MaxFlowGraph::OriginDistance(std::int32_t node)
 void MaxFlowGraph::Adopt(std::int32_t node)
 {
   const auto i = static_cast<std::size_t>(node);
-  const bool sinkTree = this->InSinkTree[i] != 0;
+  const bool sinkTree = this->Nodes[i].inSinkTree != 0;
   std::int32_t bestArc = NoParent;
   std::int64_t bestDistance = std::numeric_limits<std::int64_t>::max();
   for (std::int32_t a = this->ArcStart[i]; a < this->ArcStart[i + 1]; ++a)
   {
     // A parent j must be able to send (source tree: j->i) or receive (sink tree: i->j).
-    const std::int32_t along = sinkTree ? a : this->ArcSister[static_cast<std::size_t>(a)];
-    if (!(this->ArcResidual[static_cast<std::size_t>(along)] > 0.0))
+    const std::int32_t along = sinkTree ? a : this->Arcs[static_cast<std::size_t>(a)].sister;
+    if (!(this->Arcs[static_cast<std::size_t>(along)].residual > 0.0))
     {
       continue;
     }
-    const std::int32_t j = this->ArcHead[static_cast<std::size_t>(a)];
+    const std::int32_t j = this->Arcs[static_cast<std::size_t>(a)].head;
     const auto jj = static_cast<std::size_t>(j);
-    if ((this->InSinkTree[jj] != 0) != sinkTree || this->Parent[jj] == NoParent)
+    if ((this->Nodes[jj].inSinkTree != 0) != sinkTree || this->Nodes[jj].parent == NoParent)
     {
       continue;
     }
@@ -285,30 +279,30 @@ void MaxFlowGraph::Adopt(std::int32_t node)
   }
   if (bestArc != NoParent)
   {
-    this->Parent[i] = bestArc;
-    this->Timestamp[i] = this->Time;
-    this->Distance[i] = bestDistance + 1;
+    this->Nodes[i].parent = bestArc;
+    this->Nodes[i].timestamp = this->Time;
+    this->Nodes[i].distance = static_cast<std::int32_t>(bestDistance + 1);
     return;
   }
   // No way back to its terminal: the node leaves the tree, its children become orphans and
   // the neighbours that could grow into it again become active.
-  this->Parent[i] = NoParent;
+  this->Nodes[i].parent = NoParent;
   for (std::int32_t a = this->ArcStart[i]; a < this->ArcStart[i + 1]; ++a)
   {
-    const auto j = static_cast<std::size_t>(this->ArcHead[static_cast<std::size_t>(a)]);
-    const std::int32_t p = this->Parent[j];
-    if ((this->InSinkTree[j] != 0) != sinkTree || p == NoParent)
+    const auto j = static_cast<std::size_t>(this->Arcs[static_cast<std::size_t>(a)].head);
+    const std::int32_t p = this->Nodes[j].parent;
+    if ((this->Nodes[j].inSinkTree != 0) != sinkTree || p == NoParent)
     {
       continue;
     }
-    const std::int32_t along = sinkTree ? a : this->ArcSister[static_cast<std::size_t>(a)];
-    if (this->ArcResidual[static_cast<std::size_t>(along)] > 0.0)
+    const std::int32_t along = sinkTree ? a : this->Arcs[static_cast<std::size_t>(a)].sister;
+    if (this->Arcs[static_cast<std::size_t>(along)].residual > 0.0)
     {
       this->MakeActive(static_cast<std::int32_t>(j));
     }
-    if (p >= 0 && this->ArcHead[static_cast<std::size_t>(p)] == node)
+    if (p >= 0 && this->Arcs[static_cast<std::size_t>(p)].head == node)
     {
-      this->Parent[j] = OrphanParent;
+      this->Nodes[j].parent = OrphanParent;
       this->Orphans.push_back(static_cast<std::int32_t>(j));
     }
   }
@@ -325,12 +319,12 @@ double MaxFlowGraph::Solve()
   this->FlowFromTerminals = 0.0;
   for (std::size_t i = 0; i < n; ++i)
   {
-    this->Active[i] = 0;
-    this->Timestamp[i] = 0;
-    this->Distance[i] = 1;
-    this->InSinkTree[i] = this->TerminalCapacity[i] < 0.0 ? 1 : 0;
-    this->Parent[i] = this->TerminalCapacity[i] != 0.0 ? TerminalParent : NoParent;
-    if (this->Parent[i] == TerminalParent)
+    this->Nodes[i].active = 0;
+    this->Nodes[i].timestamp = 0;
+    this->Nodes[i].distance = 1;
+    this->Nodes[i].inSinkTree = this->TerminalCapacity[i] < 0.0 ? 1 : 0;
+    this->Nodes[i].parent = this->TerminalCapacity[i] != 0.0 ? TerminalParent : NoParent;
+    if (this->Nodes[i].parent == TerminalParent)
     {
       this->MakeActive(static_cast<std::int32_t>(i));
     }
@@ -339,7 +333,7 @@ double MaxFlowGraph::Solve()
   while (true)
   {
     std::int32_t node = current;
-    if (node < 0 || this->Parent[static_cast<std::size_t>(node)] == NoParent)
+    if (node < 0 || this->Nodes[static_cast<std::size_t>(node)].parent == NoParent)
     {
       node = this->NextActive();
       if (node < 0)
