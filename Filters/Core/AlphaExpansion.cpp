@@ -97,58 +97,61 @@ public:
   explicit ExpansionGraph(const PartitionEnergy& energy)
     : Energy(energy)
     , Graph(energy.faceCount, energy.pairFirst, energy.pairSecond)
-    , KeepCost(energy.faceCount)
-    , AlphaCost(energy.faceCount)
   {
+    const std::size_t arcCount = 2 * energy.pairWeight.size();
+    ArcWeight.resize(arcCount);
+    for (std::size_t arc = 0; arc < arcCount; ++arc)
+    {
+      ArcWeight[arc] = energy.pairWeight[static_cast<std::size_t>(Graph.ArcPair(static_cast<std::int32_t>(arc)))];
+    }
   }
 
   /// Writes into `result` the optimal move from `labels` towards alpha.
   void Move(const std::vector<int>& labels, int alpha, std::vector<int>& result)
   {
+    // Pair table of faces (a, b) over (y_a, y_b): A = E00 = w[x_a != x_b], B = E01 =
+    // w[x_a != alpha], C = E10 = w[x_b != alpha], D = E11 = 0, written as
+    //   A + u_a y_a + u_b y_b + c_ab (1 - y_a) y_b + c_ba y_a (1 - y_b),
+    // u_a + u_b = D - A, c_ab = B - A - u_b >= 0, c_ba = C - A - u_a >= 0 (possible because
+    // B + C >= A + D). The unaries are split evenly where the arcs allow (at most one of the
+    // two clips applies, so the split does not depend on which face is called a): a pair of
+    // equal labels then costs w in both arc directions and adds no terminal capacity, and the
+    // max-flow only routes what the data term really asks for (the one-sided form
+    // u_a = C - A, u_b = D - C put +-w on both faces of every edge and made the flow carry them
+    // across the whole surface, several times slower). Each face fills its own arcs and
+    // terminal capacities, in arc order. The constant A is dropped (E is evaluated directly
+    // afterwards).
     const std::size_t n = Energy.faceCount;
     for (std::size_t f = 0; f < n; ++f)
     {
-      KeepCost[f] = Energy.DataCost(f, labels[f]);
-      AlphaCost[f] = Energy.DataCost(f, alpha);
-    }
-    // Pair table (y_a, y_b): A = E00 = w[x_a != x_b], B = E01 = w[x_a != alpha],
-    // C = E10 = w[x_b != alpha], D = E11 = 0, written as
-    //   A + u_a y_a + u_b y_b + c_ab (1 - y_a) y_b + c_ba y_a (1 - y_b),
-    // u_a + u_b = D - A, c_ab = B - A - u_b >= 0, c_ba = C - A - u_a >= 0 (possible because
-    // B + C >= A + D). The unaries are split evenly where the arcs allow: a pair of equal
-    // labels then costs w in both arc directions and adds no terminal capacity, so the
-    // max-flow only routes what the data term really asks for (the one-sided form
-    // u_a = C - A, u_b = D - C put +-w on both faces of every edge and made the flow carry
-    // them across the whole surface, several times slower). The constant A is dropped (E is
-    // evaluated directly afterwards).
-    for (std::size_t p = 0; p < Energy.pairWeight.size(); ++p)
-    {
-      const auto a = static_cast<std::size_t>(Energy.pairFirst[p]);
-      const auto b = static_cast<std::size_t>(Energy.pairSecond[p]);
-      const double w = Energy.pairWeight[p];
-      const double e00 = labels[a] != labels[b] ? w : 0.0;
-      const double e01 = labels[a] != alpha ? w : 0.0;
-      const double e10 = labels[b] != alpha ? w : 0.0;
-      double unaryA = -0.5 * e00;
-      double unaryB = -0.5 * e00;
-      if (unaryA > e10 - e00)
+      const int label = labels[f];
+      const double keepCost = Energy.DataCost(f, label);
+      double alphaCost = Energy.DataCost(f, alpha);
+      const std::int32_t end = Graph.FirstArc(f + 1);
+      for (std::int32_t arc = Graph.FirstArc(f); arc < end; ++arc)
       {
-        unaryA = e10 - e00;
-        unaryB = -e00 - unaryA;
+        const int other = labels[static_cast<std::size_t>(Graph.ArcHead(arc))];
+        const double w = ArcWeight[static_cast<std::size_t>(arc)];
+        const double cutNow = label != other ? w : 0.0;    // A
+        const double cutIfOther = label != alpha ? w : 0.0; // B: f keeps, the other takes alpha
+        const double cutIfThis = other != alpha ? w : 0.0;  // C: f takes alpha, the other keeps
+        double unaryThis = -0.5 * cutNow;
+        double unaryOther = -0.5 * cutNow;
+        if (unaryThis > cutIfThis - cutNow)
+        {
+          unaryThis = cutIfThis - cutNow;
+          unaryOther = -cutNow - unaryThis;
+        }
+        if (unaryOther > cutIfOther - cutNow)
+        {
+          unaryOther = cutIfOther - cutNow;
+          unaryThis = -cutNow - unaryOther;
+        }
+        alphaCost += unaryThis;
+        Graph.SetArcCapacity(arc, std::max(0.0, cutIfOther - cutNow - unaryOther));
       }
-      if (unaryB > e01 - e00)
-      {
-        unaryB = e01 - e00;
-        unaryA = -e00 - unaryB;
-      }
-      AlphaCost[a] += unaryA;
-      AlphaCost[b] += unaryB;
-      Graph.SetPairCapacities(p, std::max(0.0, e01 - e00 - unaryB), std::max(0.0, e10 - e00 - unaryA));
-    }
-    for (std::size_t f = 0; f < n; ++f)
-    {
-      const double common = std::min(KeepCost[f], AlphaCost[f]);
-      Graph.SetTerminalCapacities(f, AlphaCost[f] - common, KeepCost[f] - common);
+      const double common = std::min(keepCost, alphaCost);
+      Graph.SetTerminalCapacities(f, alphaCost - common, keepCost - common);
     }
     Graph.Solve();
     result.resize(n);
@@ -162,8 +165,7 @@ public:
 private:
   const PartitionEnergy& Energy;
   MaxFlowGraph Graph;
-  std::vector<double> KeepCost;
-  std::vector<double> AlphaCost;
+  std::vector<double> ArcWeight; ///< the pair weight of every arc, in arc order
 };
 
 } // namespace

@@ -42,6 +42,7 @@ MaxFlowGraph::MaxFlowGraph(
   const std::size_t arcCount = 2 * first.size();
   this->Arcs.resize(arcCount);
   this->PairArc.resize(first.size());
+  this->ArcPairIndex.resize(arcCount);
   std::vector<std::int32_t> fill(this->ArcStart.begin(), this->ArcStart.end() - 1);
   for (std::size_t p = 0; p < first.size(); ++p)
   {
@@ -54,6 +55,8 @@ MaxFlowGraph::MaxFlowGraph(
     this->Arcs[static_cast<std::size_t>(forward)].sister = backward;
     this->Arcs[static_cast<std::size_t>(backward)].sister = forward;
     this->PairArc[p] = forward;
+    this->ArcPairIndex[static_cast<std::size_t>(forward)] = static_cast<std::int32_t>(p);
+    this->ArcPairIndex[static_cast<std::size_t>(backward)] = static_cast<std::int32_t>(p);
   }
   this->TerminalCapacity.assign(nodeCount, 0.0);
   this->Nodes.assign(nodeCount, Node());

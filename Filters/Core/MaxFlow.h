@@ -47,6 +47,16 @@ public:
   void SetTerminalCapacities(std::size_t node, double fromSource, double toSink);
   void SetPairCapacities(std::size_t pair, double forward, double backward);
 
+  /// Arc-level access, for callers that fill capacities node by node (sequential memory):
+  /// the arcs leaving `node` are [FirstArc(node), FirstArc(node + 1)); each belongs to one pair.
+  std::int32_t FirstArc(std::size_t node) const { return this->ArcStart[node]; }
+  std::int32_t ArcHead(std::int32_t arc) const { return this->Arcs[static_cast<std::size_t>(arc)].head; }
+  std::int32_t ArcPair(std::int32_t arc) const { return this->ArcPairIndex[static_cast<std::size_t>(arc)]; }
+  void SetArcCapacity(std::int32_t arc, double capacity)
+  {
+    this->Arcs[static_cast<std::size_t>(arc)].residual = capacity;
+  }
+
   /// Maximum flow value for the capacities set since the last Solve() (the capacities are
   /// consumed: set them all again before the next Solve()).
   double Solve();
@@ -94,6 +104,7 @@ private:
   std::vector<std::int32_t> ArcStart;
   std::vector<Arc> Arcs;
   std::vector<std::int32_t> PairArc; ///< per pair, the arc first->second
+  std::vector<std::int32_t> ArcPairIndex; ///< per arc, its pair
   std::vector<double> TerminalCapacity; ///< > 0: residual s->i, < 0: residual i->t
   double FlowFromTerminals = 0.0;
   double FlowValue = 0.0;
