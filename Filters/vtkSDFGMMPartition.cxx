@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFGMMPartition.h"
 
-#include "AlphaExpansion.h"
+#include "MultilevelCut.h"
 #include "FaceGraph.h"
 #include "GaussianMixture.h"
 #include "PartitionEnergy.h"
@@ -240,7 +240,7 @@ int vtkSDFGMMPartition::RequestData(
     energyOptions.convexityFactor = this->ConvexityFactor;
     const PartitionEnergy energy = BuildPartitionEnergy(posteriors, view, energyOptions);
     const AlphaExpansionResult cut =
-      MinimizeByAlphaExpansion(energy, AlphaExpansionOptions(), adapter::MakeProgress(this, 0.2, 0.95));
+      MinimizeMultilevel(energy, MultilevelOptions(), AlphaExpansionOptions(), adapter::MakeProgress(this, 0.2, 0.95));
     if (cut.aborted)
     {
       output->ShallowCopy(input);

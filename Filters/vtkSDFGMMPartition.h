@@ -19,7 +19,10 @@
  *    face area, w_fg = edge length · F / √(total area): E is then F times an integral
  *    over the surface, so λ means the same at every resolution and in every unit
  *    (Filters/Core/PartitionEnergy.h). It starts from the per-face most probable cluster
- *    and never increases E.
+ *    and never increases E. Above 60,000 faces the cut is multilevel
+ *    (Filters/Core/MultilevelCut.h): alpha-expansion on clusters of 8 faces, then on an
+ *    8-ring band around the boundaries at full resolution (208k faces: 2.5x faster than
+ *    the plain alpha-expansion, E +1.1 %; 832k: 6x, E +2.3 %).
  * 3. Clusters are numbered by GMM mean, largest first (`SDFCluster` 0 = thickest parts);
  *    the hierarchy `SDFLevel1` … `SDFLevel{k−1}` has level L = min(SDFCluster, L) (the
  *    paper's "sorting the means of the GMM from large to small"); connected parts of
@@ -63,7 +66,9 @@
  * Bad input: no polygon, a missing, non-numeric or multi-component input array, a
  * non-finite value, or an invalid Model → vtkErrorMacro and a pass-through copy.
  *
- * Deviations: e2 has a floor (finite cost on flat edges) and a convexity factor; both
+ * Deviations: the multilevel cut above 60,000 faces (a local minimum of the coarse
+ * problem refined near the boundaries, not of every fine expansion move); e2 has a floor
+ * (finite cost on flat edges) and a convexity factor; both
  * terms carry the geometric weights w_f, w_fg (the paper's plain sums make the balance
  * depend on the resolution: with them the armadillo at 52k faces fell into 449 segments,
  * 207 of a single face, where it now gives 16, and 14 at 208k); λ and the EM settings are

@@ -36,7 +36,9 @@ void ValidateLabels(const PartitionEnergy& energy, const std::vector<int>& label
   }
 }
 
-void ValidateEnergy(const PartitionEnergy& energy)
+} // namespace
+
+void ValidateEnergyForCut(const PartitionEnergy& energy)
 {
   if (energy.labelCount < 1 ||
     energy.dataCost.size() != energy.faceCount * static_cast<std::size_t>(energy.labelCount) ||
@@ -66,6 +68,9 @@ void ValidateEnergy(const PartitionEnergy& energy)
     }
   }
 }
+
+namespace
+{
 
 /// E without validation (labels known valid): sum of data costs plus cut pair weights.
 double EnergyOf(const PartitionEnergy& energy, const std::vector<int>& labels)
@@ -173,7 +178,7 @@ private:
 AlphaExpansionResult MinimizeByAlphaExpansion(
   const PartitionEnergy& energy, const AlphaExpansionOptions& options, const ProgressCallback& progress)
 {
-  ValidateEnergy(energy);
+  ValidateEnergyForCut(energy);
   return MinimizeByAlphaExpansion(energy, MostProbableLabels(energy), options, progress);
 }
 
@@ -189,7 +194,7 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
   {
     throw PartitionEnergyError("alpha expansion: relativeTolerance must be in [0, 1]");
   }
-  ValidateEnergy(energy);
+  ValidateEnergyForCut(energy);
   ValidateLabels(energy, initialLabels);
 
   AlphaExpansionResult result;
@@ -267,7 +272,7 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
 
 std::vector<int> OptimalExpansionMove(const PartitionEnergy& energy, const std::vector<int>& labels, int alpha)
 {
-  ValidateEnergy(energy);
+  ValidateEnergyForCut(energy);
   ValidateLabels(energy, labels);
   if (alpha < 0 || alpha >= energy.labelCount)
   {

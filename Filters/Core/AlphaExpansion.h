@@ -75,6 +75,10 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
   const std::vector<int>& initialLabels, const AlphaExpansionOptions& options = {},
   const ProgressCallback& progress = nullptr);
 
+/// Throws PartitionEnergyError unless the energy's sizes, pair indices, data costs and weights
+/// are consistent (finite, weights >= 0).
+void ValidateEnergyForCut(const PartitionEnergy& energy);
+
 /// One expansion move: the labelling of lowest energy among those where every face keeps its
 /// label or takes `alpha` (ties may go either way). For tests and custom schedules.
 std::vector<int> OptimalExpansionMove(

@@ -41,7 +41,7 @@
 // surface exactly as the filters do.
 #include "RawEmbreeBaseline.h"
 
-#include "AlphaExpansion.h"
+#include "MultilevelCut.h"
 #include "BilateralSmoothing.h"
 #include "EmbreeRayCaster.h"
 #include "FaceGraph.h"
@@ -816,7 +816,7 @@ void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
       energyOptions.convexityFactor = partition->GetConvexityFactor();
       const PartitionEnergy energy = BuildPartitionEnergy(posteriors, view, energyOptions);
       laps.Lap();
-      const AlphaExpansionResult cut = MinimizeByAlphaExpansion(energy, AlphaExpansionOptions());
+      const AlphaExpansionResult cut = MinimizeMultilevel(energy);
       laps.Lap();
       const ConnectedSegments segments = FindConnectedSegments(view, cut.labels, graph.Areas);
       benchmark::DoNotOptimize(segments.segment.data());

@@ -1,0 +1,283 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "MultilevelCut.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+namespace shapediameter
+{
+namespace
+{
+
+/// Pairs by face (CSR): neighbour and weight.
+struct Adjacency
+{
+  std::vector<std::size_t> start;
+  std::vector<std::pair<std::size_t, double>> entries;
+
+  explicit Adjacency(const PartitionEnergy& energy)
+    : start(energy.faceCount + 1, 0)
+  {
+    for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+    {
+      ++start[static_cast<std::size_t>(energy.pairFirst[p]) + 1];
+      ++start[static_cast<std::size_t>(energy.pairSecond[p]) + 1];
+    }
+    for (std::size_t f = 0; f < energy.faceCount; ++f)
+    {
+      start[f + 1] += start[f];
+    }
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    entries.resize(start.back());
+    for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+    {
+      const auto a = static_cast<std::size_t>(energy.pairFirst[p]);
+      const auto b = static_cast<std::size_t>(energy.pairSecond[p]);
+      entries[fill[a]++] = { b, energy.pairWeight[p] };
+      entries[fill[b]++] = { a, energy.pairWeight[p] };
+    }
+  }
+};
+
+/// Clusters of at most `size` faces with the same most probable label, grown breadth-first
+/// from the lowest unassigned face. Returns the cluster of every face and the cluster count.
+std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(
+  const Adjacency& adjacency, const std::vector<int>& seedLabels, int size)
+{
+  const std::size_t n = seedLabels.size();
+  constexpr std::size_t unassigned = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> cluster(n, unassigned);
+  std::vector<std::size_t> queue;
+  std::size_t count = 0;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (cluster[seed] != unassigned)
+    {
+      continue;
+    }
+    queue.assign(1, seed);
+    cluster[seed] = count;
+    for (std::size_t head = 0; head < queue.size() && queue.size() < static_cast<std::size_t>(size); ++head)
+    {
+      const std::size_t f = queue[head];
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1] && queue.size() < static_cast<std::size_t>(size); ++e)
+      {
+        const std::size_t g = adjacency.entries[e].first;
+        if (cluster[g] == unassigned && seedLabels[g] == seedLabels[seed])
+        {
+          cluster[g] = count;
+          queue.push_back(g);
+        }
+      }
+    }
+    ++count;
+  }
+  return { std::move(cluster), count };
+}
+
+/// The energy of labellings constant on clusters.
+PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const std::vector<std::size_t>& cluster, std::size_t clusterCount)
+{
+  const auto k = static_cast<std::size_t>(energy.labelCount);
+  PartitionEnergy coarse;
+  coarse.faceCount = clusterCount;
+  coarse.labelCount = energy.labelCount;
+  coarse.dataCost.assign(clusterCount * k, 0.0);
+  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  {
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      coarse.dataCost[cluster[f] * k + l] += energy.dataCost[f * k + l];
+    }
+  }
+  std::vector<std::tuple<std::size_t, std::size_t, double>> links;
+  links.reserve(energy.pairWeight.size());
+  for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+  {
+    const std::size_t a = cluster[static_cast<std::size_t>(energy.pairFirst[p])];
+    const std::size_t b = cluster[static_cast<std::size_t>(energy.pairSecond[p])];
+    if (a != b)
+    {
+      links.emplace_back(std::min(a, b), std::max(a, b), energy.pairWeight[p]);
+    }
+  }
+  // Sorted by cluster pair, then by weight: the sums do not depend on the input's pair order.
+  std::sort(links.begin(), links.end());
+  for (std::size_t i = 0; i < links.size();)
+  {
+    const auto [a, b, w] = links[i];
+    double sum = 0.0;
+    for (; i < links.size() && std::get<0>(links[i]) == a && std::get<1>(links[i]) == b; ++i)
+    {
+      sum += std::get<2>(links[i]);
+    }
+    coarse.pairFirst.push_back(static_cast<std::int64_t>(a));
+    coarse.pairSecond.push_back(static_cast<std::int64_t>(b));
+    coarse.pairWeight.push_back(sum);
+  }
+  return coarse;
+}
+
+/// Faces within `rings` rings of a face that has a neighbour with another label.
+std::vector<std::uint8_t> BoundaryBand(const Adjacency& adjacency, const std::vector<int>& labels, int rings)
+{
+  const std::size_t n = labels.size();
+  std::vector<std::uint8_t> inBand(n, 0);
+  std::vector<std::size_t> frontier;
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+    {
+      if (labels[adjacency.entries[e].first] != labels[f])
+      {
+        inBand[f] = 1;
+        frontier.push_back(f);
+        break;
+      }
+    }
+  }
+  std::vector<std::size_t> next;
+  for (int ring = 1; ring < rings && !frontier.empty(); ++ring)
+  {
+    next.clear();
+    for (const std::size_t f : frontier)
+    {
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+      {
+        const std::size_t g = adjacency.entries[e].first;
+        if (!inBand[g])
+        {
+          inBand[g] = 1;
+          next.push_back(g);
+        }
+      }
+    }
+    frontier.swap(next);
+  }
+  return inBand;
+}
+
+ProgressCallback SubRange(const ProgressCallback& progress, double from, double to)
+{
+  if (!progress)
+  {
+    return nullptr;
+  }
+  return [progress, from, to](double fraction) { return progress(from + (to - from) * fraction); };
+}
+
+} // namespace
+
+AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel,
+  const AlphaExpansionOptions& options, const ProgressCallback& progress)
+{
+  if (multilevel.directBelowFaces < 16 || multilevel.clusterSize < 2 || multilevel.clusterSize > 1024 ||
+    multilevel.bandRings < 1 || multilevel.bandRings > 64)
+  {
+    throw PartitionEnergyError("multilevel cut: options out of range");
+  }
+  if (energy.faceCount <= multilevel.directBelowFaces || energy.labelCount < 2)
+  {
+    return MinimizeByAlphaExpansion(energy, options, progress);
+  }
+  ValidateEnergyForCut(energy);
+  const std::vector<int> mostProbable = MostProbableLabels(energy);
+  const Adjacency adjacency(energy);
+  const auto [cluster, clusterCount] = GrowClusters(adjacency, mostProbable, multilevel.clusterSize);
+  if (2 * clusterCount > energy.faceCount)
+  {
+    return MinimizeByAlphaExpansion(energy, options, progress); // too fragmented to coarsen
+  }
+
+  // Coarse solve, projected onto the faces.
+  const PartitionEnergy coarse = CoarseEnergy(energy, cluster, clusterCount);
+  const AlphaExpansionResult coarseResult =
+    MinimizeMultilevel(coarse, multilevel, options, SubRange(progress, 0.0, 0.5));
+  AlphaExpansionResult result;
+  result.initialEnergy = energy.Evaluate(mostProbable);
+  result.labels.resize(energy.faceCount);
+  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  {
+    result.labels[f] = coarseResult.labels[cluster[f]];
+  }
+  result.moves = coarseResult.moves;
+  result.appliedMoves = coarseResult.appliedMoves;
+  if (coarseResult.aborted)
+  {
+    result.aborted = true;
+    result.energy = energy.Evaluate(result.labels);
+    return result;
+  }
+
+  // The band at full resolution, the rest fixed.
+  const std::vector<std::uint8_t> inBand = BoundaryBand(adjacency, result.labels, multilevel.bandRings);
+  std::vector<std::size_t> bandIndex(energy.faceCount, 0);
+  std::vector<std::size_t> bandFaces;
+  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  {
+    if (inBand[f])
+    {
+      bandIndex[f] = bandFaces.size();
+      bandFaces.push_back(f);
+    }
+  }
+  const auto k = static_cast<std::size_t>(energy.labelCount);
+  PartitionEnergy band;
+  band.faceCount = bandFaces.size();
+  band.labelCount = energy.labelCount;
+  band.dataCost.resize(bandFaces.size() * k);
+  std::vector<int> bandLabels(bandFaces.size());
+  for (std::size_t b = 0; b < bandFaces.size(); ++b)
+  {
+    const std::size_t f = bandFaces[b];
+    bandLabels[b] = result.labels[f];
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      band.dataCost[b * k + l] = energy.dataCost[f * k + l];
+    }
+    for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+    {
+      const auto [g, w] = adjacency.entries[e];
+      if (!inBand[g])
+      {
+        for (std::size_t l = 0; l < k; ++l)
+        {
+          band.dataCost[b * k + l] += static_cast<int>(l) != result.labels[g] ? w : 0.0;
+        }
+      }
+    }
+  }
+  for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+  {
+    const auto a = static_cast<std::size_t>(energy.pairFirst[p]);
+    const auto b = static_cast<std::size_t>(energy.pairSecond[p]);
+    if (inBand[a] && inBand[b])
+    {
+      band.pairFirst.push_back(static_cast<std::int64_t>(bandIndex[a]));
+      band.pairSecond.push_back(static_cast<std::int64_t>(bandIndex[b]));
+      band.pairWeight.push_back(energy.pairWeight[p]);
+    }
+  }
+  const AlphaExpansionResult bandResult =
+    MinimizeByAlphaExpansion(band, bandLabels, options, SubRange(progress, 0.5, 1.0));
+  for (std::size_t b = 0; b < bandFaces.size(); ++b)
+  {
+    result.labels[bandFaces[b]] = bandResult.labels[b];
+  }
+  result.moves += bandResult.moves;
+  result.appliedMoves += bandResult.appliedMoves;
+  result.converged = bandResult.converged;
+  result.aborted = bandResult.aborted;
+  result.energy = energy.Evaluate(result.labels);
+  result.energyTrace.push_back(result.energy);
+  if (progress)
+  {
+    progress(1.0);
+  }
+  return result;
+}
+
+} // namespace shapediameter

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The k-way graph cut of the SDF partitioning on large meshes: alpha-expansion on a coarsened
+// graph, then alpha-expansion on a band around the part boundaries at full resolution.
+//
+// Why
+//   With the resolution-independent energy (PartitionEnergy.h) the cut weight of an edge
+//   grows as sqrt(faces) relative to a face's data cost, so every max-flow of a plain
+//   alpha-expansion routes flow across whole parts and its cost grows as faces^1.5
+//   (armadillo: 0.07 s at 52k faces, 0.67 s at 208k, 6 s at 832k). The energy approximates an
+//   integral over the surface, so its minimiser is nearly the same on a coarser graph; only
+//   the exact position of the boundaries needs the fine faces.
+//
+// What it computes
+//   1. The most probable label of each face (MostProbableLabels).
+//   2. Clusters of at most clusterSize faces, grown breadth-first in face order over faces
+//      with the same most probable label (deterministic).
+//   3. The coarse energy: a cluster's data cost is the sum of its faces', the weight between
+//      two clusters the sum of the weights of the face pairs between them (pairs inside a
+//      cluster are never cut by a labelling constant on clusters, so for such labellings the
+//      coarse E equals the fine E). Solved by this same function (recursively, until at most
+//      directBelowFaces nodes remain, then MinimizeByAlphaExpansion).
+//   4. The coarse labels projected onto the faces; the band = faces within bandRings rings of
+//      a face whose neighbour has another label. Alpha-expansion (AlphaExpansion.h) on the band
+//      faces, from the projected labels, with the faces outside the band fixed (their pairs
+//      with band faces become data costs of the band faces).
+//   Graphs with at most directBelowFaces faces go straight to MinimizeByAlphaExpansion, so
+//   small meshes get exactly the plain alpha-expansion.
+//
+// Guarantees and deviation
+//   E never exceeds the energy of the projected coarse labelling, which is the coarse
+//   minimum's energy (above). It is not a local minimum of every expansion move of the whole
+//   fine graph (faces outside the band are fixed): another local minimum than the plain
+//   alpha-expansion finds. Measured against the plain alpha-expansion on the armadillo:
+//   208k faces 0.31 s instead of 0.76 s, E +1.1 %, 2.5 % of the faces labelled differently,
+//   14 segments both; 832k faces 1.1 s instead of 6.4 s, E +2.3 %, 2.2 % of the faces, 13
+//   segments instead of 14. Below directBelowFaces the plain alpha-expansion is used: on 35k-
+//   52k meshes the multilevel cut gained only 1.4-1.7x and moved 3-6 % of the faces.
+//
+// Parameters (MultilevelOptions)
+//   directBelowFaces  60000  [16, inf)  solve directly up to this many faces/nodes.
+//   clusterSize       8      [2, 1024]  faces per cluster at most (coarsening factor); 16
+//                                        was 10 % faster and 3 % of faces off.
+//   bandRings         8      [1, 64]    rings around the projected boundaries that are
+//                                        re-solved; 4 gave E +3 %, 16 only 0.3 % better than 8.
+//
+// Progress and abort: as MinimizeByAlphaExpansion (the coarse solve reports the first half).
+#pragma once
+
+#include "AlphaExpansion.h"
+
+namespace shapediameter
+{
+
+struct MultilevelOptions
+{
+  std::size_t directBelowFaces = 60000;
+  int clusterSize = 8;
+  int bandRings = 8;
+};
+
+/// See the header. Throws PartitionEnergyError on an inconsistent energy or bad options.
+AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel = {},
+  const AlphaExpansionOptions& options = {}, const ProgressCallback& progress = nullptr);
+
+} // namespace shapediameter

@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The multilevel graph cut against the plain alpha-expansion on a noisy synthetic partition
+// problem large enough to be coarsened twice.
+#include "MultilevelCut.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace
+{
+
+using shapediameter::AlphaExpansionResult;
+using shapediameter::MinimizeByAlphaExpansion;
+using shapediameter::MinimizeMultilevel;
+using shapediameter::MultilevelOptions;
+using shapediameter::PartitionEnergy;
+using shapediameter::PartitionEnergyError;
+
+/// side x side grid, 4-neighbour pairs; three vertical bands with wavy borders as the truth,
+/// posteriors 0.6 for the true label with 30 % of the faces flipped to a random label, and a
+/// cut weight that makes the bands win (the regime of the SDF partition: strong smoothing).
+PartitionEnergy NoisyBands(int side, double weight)
+{
+  std::mt19937_64 generator(2008);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  PartitionEnergy energy;
+  energy.faceCount = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
+  energy.labelCount = 3;
+  energy.dataCost.resize(energy.faceCount * 3);
+  for (int y = 0; y < side; ++y)
+  {
+    for (int x = 0; x < side; ++x)
+    {
+      const double wave = 0.05 * side * std::sin(0.1 * y);
+      int truth = x + wave < side / 3.0 ? 0 : (x + wave < 2.0 * side / 3.0 ? 1 : 2);
+      if (uniform(generator) < 0.3)
+      {
+        truth = static_cast<int>(uniform(generator) * 3.0) % 3;
+      }
+      const std::size_t f = static_cast<std::size_t>(y) * static_cast<std::size_t>(side) + static_cast<std::size_t>(x);
+      for (int l = 0; l < 3; ++l)
+      {
+        energy.dataCost[f * 3 + static_cast<std::size_t>(l)] = -std::log(l == truth ? 0.6 : 0.2);
+      }
+      if (x + 1 < side)
+      {
+        energy.pairFirst.push_back(static_cast<std::int64_t>(f));
+        energy.pairSecond.push_back(static_cast<std::int64_t>(f + 1));
+        energy.pairWeight.push_back(weight);
+      }
+      if (y + 1 < side)
+      {
+        energy.pairFirst.push_back(static_cast<std::int64_t>(f));
+        energy.pairSecond.push_back(static_cast<std::int64_t>(f) + side);
+        energy.pairWeight.push_back(weight);
+      }
+    }
+  }
+  return energy;
+}
+
+TEST(MultilevelCut, CloseToThePlainAlphaExpansion)
+{
+  const PartitionEnergy energy = NoisyBands(120, 2.0);
+  const AlphaExpansionResult plain = MinimizeByAlphaExpansion(energy);
+  MultilevelOptions coarsen;
+  coarsen.directBelowFaces = 500; // 14400 faces -> about 1800 clusters -> about 225: two levels
+  const AlphaExpansionResult multilevel = MinimizeMultilevel(energy, coarsen);
+  ASSERT_EQ(multilevel.labels.size(), energy.faceCount);
+  EXPECT_FALSE(multilevel.aborted);
+  EXPECT_NEAR(multilevel.energy, energy.Evaluate(multilevel.labels), 1e-9 * multilevel.energy);
+  EXPECT_LT(multilevel.energy, 0.7 * multilevel.initialEnergy) << "the smoothing did its work";
+  EXPECT_LE(multilevel.energy, 1.03 * plain.energy);
+  std::size_t different = 0;
+  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  {
+    different += multilevel.labels[f] != plain.labels[f] ? 1 : 0;
+  }
+  std::printf("multilevel E %.1f vs plain %.1f (argmax %.1f); %.2f %% of the faces differ\n", multilevel.energy,
+    plain.energy, plain.initialEnergy, 100.0 * static_cast<double>(different) / static_cast<double>(energy.faceCount));
+  EXPECT_LT(different, energy.faceCount / 20);
+  EXPECT_GT(different, 0u) << "deterministic: a few faces differ when the coarse levels really ran";
+}
+
+TEST(MultilevelCut, SmallProblemsAreThePlainAlphaExpansion)
+{
+  const PartitionEnergy energy = NoisyBands(40, 2.0);
+  EXPECT_EQ(MinimizeMultilevel(energy).labels, MinimizeByAlphaExpansion(energy).labels);
+  MultilevelOptions bad;
+  bad.clusterSize = 1;
+  EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
+  bad = MultilevelOptions();
+  bad.bandRings = 0;
+  EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
+}
+
+TEST(MultilevelCut, AbortIsReported)
+{
+  const PartitionEnergy energy = NoisyBands(60, 2.0);
+  MultilevelOptions coarsen;
+  coarsen.directBelowFaces = 100;
+  const AlphaExpansionResult result =
+    MinimizeMultilevel(energy, coarsen, {}, [](double fraction) { return fraction < 0.25; });
+  EXPECT_TRUE(result.aborted);
+  EXPECT_EQ(result.labels.size(), energy.faceCount);
+}
+
+} // namespace
