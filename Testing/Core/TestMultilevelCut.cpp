@@ -90,6 +90,14 @@ TEST(MultilevelCut, SmallProblemsAreThePlainAlphaExpansion)
 {
   const PartitionEnergy energy = NoisyBands(40, 2.0);
   EXPECT_EQ(MinimizeMultilevel(energy).labels, MinimizeByAlphaExpansion(energy).labels);
+  // No pairs at all (isolated faces): nothing to coarsen, the plain cut (per-face argmax).
+  PartitionEnergy isolated = energy;
+  isolated.pairFirst.clear();
+  isolated.pairSecond.clear();
+  isolated.pairWeight.clear();
+  MultilevelOptions coarsen;
+  coarsen.directBelowFaces = 100;
+  EXPECT_EQ(MinimizeMultilevel(isolated, coarsen).labels, MinimizeByAlphaExpansion(isolated).labels);
   MultilevelOptions bad;
   bad.clusterSize = 1;
   EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
