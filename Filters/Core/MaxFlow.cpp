@@ -214,7 +214,7 @@ void MaxFlowGraph::Augment(std::int32_t meetingArc)
 void MaxFlowGraph::CutOff(std::size_t node)
 {
   this->Nodes[node].parent = OrphanParent;
-  this->Orphans.push_front(static_cast<std::int32_t>(node));
+  this->NewOrphans.push_back(static_cast<std::int32_t>(node));
 }
 
 std::int64_t MaxFlowGraph::OriginDistance(std::int32_t node)
@@ -306,7 +306,7 @@ void MaxFlowGraph::Adopt(std::int32_t node)
     if (p >= 0 && this->Arcs[static_cast<std::size_t>(p)].head == node)
     {
       this->Nodes[j].parent = OrphanParent;
-      this->Orphans.push_back(static_cast<std::int32_t>(j));
+      this->OrphanQueue.push_back(static_cast<std::int32_t>(j));
     }
   }
 }
@@ -316,7 +316,9 @@ double MaxFlowGraph::Solve()
   const std::size_t n = this->NodeCount();
   this->ActiveQueue.clear();
   this->ActiveHead = 0;
-  this->Orphans.clear();
+  this->NewOrphans.clear();
+  this->OrphanQueue.clear();
+  this->OrphanHead = 0;
   this->Time = 0;
   this->FlowValue = this->FlowFromTerminals;
   this->FlowFromTerminals = 0.0;
@@ -352,12 +354,26 @@ double MaxFlowGraph::Solve()
     }
     ++this->Time;
     this->Augment(meetingArc);
-    while (!this->Orphans.empty())
+    while (true)
     {
-      const std::int32_t orphan = this->Orphans.front();
-      this->Orphans.pop_front();
+      std::int32_t orphan = -1;
+      if (!this->NewOrphans.empty())
+      {
+        orphan = this->NewOrphans.back();
+        this->NewOrphans.pop_back();
+      }
+      else if (this->OrphanHead < this->OrphanQueue.size())
+      {
+        orphan = this->OrphanQueue[this->OrphanHead++];
+      }
+      else
+      {
+        break;
+      }
       this->Adopt(orphan);
     }
+    this->OrphanQueue.clear();
+    this->OrphanHead = 0;
     current = node; // it may reach the other tree again
   }
   return this->FlowValue;

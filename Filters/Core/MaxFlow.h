@@ -25,7 +25,6 @@
 #pragma once
 
 #include <cstdint>
-#include <deque>
 #include <vector>
 
 namespace shapediameter
@@ -95,7 +94,7 @@ private:
   {
     std::int32_t parent = NoParent; ///< arc from the node to its parent, or a constant above
     std::int32_t distance = 0;
-    std::int64_t timestamp = 0;
+    std::int32_t timestamp = 0; ///< augmentations per solve stay far below 2^31
     std::uint8_t inSinkTree = 0;
     std::uint8_t active = 0;
   };
@@ -111,8 +110,12 @@ private:
   std::vector<Node> Nodes;
   std::vector<std::int32_t> ActiveQueue;
   std::size_t ActiveHead = 0;
-  std::deque<std::int32_t> Orphans;
-  std::int64_t Time = 0;
+  // Orphans: those cut off by an augmentation are adopted first, the last cut first (a stack);
+  // the children of a freed orphan after them, in order (a queue).
+  std::vector<std::int32_t> NewOrphans;
+  std::vector<std::int32_t> OrphanQueue;
+  std::size_t OrphanHead = 0;
+  std::int32_t Time = 0;
 };
 
 } // namespace shapediameter
