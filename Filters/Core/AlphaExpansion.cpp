@@ -155,8 +155,9 @@ public:
         alphaCost += unaryThis;
         Graph.SetArcCapacity(arc, std::max(0.0, cutIfOther - cutNow - unaryOther));
       }
-      const double common = std::min(keepCost, alphaCost);
-      Graph.SetTerminalCapacities(f, alphaCost - common, keepCost - common);
+      // s->f is cut when f takes alpha, f->t when it keeps its label (MaxFlowGraph removes the
+      // part both have in common).
+      Graph.SetTerminalCapacities(f, alphaCost, keepCost);
     }
     Graph.Solve();
     result.resize(n);
