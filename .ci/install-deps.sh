@@ -15,14 +15,23 @@ packages=(
   xvfb xauth
 )
 
+# Older than this libexpat1, ParaView 5.11 still reads raw appended XML data; a fresh Debian 12
+# gets this version (a 2025 security update) and rejects it. Upgrade older machines so that
+# they see what a new user's machine sees (README, "Use from pvpython").
+expat_minimum=2.5.0-1+deb12u5
+
 missing=()
 for package in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$package" 2>/dev/null || true)
   [[ "$status" == "install ok installed" ]] || missing+=("$package")
 done
+expat_version=$(dpkg-query -W -f='${Version}' libexpat1 2>/dev/null || true)
+if [[ -n "$expat_version" ]] && dpkg --compare-versions "$expat_version" lt "$expat_minimum"; then
+  missing+=(libexpat1)
+fi
 [[ ${#missing[@]} -eq 0 ]] && exit 0
 
-echo "Installing missing packages: ${missing[*]}" >&2
+echo "Installing missing or outdated packages: ${missing[*]}" >&2
 sudo_cmd=()
 if [[ $(id -u) -ne 0 ]]; then
   if command -v sudo >/dev/null; then
@@ -35,3 +44,8 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+expat_version=$(dpkg-query -W -f='${Version}' libexpat1 2>/dev/null || true)
+if [[ -n "$expat_version" ]] && dpkg --compare-versions "$expat_version" lt "$expat_minimum"; then
+  echo "warning: libexpat1 $expat_version is older than $expat_minimum and no newer one is available" \
+    "(are the security sources enabled?)" >&2
+fi

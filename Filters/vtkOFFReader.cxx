@@ -91,7 +91,8 @@ int vtkOFFReader::RequestData(
     mesh = shapediameter::ReadOFFFile(this->FileName);
     if (pieces > 1)
     {
-      shapediameter::MeshPiece share = shapediameter::ExtractFacePiece(mesh, piece, pieces);
+      shapediameter::MeshPiece share = shapediameter::ExtractFacePiece(mesh, piece, pieces,
+        this->SpatialPieces ? shapediameter::PieceOrder::Spatial : shapediameter::PieceOrder::FileOrder);
       mesh = std::move(share.mesh);
       globalPointIds = std::move(share.globalPointIds);
       globalCellIds = std::move(share.globalFaceIds);
@@ -143,4 +144,5 @@ void vtkOFFReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << this->FileName << "\n";
+  os << indent << "SpatialPieces: " << this->SpatialPieces << "\n";
 }

@@ -25,14 +25,20 @@
  * 4-D OFF are rejected with an error.
  *
  * Parallel pieces: when N > 1 pieces are requested (MPI: pvbatch, pvserver), piece p keeps
- * the faces [F·p/N, F·(p+1)/N) in file order with the vertices they use (border vertices
- * appear in each piece that uses them; vertices no face uses stay on piece 0); every piece
- * parses the whole file, so each rank briefly holds the whole mesh. The output then also
+ * the p-th of N equal ranges of the faces along a Morton (Z-order) curve through the face
+ * centroids (`SpatialPieces` on, the default), so every piece is a compact region of space,
+ * or the faces [F·p/N, F·(p+1)/N) in file order (`SpatialPieces` off; file order is rarely
+ * compact). Each piece lists its faces in file order, with the vertices they use (border
+ * vertices appear in each piece that uses them; vertices no face uses stay on piece 0); every
+ * piece parses the whole file, so each rank briefly holds the whole mesh. The output then also
  * carries the GlobalIds attributes `GlobalPointIds` (point data) and `GlobalCellIds` (cell
  * data), vtkIdType, numbering points and faces in file order: the module's filters use them
  * to rebuild the original mesh from the pieces, however they were redistributed afterwards
- * (Filters/DistributedSupport.h). Serial runs (one piece) get neither array. File order need
- * not be spatially compact; insert RedistributeDataSet for spatially balanced pieces.
+ * (Filters/DistributedSupport.h). Serial runs (one piece) get neither array.
+ *
+ * The spatial split replaces ParaView's Redistribute DataSet after this reader: with Debian
+ * 12's current libexpat (2.5.0-1+deb12u5) ParaView 5.11's own data exchange loses cells (see
+ * the README, "Distributed runs").
  */
 #ifndef vtkOFFReader_h
 #define vtkOFFReader_h
@@ -55,6 +61,15 @@ public:
   vtkGetCharFromStdStringMacro(FileName);
   ///@}
 
+  ///@{
+  /// Under MPI, deal faces out to the pieces in compact spatial regions (Morton order of the
+  /// face centroids) rather than contiguous ranges of the file. Default on. No effect on a
+  /// serial run.
+  vtkSetMacro(SpatialPieces, bool);
+  vtkGetMacro(SpatialPieces, bool);
+  vtkBooleanMacro(SpatialPieces, bool);
+  ///@}
+
   /// Returns 1 when the file starts with an OFF header keyword (cheap check, for reader factories).
   static int CanReadFile(const char* fileName);
 
@@ -70,6 +85,7 @@ private:
   void operator=(const vtkOFFReader&) = delete;
 
   std::string FileName;
+  bool SpatialPieces = true;
 };
 
 #endif

@@ -14,6 +14,11 @@ import time
 
 PROG = "sdf-pipeline"
 READABLE = (".off", ".ply", ".obj", ".stl", ".vtp", ".vtk")
+# Inline (base64) data, not ParaView's default appended data: with Debian 12's current libexpat
+# (2.5.0-1+deb12u5, "reparse deferral"; VTK issue 19258) ParaView 5.11's XML reader rejects
+# every appended-data file, raw or base64-encoded (measured), so such files open only on
+# machines that missed that security update. About a third larger than raw.
+XML_WRITER_OPTIONS = {"DataMode": "Binary"}
 
 
 class PipelineError(Exception):
@@ -343,10 +348,10 @@ class Pipeline:
         cells = data.GetCellData()
 
         def write():
-            self.simple.SaveData(os.path.join(out, name + ".vtp"), proxy=result)
+            self.simple.SaveData(os.path.join(out, name + ".vtp"), proxy=result, **XML_WRITER_OPTIONS)
             if skeleton is not None:
                 self.simple.SaveData(os.path.join(out, name + "_skeleton.vtp"),
-                                     proxy=self.simple.OutputPort(skeleton, 0))
+                                     proxy=self.simple.OutputPort(skeleton, 0), **XML_WRITER_OPTIONS)
             segments = cells.GetArray("SDFSegment")
             if segments is not None:
                 with open(os.path.join(out, name + ".seg"), "w") as stream:

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -18,6 +19,7 @@ using shapediameter::ExtractFacePiece;
 using shapediameter::MeshPiece;
 using shapediameter::OFFMesh;
 using shapediameter::ParseOFF;
+using shapediameter::PieceOrder;
 
 /// A strip of `faces` coloured triangles over coloured, normal-carrying vertices, plus one
 /// vertex no face uses (index 2 + faces: the last).
@@ -37,7 +39,11 @@ OFFMesh Strip(int faces)
   return ParseOFF(text.data(), text.size());
 }
 
-TEST(MeshPieces, EveryFaceOnceWithItsVerticesAndAttributes)
+class MeshPiecesInEveryOrder : public ::testing::TestWithParam<PieceOrder>
+{
+};
+
+TEST_P(MeshPiecesInEveryOrder, EveryFaceOnceWithItsVerticesAndAttributes)
 {
   const OFFMesh whole = Strip(10);
   for (const int pieces : { 1, 2, 3, 4, 7, 10, 13 })
@@ -48,7 +54,7 @@ TEST(MeshPieces, EveryFaceOnceWithItsVerticesAndAttributes)
     std::size_t smallest = whole.FaceCount();
     for (int piece = 0; piece < pieces; ++piece)
     {
-      const MeshPiece part = ExtractFacePiece(whole, piece, pieces);
+      const MeshPiece part = ExtractFacePiece(whole, piece, pieces, GetParam());
       ASSERT_EQ(part.globalFaceIds.size(), part.mesh.FaceCount());
       ASSERT_EQ(part.globalPointIds.size(), part.mesh.VertexCount());
       ASSERT_EQ(part.mesh.vertexNormals.size(), 3 * part.mesh.VertexCount());
@@ -75,6 +81,10 @@ TEST(MeshPieces, EveryFaceOnceWithItsVerticesAndAttributes)
       {
         const auto global = static_cast<std::size_t>(part.globalFaceIds[f]);
         ++faceSeen[global];
+        if (f > 0)
+        {
+          EXPECT_LT(part.globalFaceIds[f - 1], part.globalFaceIds[f]) << "faces in file order";
+        }
         ASSERT_EQ(part.mesh.faceOffsets[f + 1] - part.mesh.faceOffsets[f],
           whole.faceOffsets[global + 1] - whole.faceOffsets[global]);
         for (std::int64_t i = 0; i < part.mesh.faceOffsets[f + 1] - part.mesh.faceOffsets[f]; ++i)
@@ -96,6 +106,94 @@ TEST(MeshPieces, EveryFaceOnceWithItsVerticesAndAttributes)
     }
     EXPECT_LE(largest - smallest, 1u) << "balanced pieces";
   }
+}
+
+INSTANTIATE_TEST_SUITE_P(Orders, MeshPiecesInEveryOrder,
+  ::testing::Values(PieceOrder::FileOrder, PieceOrder::Spatial),
+  [](const ::testing::TestParamInfo<PieceOrder>& info)
+  { return info.param == PieceOrder::FileOrder ? std::string("FileOrder") : std::string("Spatial"); });
+
+/// A 32 x 32 grid of unit squares (two triangles each) whose faces are listed in a shuffled
+/// order (fixed seed), so file order says nothing about position.
+OFFMesh ShuffledGrid()
+{
+  constexpr int n = 32;
+  std::string text = "OFF\n" + std::to_string((n + 1) * (n + 1)) + " " + std::to_string(2 * n * n) + " 0\n";
+  for (int y = 0; y <= n; ++y)
+  {
+    for (int x = 0; x <= n; ++x)
+    {
+      text += std::to_string(x) + " " + std::to_string(y) + " 0\n";
+    }
+  }
+  std::vector<std::string> faces;
+  for (int y = 0; y < n; ++y)
+  {
+    for (int x = 0; x < n; ++x)
+    {
+      const int corner = y * (n + 1) + x;
+      faces.push_back("3 " + std::to_string(corner) + " " + std::to_string(corner + 1) + " " +
+        std::to_string(corner + n + 2) + "\n");
+      faces.push_back("3 " + std::to_string(corner) + " " + std::to_string(corner + n + 2) + " " +
+        std::to_string(corner + n + 1) + "\n");
+    }
+  }
+  std::mt19937 random(7);
+  std::shuffle(faces.begin(), faces.end(), random);
+  for (const std::string& face : faces)
+  {
+    text += face;
+  }
+  return ParseOFF(text.data(), text.size());
+}
+
+/// Mean area of the pieces' vertex bounding boxes, as a share of the whole grid's.
+double MeanPieceBoxShare(const OFFMesh& whole, int pieces, PieceOrder order)
+{
+  double sum = 0.0;
+  for (int piece = 0; piece < pieces; ++piece)
+  {
+    const MeshPiece part = ExtractFacePiece(whole, piece, pieces, order);
+    double low[2] = { 1e300, 1e300 };
+    double high[2] = { -1e300, -1e300 };
+    for (std::size_t v = 0; v < part.mesh.VertexCount(); ++v)
+    {
+      for (int axis = 0; axis < 2; ++axis)
+      {
+        low[axis] = std::min(low[axis], part.mesh.points[3 * v + axis]);
+        high[axis] = std::max(high[axis], part.mesh.points[3 * v + axis]);
+      }
+    }
+    sum += (high[0] - low[0]) * (high[1] - low[1]) / (32.0 * 32.0);
+  }
+  return sum / pieces;
+}
+
+TEST(MeshPieces, SpatialPiecesAreCompactWhateverTheFileOrder)
+{
+  const OFFMesh whole = ShuffledGrid();
+  // Morton ranges of a square: 4 pieces are its quadrants (1/4 each), 16 pieces 1/16 each.
+  EXPECT_LE(MeanPieceBoxShare(whole, 4, PieceOrder::Spatial), 0.30);
+  EXPECT_LE(MeanPieceBoxShare(whole, 16, PieceOrder::Spatial), 0.09);
+  // The same request in file order spans the whole grid: what the spatial order is for.
+  EXPECT_GE(MeanPieceBoxShare(whole, 4, PieceOrder::FileOrder), 0.9);
+}
+
+TEST(MeshPieces, MortonOrderIsAPermutationAndDeterministic)
+{
+  const OFFMesh whole = ShuffledGrid();
+  const std::vector<std::int64_t> order = shapediameter::MortonFaceOrder(whole);
+  std::vector<std::int64_t> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t i = 0; i < sorted.size(); ++i)
+  {
+    ASSERT_EQ(sorted[i], static_cast<std::int64_t>(i));
+  }
+  EXPECT_EQ(order, shapediameter::MortonFaceOrder(whole));
+  // A flat or single-point mesh (zero extent) still orders every face, by file index.
+  const std::string point = "OFF\n3 2 0\n1 1 1\n1 1 1\n1 1 1\n3 0 1 2\n3 2 1 0\n";
+  EXPECT_EQ(shapediameter::MortonFaceOrder(ParseOFF(point.data(), point.size())),
+    (std::vector<std::int64_t>{ 0, 1 }));
 }
 
 TEST(MeshPieces, UnusedVerticesGoToPieceZeroOnly)

@@ -2,6 +2,7 @@
 """The README's pipeline command end to end (renders through xvfb-run), plus its error contract."""
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -22,6 +23,26 @@ def fail(message, result=None):
     sys.exit(message)
 
 
+READ_BACK = r"""
+import sys
+from paraview import simple, servermanager
+surface_path, skeleton_path = sys.argv[1:3]
+with open(surface_path, "rb") as stream:
+    if b"<AppendedData" in stream.read():
+        sys.exit("%s: appended data, which ParaView 5.11 cannot read with Debian 12's current libexpat" % surface_path)
+surface = servermanager.Fetch(simple.XMLPolyDataReader(FileName=[surface_path]))
+skeleton = servermanager.Fetch(simple.XMLPolyDataReader(FileName=[skeleton_path]))
+arrays = [surface.GetCellData().GetArrayName(i) for i in range(surface.GetCellData().GetNumberOfArrays())]
+print("read back:", surface.GetNumberOfCells(), "faces,", skeleton.GetNumberOfCells(), "skeleton lines,", arrays)
+if surface.GetNumberOfCells() != 19536 or skeleton.GetNumberOfCells() < 1:
+    sys.exit("wrong cell counts")
+for name in ("SDF", "SDFNormalized", "SDFCluster", "SDFSegment"):
+    if name not in arrays:
+        sys.exit("missing array " + name)
+if skeleton.GetPointData().GetArray("Radius") is None:
+    sys.exit("skeleton without Radius")
+"""
+
 with tempfile.TemporaryDirectory() as out:
     mesh = os.path.join(source, "Data", "camel.off")
     result = run(mesh, "--output-dir", out, "--quiet", "--plot")
@@ -40,6 +61,15 @@ with tempfile.TemporaryDirectory() as out:
     for key in ("read", "sdf", "smooth", "partition", "skeleton", "write", "render", "total"):
         if not isinstance(timings.get(key), (int, float)) or timings[key] < 0:
             fail("bad timing %r in %r" % (key, timings))
+
+    # The written files open in ParaView's own XML reader, in a separate pvpython process with
+    # the system's libexpat (Debian 12's current one rejects raw appended data: README).
+    read_back = subprocess.run([shutil.which("pvpython"), "-c", READ_BACK, os.path.join(out, "camel.vtp"),
+                                os.path.join(out, "camel_skeleton.vtp")],
+                               capture_output=True, text=True, timeout=300)
+    print(read_back.stdout.strip())
+    if read_back.returncode != 0 or "ERROR" in read_back.stderr.upper():
+        fail("written .vtp files do not read back in ParaView", read_back)
 
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkIOImage import vtkPNGReader
