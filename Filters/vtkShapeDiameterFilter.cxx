@@ -185,6 +185,7 @@ int vtkShapeDiameterFilter::RequestData(
     ShapeDiameterOptions options;
     options.NumberOfRays = this->NumberOfRays;
     options.ConeAngleDegrees = this->ConeAngle;
+    options.Rule = this->HitRule == 1 ? shapediameter::HitRule::SkipSameFacing : shapediameter::HitRule::FirstHitLeaving;
     const RayOrigins origins = this->PerPoint
       ? MakeVertexOrigins(surface.Points, VertexNormals(surface))
       : MakeFaceOrigins(surface.Points, surface.Triangles);
@@ -261,6 +262,7 @@ void vtkShapeDiameterFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfRays: " << this->NumberOfRays << "\n";
   os << indent << "ConeAngle: " << this->ConeAngle << "\n";
   os << indent << "PerPoint: " << this->PerPoint << "\n";
+  os << indent << "HitRule: " << this->HitRule << "\n";
   os << indent << "AutoOrient: " << this->AutoOrient << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

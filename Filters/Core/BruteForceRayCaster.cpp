@@ -27,11 +27,15 @@ double BruteForceRayCaster::ClosestValidHit(const RayOrigin& origin, const doubl
   }
   const double* o = origin.Point;
   const double* d = direction;
+  const bool skipSameFacing = origin.Rule == HitRule::SkipSameFacing;
   double closest = infinity;
+  Eigen::Index closestTriangle = -1;
   for (Eigen::Index t = 0; t < this->Triangles.rows(); ++t)
   {
-    if (t == origin.SourceTriangle ||
-      !raycasterdetail::FacesAway(this->Planes[static_cast<std::size_t>(t)], originNormal))
+    const raycasterdetail::TrianglePlane& plane = this->Planes[static_cast<std::size_t>(t)];
+    const bool degenerate = plane.Normal[0] == 0 && plane.Normal[1] == 0 && plane.Normal[2] == 0;
+    if (t == origin.SourceTriangle || degenerate ||
+      (skipSameFacing && !raycasterdetail::FacesAway(plane, originNormal)))
     {
       continue;
     }
@@ -65,7 +69,13 @@ double BruteForceRayCaster::ClosestValidHit(const RayOrigin& origin, const doubl
     if (distance >= origin.MinDistance && distance >= 0 && distance < closest)
     {
       closest = distance;
+      closestTriangle = t;
     }
+  }
+  if (!skipSameFacing && closestTriangle >= 0 &&
+    !raycasterdetail::RayLeavesThrough(this->Planes[static_cast<std::size_t>(closestTriangle)], d))
+  {
+    return infinity;
   }
   return closest;
 }

@@ -21,6 +21,7 @@ struct FilterContext
   const TrianglePlane* Planes;
   double OriginNormal[3]; // unit
   unsigned int SourceTriangle;
+  bool SkipSameFacing;
 };
 
 /// |cos| between Ng and the origin normal above which Embree's single-precision Ng decides
@@ -48,6 +49,10 @@ void RejectInvalidHits(const RTCFilterFunctionNArguments* args)
     {
       args->valid[i] = 0;
       continue;
+    }
+    if (!filter->SkipSameFacing)
+    {
+      continue; // HitRule::FirstHitLeaving: the closest hit is judged after the traversal
     }
     const double nx = RTCHitN_Ng_x(args->hit, args->N, i);
     const double ny = RTCHitN_Ng_y(args->hit, args->N, i);
@@ -233,6 +238,7 @@ void EmbreeRayCaster::CastCone(const RayOrigin& origin, const double* directions
     return;
   }
   rtcInitIntersectContext(&filter.Context);
+  filter.SkipSameFacing = origin.Rule == HitRule::SkipSameFacing;
   filter.Planes = impl.Planes.data();
   filter.SourceTriangle =
     origin.SourceTriangle >= 0 && origin.SourceTriangle < static_cast<std::int64_t>(impl.Planes.size())
@@ -296,6 +302,11 @@ void EmbreeRayCaster::CastCone(const RayOrigin& origin, const double* directions
       const double* d = directions + 3 * i;
       const TrianglePlane& plane = impl.Planes[triangle];
       const double* n = plane.Normal;
+      if (!filter.SkipSameFacing && !raycasterdetail::RayLeavesThrough(plane, d))
+      {
+        outDistances[i] = infinity; // HitRule::FirstHitLeaving: the ray enters the volume here
+        continue;
+      }
       const double nd = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
       if (nd * nd >= 1e-18 * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
       {

@@ -20,7 +20,11 @@
 //     with a zero normal never hits anything.
 //   - t >= the origin's MinDistance (Embree's tnear).
 //
-// Rejected hits are transparent: traversal goes on to the next surface. The distance is the
+// That is the rule HitRule::SkipSameFacing (the default), where rejected hits are transparent:
+// traversal goes on to the next surface. Under HitRule::FirstHitLeaving only the source triangle
+// (and zero-area triangles) are transparent: the closest other hit is valid when the ray leaves
+// the volume through it, cos(N_hit, direction) > kPerpendicularTolerance, and otherwise the ray
+// has no valid hit (+infinity). The distance is the
 // ray parameter t (hit = point + t * direction), i.e. a length when the direction is a unit
 // vector, and +infinity when there is no valid hit (or the ray/origin is not finite).
 //
@@ -50,6 +54,18 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/// Which hit along a ray counts (see the header comment and ShapeDiameter.h).
+enum class HitRule
+{
+  /// The closest hit other than the source triangle, valid when the ray leaves the volume
+  /// through it (cos(N_hit, direction) > kPerpendicularTolerance); otherwise the ray has no
+  /// valid hit and is dropped (CGAL's reading of the paper).
+  FirstHitLeaving,
+  /// Hits on triangles facing the same way as the origin are transparent and the ray goes on
+  /// to the next surface (the paper's sentence read as "ignore and continue"). The default.
+  SkipSameFacing
+};
+
 /// Where a bundle of rays starts and what it must not hit.
 struct RayOrigin
 {
@@ -62,6 +78,7 @@ struct RayOrigin
   /// Hits with t < MinDistance are ignored (used for vertex origins, which lie on several
   /// triangles and have no single source triangle).
   double MinDistance = 0;
+  HitRule Rule = HitRule::SkipSameFacing;
 };
 
 class RayCaster
@@ -177,6 +194,15 @@ inline std::vector<TrianglePlane> CheckMeshAndComputePlanes(const PointsView& po
 }
 
 /// True when a hit on `plane` may count for an origin with outward UNIT normal.
+/// HitRule::FirstHitLeaving's test: the ray (any length) leaves the volume through the plane.
+inline bool RayLeavesThrough(const TrianglePlane& plane, const double direction[3])
+{
+  const double length = std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] +
+    direction[2] * direction[2]);
+  return plane.Normal[0] * direction[0] + plane.Normal[1] * direction[1] + plane.Normal[2] * direction[2] >
+    kPerpendicularTolerance * length;
+}
+
 inline bool FacesAway(const TrianglePlane& plane, const double unitOriginNormal[3])
 {
   return plane.Normal[0] * unitOriginNormal[0] + plane.Normal[1] * unitOriginNormal[1] +

@@ -309,6 +309,7 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
         }
         origin.SourceTriangle = origins.SourceTriangles.empty() ? -1 : origins.SourceTriangles[o];
         origin.MinDistance = origin.SourceTriangle >= 0 ? 0.0 : vertexMinDistance;
+        origin.Rule = options.Rule;
 
         const double axis[3] = { -origin.Normal[0], -origin.Normal[1], -origin.Normal[2] };
         double firstAxis[3], secondAxis[3];

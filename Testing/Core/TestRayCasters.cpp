@@ -38,10 +38,13 @@ std::unique_ptr<RayCaster> MakeCaster(CasterKind kind, const TriangleMesh& mesh)
   return std::make_unique<BruteForceRayCaster>(mesh.Points, mesh.Triangles);
 }
 
+/// An origin under the rule the paper's sentence reads literally (skip same-facing hits), which
+/// most contract tests below pin; FirstHitLeaving has its own tests.
 RayOrigin Origin(double x, double y, double z, double nx, double ny, double nz,
-  std::int64_t source = -1, double minDistance = 0)
+  std::int64_t source = -1, double minDistance = 0, HitRule rule = HitRule::SkipSameFacing)
 {
   RayOrigin origin;
+  origin.Rule = rule;
   origin.Point[0] = x, origin.Point[1] = y, origin.Point[2] = z;
   origin.Normal[0] = nx, origin.Normal[1] = ny, origin.Normal[2] = nz;
   origin.SourceTriangle = source;
@@ -129,6 +132,57 @@ TEST_P(RayCasterContract, ZeroAreaTrianglesAreNeverHit)
   const auto caster = MakeCaster(GetParam(), mesh);
   const double up[3] = { 0, 0, 1 };
   EXPECT_DOUBLE_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), up), 3.0);
+}
+
+TEST_P(RayCasterContract, FirstHitLeavingJudgesOnlyTheClosestHit)
+{
+  TriangleMesh mesh = StackedTriangles();
+  const auto caster = MakeCaster(GetParam(), mesh);
+  const double up[3] = { 0, 0, 1 };
+  const double down[3] = { 0, 0, -1 };
+  const auto first = [](double z, double nz, std::int64_t source = -1)
+  { return Origin(0, 0, z, 0, 0, nz, source, 0, HitRule::FirstHitLeaving); };
+  // The z = 1 triangle faces +z: going up, the ray leaves through it, whatever the origin normal.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(first(0, 1), up), 1.0);
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(first(0, -1), up), 1.0);
+  // With z = 1 the source, the closest hit is z = 2 (facing -z): the ray enters there, so it has
+  // no valid hit; it does not go on to z = 3.
+  EXPECT_EQ(caster->ClosestValidHit(first(0, 1, 0), up), kInfinity);
+  // Going down from z = 2.5 the first hit is z = 2 (normal -z, along the ray): valid at 0.5.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(first(2.5, 1), down), 0.5);
+  // From z = 3.5 down, the first hit z = 3 faces -z: leaving, valid at 0.5; with z = 3 the
+  // source, z = 2 is next (leaving as well): 1.5.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(first(3.5, 1), down), 0.5);
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(first(3.5, 1, 2), down), 1.5);
+}
+
+TEST_P(RayCasterContract, FirstHitLeavingFindsEveryRayOnASphere)
+{
+  // Inside a convex body every first hit is where the ray leaves: all 30 rays count, where
+  // SkipSameFacing drops those more than 45 degrees off the normal.
+  const TriangleMesh mesh = testshapes::MakeIcosphere(8, 1.5);
+  const auto caster = MakeCaster(GetParam(), mesh);
+  const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
+  const ConePattern pattern = MakeConePattern(30, 120);
+  std::vector<double> directions(90), batch(30);
+  int finite = 0, total = 0;
+  for (Eigen::Index f = 0; f < origins.Points.rows(); f += 17)
+  {
+    const RayOrigin origin = Origin(origins.Points(f, 0), origins.Points(f, 1), origins.Points(f, 2),
+      origins.Normals(f, 0), origins.Normals(f, 1), origins.Normals(f, 2), f, 0, HitRule::FirstHitLeaving);
+    const double axis[3] = { -origin.Normal[0], -origin.Normal[1], -origin.Normal[2] };
+    double x[3], y[3];
+    MakeConeFrame(axis, origins.FirstAxes.row(f).data(), x, y);
+    OrientConePattern(pattern, axis, x, y, directions.data());
+    caster->CastCone(origin, directions.data(), 30, batch.data());
+    for (int i = 0; i < 30; ++i)
+    {
+      ++total;
+      finite += std::isfinite(batch[i]) ? 1 : 0;
+      EXPECT_EQ(batch[i], caster->ClosestValidHit(origin, directions.data() + 3 * i));
+    }
+  }
+  EXPECT_EQ(finite, total);
 }
 
 TEST_P(RayCasterContract, NonFiniteRaysMissAndEmptyMeshesNeverHit)

@@ -89,14 +89,17 @@ double ExpectedRobustMean(const std::vector<double>& lengths, const std::vector<
 
 /// Expected SDF on a sphere of radius r: a ray at angle theta from the inward normal has the
 /// chord 2 r cos(theta) and lands where the surface normal makes 180 - 2 theta degrees with
-/// the origin normal, so the "same direction" filter (RayCaster.h) rejects every ray with
-/// theta >= 45 degrees.
-double ExpectedSphereSDF(double radius, const ConePattern& pattern)
+/// the origin normal: FirstHitLeaving keeps every ray, SkipSameFacing (RayCaster.h) rejects
+/// every ray with theta >= 45 degrees.
+double ExpectedSphereSDF(double radius, const ConePattern& pattern, HitRule rule = HitRule::SkipSameFacing)
 {
   std::vector<double> lengths;
   for (const double theta : pattern.AnglesToAxis)
   {
-    lengths.push_back(std::cos(2 * theta) > 0 ? 2 * radius * std::cos(theta) : kInfinity);
+    // Every ray leaves the sphere at its first hit; SkipSameFacing also rejects that hit
+    // (and the ray then finds nothing) when theta >= 45 degrees.
+    const bool valid = rule == HitRule::FirstHitLeaving || std::cos(2 * theta) > 0;
+    lengths.push_back(valid ? 2 * radius * std::cos(theta) : kInfinity);
   }
   return ExpectedRobustMean(lengths, pattern.Weights);
 }
@@ -253,8 +256,17 @@ TEST(ShapeDiameter, SphereMatchesTheAnalyticValue)
   ASSERT_EQ(result.values.size(), 20480u);
   EXPECT_FALSE(result.aborted);
   const double expected = ExpectedSphereSDF(radius, MakeConePattern(30, 120));
-  // About 0.86 of the diameter: rays are 7-45 degrees off the normal.
+  // About 0.86 of the diameter: rays are 7-45 degrees off the normal (SkipSameFacing, the
+  // default); under FirstHitLeaving every ray (7-60 degrees) counts: 0.77 of the diameter.
   EXPECT_NEAR(expected / (2 * radius), 0.86, 0.02);
+  const double expectedFirstHit = ExpectedSphereSDF(radius, MakeConePattern(30, 120), HitRule::FirstHitLeaving);
+  EXPECT_NEAR(expectedFirstHit / (2 * radius), 0.77, 0.02);
+  ShapeDiameterOptions firstHit;
+  firstHit.Rule = HitRule::FirstHitLeaving;
+  const ShapeDiameterResult firstHitResult = FaceSDF(mesh, firstHit);
+  EXPECT_NEAR(Mean(firstHitResult.values), expectedFirstHit, 0.03 * expectedFirstHit);
+  EXPECT_TRUE(std::all_of(
+    firstHitResult.validRays.begin(), firstHitResult.validRays.end(), [](int rays) { return rays >= 5; }));
   EXPECT_NEAR(Mean(result.values), expected, 0.03 * expected);
   EXPECT_LT(CoefficientOfVariation(result.values), 0.01);
   EXPECT_TRUE(std::all_of(

@@ -52,9 +52,11 @@ struct FilterRun
   int Warnings = 0;
 };
 
-FilterRun Compute(vtkPolyData* input, int threads = 0, bool autoOrient = true, bool perPoint = false)
+FilterRun Compute(vtkPolyData* input, int threads = 0, bool autoOrient = true, bool perPoint = false,
+  int hitRule = 1)
 {
   vtkNew<vtkShapeDiameterFilter> filter;
+  filter->SetHitRule(hitRule);
   vtkNew<MessageRecorder> recorder;
   recorder->Observe(filter);
   filter->SetInputData(input);
@@ -120,6 +122,19 @@ TEST(ShapeDiameterFilter, SphereIsUniformAndNearItsDiameter)
   EXPECT_LT(cv, 0.01);
   const std::vector<double> rays = Values(run.Output, "SDFValidRays");
   EXPECT_GT(*std::min_element(rays.begin(), rays.end()), 0.0);
+}
+
+TEST(ShapeDiameterFilter, HitRuleReachesTheCore)
+{
+  // On a sphere the default rule keeps the rays below 45 degrees (0.86 of the diameter), the
+  // first-hit rule every ray up to 60 degrees (0.77): the property must change the value.
+  const double skipping = Mean(Values(Compute(Sphere(2.0), 0, true, false, 1).Output));
+  const double firstHit = Mean(Values(Compute(Sphere(2.0), 0, true, false, 0).Output));
+  EXPECT_NEAR(skipping / 4.0, 0.86, 0.03);
+  EXPECT_NEAR(firstHit / 4.0, 0.77, 0.03);
+  vtkNew<vtkShapeDiameterFilter> clamped;
+  clamped->SetHitRule(7);
+  EXPECT_EQ(clamped->GetHitRule(), 1);
 }
 
 TEST(ShapeDiameterFilter, ScalingByFourScalesTheSDF)
