@@ -1,0 +1,119 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""Pose consistency of the whole chain on a folder of poses (same connectivity in every pose).
+
+    pvpython Testing/Evaluation/measure_pose_consistency.py FOLDER [--hit-rule 0|1]
+             [--clusters K] [--lambda L]
+
+FOLDER holds the poses as .obj, .obj.gz, .off, .ply, .stl or .vtp files with identical
+connectivity (face i is the same place in every pose), e.g. ../shared/data/poses/elephant.
+Runs ShapeDiameter -> SDFBilateralSmooth -> SDFGMMPartition on each pose through the wrapped
+classes (package shapediameter, from build/) and prints:
+
+- the mean relative pose divergence of the raw and smoothed SDF per face (|v - mean over
+  poses| / mean over poses), with its median and 90th percentile;
+- the mean pose divergence of SDFNormalized (|nsdf - mean over poses|, the paper's Fig. 5
+  measure, in percent of the [0, 1] range);
+- the Table-2 measure of SDFCluster: mean over all pose pairs of the share of faces with a
+  different cluster after the best one-to-one matching of labels (Hungarian, scipy);
+- per pose: clusters covering at least 1 % of the area.
+
+Needs PYTHONPATH to contain build/lib/python3.11/site-packages (the README's pvpython setup).
+"""
+import argparse
+import gzip
+import itertools
+import os
+import sys
+import tempfile
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+import shapediameter
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
+from vtkmodules.vtkIOGeometry import vtkOBJReader, vtkSTLReader
+from vtkmodules.vtkIOPLY import vtkPLYReader
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+READERS = {".obj": vtkOBJReader, ".off": shapediameter.vtkOFFReader, ".ply": vtkPLYReader,
+           ".stl": vtkSTLReader, ".vtp": vtkXMLPolyDataReader}
+
+
+def read(path, scratch):
+    if path.endswith(".gz"):
+        unpacked = os.path.join(scratch, os.path.basename(path)[:-3])
+        with gzip.open(path, "rb") as source, open(unpacked, "wb") as target:
+            target.write(source.read())
+        path = unpacked
+    reader = READERS[os.path.splitext(path)[1].lower()]()
+    reader.SetFileName(path)
+    reader.Update()
+    return reader.GetOutput()
+
+
+def table2(labelings):
+    """Mean over pairs of the share of faces labelled differently after the best matching."""
+    shares = []
+    for a, b in itertools.combinations(labelings, 2):
+        size = int(max(a.max(), b.max())) + 1
+        counts = np.zeros((size, size))
+        np.add.at(counts, (a, b), 1)
+        rows, columns = linear_sum_assignment(-counts)
+        shares.append(1.0 - counts[rows, columns].sum() / len(a))
+    return 100.0 * float(np.mean(shares))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("folder")
+    parser.add_argument("--hit-rule", type=int, default=None, help="vtkShapeDiameterFilter HitRule (default: the filter's)")
+    parser.add_argument("--clusters", type=int, default=None, help="NumberOfClusters (default: the filter's)")
+    parser.add_argument("--lambda", dest="smoothness", type=float, default=None, help="Lambda (default: the filter's)")
+    arguments = parser.parse_args()
+    suffixes = tuple(READERS) + tuple(s + ".gz" for s in READERS)
+    names = sorted((n for n in os.listdir(arguments.folder) if n.lower().endswith(suffixes)),
+                   key=lambda n: (len(n), n))
+    if len(names) < 2:
+        sys.exit("%s: fewer than two poses" % arguments.folder)
+    columns = {"SDF": [], "SDFSmoothed": [], "SDFNormalized": [], "SDFCluster": [], "Area": []}
+    with tempfile.TemporaryDirectory() as scratch:
+        for name in names:
+            sdf = shapediameter.vtkShapeDiameterFilter()
+            if arguments.hit_rule is not None:
+                sdf.SetHitRule(arguments.hit_rule)
+            sdf.SetInputData(read(os.path.join(arguments.folder, name), scratch))
+            smooth = shapediameter.vtkSDFBilateralSmooth()
+            smooth.SetInputConnection(sdf.GetOutputPort())
+            partition = shapediameter.vtkSDFGMMPartition()
+            partition.SetInputConnection(smooth.GetOutputPort())
+            if arguments.clusters is not None:
+                partition.SetNumberOfClusters(arguments.clusters)
+            if arguments.smoothness is not None:
+                partition.SetLambda(arguments.smoothness)
+            sizes = vtkCellSizeFilter()
+            sizes.SetInputConnection(partition.GetOutputPort())
+            sizes.Update()
+            cells = sizes.GetOutput().GetCellData()
+            for key in columns:
+                columns[key].append(vtk_to_numpy(cells.GetArray(key)).copy())
+            print("%s: %d faces" % (name, sizes.GetOutput().GetNumberOfCells()), flush=True)
+    if len({len(c) for c in columns["SDF"]}) != 1:
+        sys.exit("the poses differ in their face count: not one family")
+    for key in ("SDF", "SDFSmoothed"):
+        values = np.array(columns[key])
+        mean = values.mean(axis=0)
+        relative = np.abs(values - mean) / np.maximum(mean, 1e-300)
+        print("%-12s relative pose divergence: mean %.2f %%, median %.2f %%, 90th percentile %.2f %%" % (
+            key, 100 * relative.mean(), 100 * np.median(relative), 100 * np.percentile(relative, 90)))
+    normalized = np.array(columns["SDFNormalized"])
+    print("SDFNormalized pose divergence (paper, Fig. 5): %.2f %%" % (
+        100 * np.abs(normalized - normalized.mean(axis=0)).mean()))
+    labels = [c.astype(int) for c in columns["SDFCluster"]]
+    print("SDFCluster Table-2 measure: %.2f %% of the faces change cluster between poses" % table2(labels))
+    large = [int((np.bincount(l, weights=a) / a.sum() >= 0.01).sum()) for l, a in zip(labels, columns["Area"])]
+    print("clusters covering >= 1 %% of the area, per pose: %s" % large)
+
+
+if __name__ == "__main__":
+    main()
