@@ -3,6 +3,7 @@
 
 #include "MultilevelCut.h"
 #include "FaceGraph.h"
+#include "DensityModes.h"
 #include "GaussianMixture.h"
 #include "PartitionEnergy.h"
 #include "DistributedSupport.h"
@@ -219,7 +220,16 @@ int vtkSDFGMMPartition::RequestData(
     const Eigen::Map<const Eigen::VectorXd> faceValues(values.data() + first, last - first);
     this->UpdateProgress(0.1);
 
-    if (!modelInput)
+    if (!modelInput && this->ClusterModel == 1)
+    {
+      DensityModesOptions modes;
+      modes.Bandwidth = this->ModeBandwidth;
+      modes.MinimumProminence = this->ModeProminence;
+      modes.MaximumModes = this->NumberOfClusters > 0 ? this->NumberOfClusters : this->MaximumClusters;
+      const Eigen::Map<const Eigen::VectorXd> areas(graph.Areas.data(), static_cast<Eigen::Index>(graph.Areas.size()));
+      model = FitDensityModes(faceValues, areas, modes).Model;
+    }
+    else if (!modelInput)
     {
       GaussianMixtureOptions fit;
       fit.restarts = this->Restarts;
@@ -302,5 +312,8 @@ void vtkSDFGMMPartition::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumIterations: " << this->MaximumIterations << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "HistogramBins: " << this->HistogramBins << "\n";
+  os << indent << "ClusterModel: " << this->ClusterModel << "\n";
+  os << indent << "ModeBandwidth: " << this->ModeBandwidth << "\n";
+  os << indent << "ModeProminence: " << this->ModeProminence << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

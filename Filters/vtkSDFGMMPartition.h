@@ -49,6 +49,15 @@
  * - ConvexityFactor 0.08, [0, 1]: 1 treats convex creases like concave ones.
  * - Restarts 5, [1, 100]; MaximumIterations 500, [1, 100000] (EM); Seed 0x5DF2008.
  * - NumberOfThreads 0 = all cores.
+ * - ClusterModel 0 (default) = the paper's EM fit above; 1 = clusters from the modes of the
+ *   area-weighted density of the input values (Filters/Core/DensityModes.h): the at most k
+ *   modes rising ModeProminence (default 0.05, [0, 1]) of the highest peak above their saddle,
+ *   in a Gaussian kernel estimate of bandwidth ModeBandwidth (default 0.02 of the value range,
+ *   [0.001, 0.5]); each cluster is the basin between two valleys, modelled by one Gaussian of
+ *   its weighted moments. Boundaries then lie where few faces are, so a small pose-dependent
+ *   shift moves few faces: on the ten elephant poses 5.26 % of the faces change cluster
+ *   against 6.98 % with EM (README, "Consistency"). A shape with fewer thickness levels than k
+ *   gets fewer clusters (camel 3), which is why it is not the default yet.
  *
  * Output: the input with every cell and array plus cell arrays `SDFProbabilities`
  * (double, k components), `SDFCluster`, `SDFLevel1`…`SDFLevel{k−1}`, `SDFSegment`
@@ -128,6 +137,21 @@ public:
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);
 
+  ///@{
+  /// How the clusters are found: 0 (default) EM fit of k Gaussians (the paper); 1 the modes of
+  /// the area-weighted SDF density, at most k of them (Filters/Core/DensityModes.h).
+  vtkSetClampMacro(ClusterModel, int, 0, 1);
+  vtkGetMacro(ClusterModel, int);
+  ///@}
+  ///@{
+  /// ClusterModel 1: kernel bandwidth relative to the value range (default 0.02, [0.001, 0.5])
+  /// and the smallest prominence of a mode relative to the highest peak (default 0.05, [0, 1]).
+  vtkSetClampMacro(ModeBandwidth, double, 0.001, 0.5);
+  vtkGetMacro(ModeBandwidth, double);
+  vtkSetClampMacro(ModeProminence, double, 0.0, 1.0);
+  vtkGetMacro(ModeProminence, double);
+  ///@}
+
   /// The histogram and fitted densities (output port 1).
   vtkTable* GetHistogram();
 
@@ -149,6 +173,9 @@ protected:
   int Seed = 0x5DF2008;
   int HistogramBins = 64;
   int NumberOfThreads = 0;
+  int ClusterModel = 0;
+  double ModeBandwidth = 0.02;
+  double ModeProminence = 0.05;
 
 private:
   vtkSDFGMMPartition(const vtkSDFGMMPartition&) = delete;

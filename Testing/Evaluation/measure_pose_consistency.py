@@ -2,7 +2,7 @@
 """Pose consistency of the whole chain on a folder of poses (same connectivity in every pose).
 
     pvpython Testing/Evaluation/measure_pose_consistency.py FOLDER [--hit-rule 0|1]
-             [--clusters K] [--lambda L]
+             [--cluster-model 0|1] [--clusters K] [--lambda L]
 
 FOLDER holds the poses as .obj, .obj.gz, .off, .ply, .stl or .vtp files with identical
 connectivity (face i is the same place in every pose), e.g. ../shared/data/poses/elephant.
@@ -68,6 +68,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("folder")
     parser.add_argument("--hit-rule", type=int, default=None, help="vtkShapeDiameterFilter HitRule (default: the filter's)")
+    parser.add_argument("--cluster-model", type=int, default=None, help="vtkSDFGMMPartition ClusterModel (0 EM, 1 modes)")
     parser.add_argument("--clusters", type=int, default=None, help="NumberOfClusters (default: the filter's)")
     parser.add_argument("--lambda", dest="smoothness", type=float, default=None, help="Lambda (default: the filter's)")
     arguments = parser.parse_args()
@@ -87,6 +88,8 @@ def main():
             smooth.SetInputConnection(sdf.GetOutputPort())
             partition = shapediameter.vtkSDFGMMPartition()
             partition.SetInputConnection(smooth.GetOutputPort())
+            if arguments.cluster_model is not None:
+                partition.SetClusterModel(arguments.cluster_model)
             if arguments.clusters is not None:
                 partition.SetNumberOfClusters(arguments.clusters)
             if arguments.smoothness is not None:

@@ -51,9 +51,11 @@ vtkSmartPointer<vtkPolyData> Normalized(const figure::ArticulatedFigure& shape)
   return smooth->GetOutput();
 }
 
-vtkSmartPointer<vtkPolyData> Partition(vtkPolyData* input, vtkDataObject* model = nullptr, int k = 5)
+vtkSmartPointer<vtkPolyData> Partition(vtkPolyData* input, vtkDataObject* model = nullptr, int k = 5,
+  int clusterModel = 0)
 {
   vtkNew<vtkSDFGMMPartition> partition;
+  partition->SetClusterModel(clusterModel);
   partition->SetInputData(input);
   if (model)
   {
@@ -149,6 +151,28 @@ TEST_F(FigurePartition, TwoPosesAgreeAndTheSharedModelDoesNotHurt)
   std::printf("Table 2 measure on the figure: per-mesh %.3f %%, shared model %.3f %%\n", perMesh, shared);
   EXPECT_LE(perMesh, 3.0);
   EXPECT_LE(shared, perMesh + 1e-9);
+}
+
+TEST_F(FigurePartition, DensityModesFollowTheThicknessLevelsInBothPoses)
+{
+  // ClusterModel 1 at the default k = 5: the figure has three thickness levels (torso; head
+  // and legs; arms), so at most k and at least the torso/limb split; the two poses agree within
+  // the same 3 % as EM at the right k (threshold stated before measuring).
+  vtkSmartPointer<vtkPolyData> restParts = Partition(RestNormalized, nullptr, 5, 1);
+  const std::vector<int> rest = IntValues(restParts, "SDFCluster");
+  const std::vector<int> bent = IntValues(Partition(BentNormalized, nullptr, 5, 1), "SDFCluster");
+  const int k = static_cast<int>(restParts->GetFieldData()->GetArray("SDFClusterCount")->GetComponent(0, 0));
+  EXPECT_GE(k, 2);
+  EXPECT_LE(k, 5);
+  const int torso = MajorityCluster(rest, Rest->FaceParts, figure::Torso);
+  EXPECT_EQ(torso, 0);
+  for (int limb : { figure::LeftArm, figure::RightArm, figure::LeftLeg, figure::RightLeg })
+  {
+    EXPECT_NE(MajorityCluster(rest, Rest->FaceParts, limb), torso) << "limb " << limb;
+  }
+  const double percent = shapediameter::CompareLabelings(rest, bent).percentDifferent;
+  std::printf("density modes: k = %d, Table 2 measure on the figure %.3f %%\n", k, percent);
+  EXPECT_LE(percent, 3.0);
 }
 
 TEST(SDFGMMPartition, DegenerateInputsAreDefined)
