@@ -38,6 +38,14 @@ def parse_arguments(argv):
                         help="worker threads (default: all %(default)s cores)")
     parser.add_argument("--rays", type=int, default=30, help="rays per cone (SDF)")
     parser.add_argument("--cone-angle", type=float, default=120.0, help="cone opening angle in degrees (SDF)")
+    parser.add_argument("--hit-rule", type=int, choices=(0, 1), default=argparse.SUPPRESS,
+                        help="SDF: 0 = a ray's first hit, dropped unless the ray leaves the object there "
+                             "(more pose-consistent); 1 = skip hits on faces turned like the origin's "
+                             "(default: the filter's, 1)")
+    parser.add_argument("--cluster-model", choices=("em", "modes"), default=argparse.SUPPRESS,
+                        help="partition: 'em' = k Gaussians fitted by EM (the paper), 'modes' = at most k "
+                             "clusters from the modes of the SDF density (more pose-consistent) "
+                             "(default: the filter's, em)")
     parser.add_argument("--clusters", default="5", help="number of GMM clusters k, or 'auto'")
     parser.add_argument("--lambda", dest="smoothness", type=float, default=argparse.SUPPRESS,
                         help="graph-cut smoothness weight (default: the filter's, 0.03)")
@@ -164,6 +172,8 @@ class Pipeline:
             current = self.simple.ShapeDiameter(Input=current, NumberOfRays=arguments.rays,
                                                 ConeAngle=arguments.cone_angle,
                                                 NumberOfThreads=arguments.threads)
+            if hasattr(arguments, "hit_rule"):
+                current.HitRule = arguments.hit_rule
             self.show_progress(current, "sdf")
             self.timed(timings, "sdf", current.UpdatePipeline)
         if self.has("SDFBilateralSmooth"):
@@ -182,6 +192,8 @@ class Pipeline:
                           NormalizedSDFArray=["CELLS", "SDFNormalized"])
         if hasattr(arguments, "smoothness"):
             properties["Lambda"] = arguments.smoothness
+        if hasattr(arguments, "cluster_model"):
+            properties["ClusterModel"] = 1 if arguments.cluster_model == "modes" else 0
         if model is not None:
             properties["Model"] = model
         partition = self.simple.SDFGMMPartition(**properties)
