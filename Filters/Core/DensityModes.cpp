@@ -172,12 +172,12 @@ DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const 
   // 4. One Gaussian per basin (weighted moments).
   const std::size_t basins = kept.size();
   std::vector<double> sum(basins, 0.0), sumWeights(basins, 0.0), sumSquares(basins, 0.0);
-  auto basinOf = [&](double value) {
-    return static_cast<std::size_t>(std::upper_bound(result.Valleys.begin(), result.Valleys.end(), value) - result.Valleys.begin());
-  };
+  std::vector<std::size_t> basinOf(static_cast<std::size_t>(count));
   for (Eigen::Index i = 0; i < count; ++i)
   {
-    const std::size_t basin = basinOf(values[i]);
+    const auto basin = static_cast<std::size_t>(
+      std::upper_bound(result.Valleys.begin(), result.Valleys.end(), values[i]) - result.Valleys.begin());
+    basinOf[static_cast<std::size_t>(i)] = basin;
     sum[basin] += weightOf(i) * values[i];
     sumWeights[basin] += weightOf(i);
   }
@@ -188,7 +188,7 @@ DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const 
   }
   for (Eigen::Index i = 0; i < count; ++i)
   {
-    const std::size_t basin = basinOf(values[i]);
+    const std::size_t basin = basinOf[static_cast<std::size_t>(i)];
     sumSquares[basin] += weightOf(i) * (values[i] - means[basin]) * (values[i] - means[basin]);
   }
   const double sigmaFloor = options.MinSigmaRelative * span;

@@ -193,7 +193,6 @@ inline std::vector<TrianglePlane> CheckMeshAndComputePlanes(const PointsView& po
   return planes;
 }
 
-/// True when a hit on `plane` may count for an origin with outward UNIT normal.
 /// HitRule::FirstHitLeaving's test: the ray (any length) leaves the volume through the plane.
 inline bool RayLeavesThrough(const TrianglePlane& plane, const double direction[3])
 {
@@ -203,6 +202,8 @@ inline bool RayLeavesThrough(const TrianglePlane& plane, const double direction[
     kPerpendicularTolerance * length;
 }
 
+/// HitRule::SkipSameFacing's test: a hit on `plane` may count for an origin with outward UNIT
+/// normal.
 inline bool FacesAway(const TrianglePlane& plane, const double unitOriginNormal[3])
 {
   return plane.Normal[0] * unitOriginNormal[0] + plane.Normal[1] * unitOriginNormal[1] +

@@ -129,9 +129,21 @@ TEST_P(RayCasterContract, ZeroAreaTrianglesAreNeverHit)
   mesh.Triangles.row(1) << 9, 10, 11;
   mesh.Triangles.conservativeResize(4, 3);
   mesh.Triangles.row(3) << 11, 11, 11;
+  // The same two kinds just above the z = 3 triangle, for FirstHitLeaving, which judges only the
+  // closest hit: a zero-area hit there would drop the ray instead of letting it reach z = 3.
+  mesh.Points.conservativeResize(15, 3);
+  mesh.Points.row(12) << 0, 0, 3.1;
+  mesh.Points.row(13) << 0, 0, 3.4;
+  mesh.Points.row(14) << 0, 0, 3.2;
+  mesh.Triangles.conservativeResize(6, 3);
+  mesh.Triangles.row(4) << 12, 13, 14;
+  mesh.Triangles.row(5) << 14, 14, 14;
   const auto caster = MakeCaster(GetParam(), mesh);
   const double up[3] = { 0, 0, 1 };
   EXPECT_DOUBLE_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), up), 3.0);
+  const double down[3] = { 0, 0, -1 };
+  EXPECT_DOUBLE_EQ(
+    caster->ClosestValidHit(Origin(0, 0, 3.5, 0, 0, 1, -1, 0, HitRule::FirstHitLeaving), down), 0.5);
 }
 
 TEST_P(RayCasterContract, FirstHitLeavingJudgesOnlyTheClosestHit)

@@ -132,7 +132,12 @@ per_rank = [0] * processes
 for ranks_of_face in owners.values():
     for rank in ranks_of_face:
         per_rank[rank] += 1
-file_faces = servermanager.Fetch(reader).GetNumberOfCells()
+# The file's face count, independent of any split (this process alone: one piece); the
+# serial reference chain below starts from this reader.
+serial_reader = vtkOFFReader()
+serial_reader.SetFileName(args.mesh)
+serial_reader.Update()
+file_faces = serial_reader.GetOutput().GetNumberOfCells()
 if args.split == "redistribute":
     # ParaView's own RedistributeDataSet must have worked, a precondition of this test rather
     # than something of this project. Seen broken on Debian 12 with libexpat1 2.5.0-1+deb12u5
@@ -167,8 +172,6 @@ fetched_cloud = servermanager.Fetch(skeleton, None, None, 2)
 
 # ---- The serial reference (wrapped classes, this process only: one piece, no MPI path).
 start = time.perf_counter()
-serial_reader = vtkOFFReader()
-serial_reader.SetFileName(args.mesh)
 serial_sdf = vtkShapeDiameterFilter()
 serial_sdf.SetInputConnection(serial_reader.GetOutputPort())
 serial_smooth = vtkSDFBilateralSmooth()
