@@ -12,6 +12,7 @@
 #include "vtkDataObject.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
@@ -90,7 +91,13 @@ int vtkSDFBilateralSmooth::RequestData(
     const std::vector<double> polygonValues(smoothed.Values.begin() + first, smoothed.Values.begin() + last);
     NormalizationOptions normalization;
     normalization.Alpha = this->Alpha;
+    normalization.UseGivenRange = this->NormalizationRange[1] > this->NormalizationRange[0];
+    normalization.RangeMinimum = this->NormalizationRange[0];
+    normalization.RangeMaximum = this->NormalizationRange[1];
     const std::vector<double> normalized = NormalizeLogarithmic(polygonValues, normalization);
+    const auto [rangeMinimum, rangeMaximum] = shapediameter::NormalizationRange(polygonValues, normalization);
+    output->GetFieldData()->AddArray(
+      adapter::MakeArray<vtkDoubleArray>(NORMALIZATION_RANGE_ARRAY_NAME, std::vector<double>{ rangeMinimum, rangeMaximum }));
 
     output->GetCellData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SMOOTHED_ARRAY_NAME, smoothed.Values));
     vtkNew<vtkDoubleArray> normalizedArray;
@@ -120,5 +127,6 @@ void vtkSDFBilateralSmooth::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NeighborhoodRadius: " << this->NeighborhoodRadius << "\n";
   os << indent << "RangeThreshold: " << this->RangeThreshold << "\n";
   os << indent << "Alpha: " << this->Alpha << "\n";
+  os << indent << "NormalizationRange: " << this->NormalizationRange[0] << " " << this->NormalizationRange[1] << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

@@ -26,10 +26,17 @@
  * - RangeThreshold t 0.1, [0, 10], a fraction of the field's robust spread
  *   Q(0.98) − Q(0.02).
  * - Alpha α 4, [0.001, 1000] (paper: 4).
+ * - NormalizationRange [min, max], default [0, 0] = this mesh's own minimum and maximum of
+ *   SDFSmoothed (the paper). A family of meshes (poses of one object) shares one range so
+ *   that one nsdf means one thickness on every member: set every member's range to the
+ *   smallest minimum and the largest maximum of the members' `SDFNormalizationRange` (what
+ *   the pipeline command's `--family` does). Values outside a given range map to 0 or 1.
+ *   Any range with max <= min means automatic.
  * - NumberOfThreads 0 = all cores; the output does not depend on it.
  *
  * Output: the input with all its cells and arrays plus cell arrays `SDFSmoothed` (length
- * units) and `SDFNormalized` ([0, 1]). Only polygons take part; strips, vertices and lines
+ * units) and `SDFNormalized` ([0, 1]), and the field array `SDFNormalizationRange` (double,
+ * 2: the [min, max] of SDFSmoothed that was mapped to [0, 1]). Only polygons take part; strips, vertices and lines
  * keep their input value in SDFSmoothed and get SDFNormalized 0, and are ignored by
  * min/max.
  *
@@ -57,6 +64,7 @@ public:
   /// Output array names.
   static constexpr const char* SMOOTHED_ARRAY_NAME = "SDFSmoothed";
   static constexpr const char* NORMALIZED_ARRAY_NAME = "SDFNormalized";
+  static constexpr const char* NORMALIZATION_RANGE_ARRAY_NAME = "SDFNormalizationRange";
 
   vtkSetClampMacro(NumberOfIterations, int, 0, 100);
   vtkGetMacro(NumberOfIterations, int);
@@ -68,6 +76,10 @@ public:
   vtkGetMacro(RangeThreshold, double);
   vtkSetClampMacro(Alpha, double, 0.001, 1000.0);
   vtkGetMacro(Alpha, double);
+  /// Shared [min, max] of SDFSmoothed for a family (default [0, 0]: automatic, this mesh's
+  /// own; see the class documentation).
+  vtkSetVector2Macro(NormalizationRange, double);
+  vtkGetVector2Macro(NormalizationRange, double);
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);
 
@@ -82,6 +94,7 @@ protected:
   double NeighborhoodRadius = 2.0;
   double RangeThreshold = 0.1;
   double Alpha = 4.0;
+  double NormalizationRange[2] = { 0.0, 0.0 };
   int NumberOfThreads = 0;
 
 private:

@@ -41,11 +41,11 @@ def parse_arguments(argv):
     parser.add_argument("--hit-rule", type=int, choices=(0, 1), default=argparse.SUPPRESS,
                         help="SDF: 0 = a ray's first hit, dropped unless the ray leaves the object there "
                              "(more pose-consistent); 1 = skip hits on faces turned like the origin's "
-                             "(default: the filter's, 1)")
+                             "(default: the filter's, 0)")
     parser.add_argument("--cluster-model", choices=("em", "modes"), default=argparse.SUPPRESS,
                         help="partition: 'em' = k Gaussians fitted by EM (the paper), 'modes' = at most k "
                              "clusters from the modes of the SDF density (more pose-consistent) "
-                             "(default: the filter's, em)")
+                             "(default: the filter's, modes)")
     parser.add_argument("--clusters", default="5", help="number of GMM clusters k, or 'auto'")
     parser.add_argument("--lambda", dest="smoothness", type=float, default=argparse.SUPPRESS,
                         help="graph-cut smoothness weight (default: the filter's, 0.03)")
@@ -331,9 +331,26 @@ class Pipeline:
         mesh["surface"] = self.surface_stages(source, mesh["timings"])
         return mesh
 
+    def share_normalization(self, meshes):
+        """One nsdf range for the family: the widest of the members' SDFNormalizationRange."""
+        ranges = []
+        for mesh in meshes:
+            info = mesh["surface"].FieldData["SDFNormalizationRange"]
+            if info is None:
+                raise PipelineError("smoothing %s gave no SDFNormalizationRange: %s" % (
+                    mesh["path"], self.messages.last_error()))
+            ranges.append(info.GetRange(0))  # two tuples, min and max: their range is [min, max]
+        shared = [min(r[0] for r in ranges), max(r[1] for r in ranges)]
+        self.log("family normalisation range of SDFSmoothed: [%.6g, %.6g]" % tuple(shared))
+        for mesh in meshes:
+            mesh["surface"].NormalizationRange = shared
+            self.timed(mesh["timings"], "family_normalization", mesh["surface"].UpdatePipeline)
+
     def run(self, paths):
         meshes = [self.prepare(path) for path in paths]
         model = None
+        if self.has("SDFBilateralSmooth") and self.arguments.family and len(meshes) > 1:
+            self.share_normalization(meshes)
         if self.has("SDFGMMPartition") and self.arguments.family and len(meshes) > 1:
             # One mixture for the whole family: fitted on all faces of all meshes together.
             start = time.perf_counter()

@@ -8,6 +8,25 @@
 namespace shapediameter
 {
 
+std::pair<double, double> NormalizationRange(const std::vector<double>& values, const NormalizationOptions& options)
+{
+  if (options.UseGivenRange)
+  {
+    if (!std::isfinite(options.RangeMinimum) || !std::isfinite(options.RangeMaximum) ||
+      !(options.RangeMaximum > options.RangeMinimum))
+    {
+      throw NormalizationError("the given range must be finite with its maximum above its minimum");
+    }
+    return { options.RangeMinimum, options.RangeMaximum };
+  }
+  if (values.empty())
+  {
+    return { 0.0, 0.0 };
+  }
+  const auto [minimumIt, maximumIt] = std::minmax_element(values.begin(), values.end());
+  return { *minimumIt, *maximumIt };
+}
+
 std::vector<double> NormalizeLogarithmic(const std::vector<double>& values, const NormalizationOptions& options)
 {
   const double alpha = options.Alpha;
@@ -22,15 +41,9 @@ std::vector<double> NormalizeLogarithmic(const std::vector<double>& values, cons
       throw NormalizationError("non-finite value at index " + std::to_string(i));
     }
   }
+  const auto [minimum, maximum] = NormalizationRange(values, options);
   std::vector<double> normalized(values.size(), 0.0);
-  if (values.empty())
-  {
-    return normalized;
-  }
-  const auto [minimumIt, maximumIt] = std::minmax_element(values.begin(), values.end());
-  const double minimum = *minimumIt;
-  const double maximum = *maximumIt;
-  if (!(maximum > minimum))
+  if (values.empty() || !(maximum > minimum))
   {
     return normalized;
   }

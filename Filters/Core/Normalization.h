@@ -12,13 +12,19 @@
 // Parameters: alpha, default 4 (the paper's value in all its examples), valid range
 // (0, inf) and finite. alpha -> 0 tends to the linear map; larger alpha stretches more.
 //
+// Family range: min and max may be given instead of taken from the values (a family of
+// meshes normalised with one range, so that one nsdf means one thickness on every member);
+// values outside the range then map to 0 or 1.
+//
 // Degenerate cases: empty input -> empty output; a constant field (max == min) -> 0
 // everywhere. Outputs are clamped to [0, 1] against rounding, never NaN.
-// Bad input (throws NormalizationError): a non-finite value, alpha outside its range.
-// No deviation from the paper.
+// Bad input (throws NormalizationError): a non-finite value, alpha outside its range, a
+// given range that is not finite or whose maximum is not above its minimum.
+// No deviation from the paper (the given range is an extension for families).
 #pragma once
 
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace shapediameter
@@ -34,7 +40,15 @@ struct NormalizationOptions
 {
   /// alpha of the paper, (0, inf).
   double Alpha = 4.0;
+  /// When true, RangeMinimum and RangeMaximum replace the values' own min and max.
+  bool UseGivenRange = false;
+  double RangeMinimum = 0.0;
+  double RangeMaximum = 1.0;
 };
+
+/// The [min, max] NormalizeLogarithmic maps to [0, 1]: the given range or the values' own
+/// (0, 0 for empty input).
+std::pair<double, double> NormalizationRange(const std::vector<double>& values, const NormalizationOptions& options = {});
 
 /// nsdf of every value (see the header comment).
 std::vector<double> NormalizeLogarithmic(const std::vector<double>& values, const NormalizationOptions& options = {});

@@ -20,8 +20,8 @@
 //     with a zero normal never hits anything.
 //   - t >= the origin's MinDistance (Embree's tnear).
 //
-// That is the rule HitRule::SkipSameFacing (the default), where rejected hits are transparent:
-// traversal goes on to the next surface. Under HitRule::FirstHitLeaving only the source triangle
+// That is the rule HitRule::SkipSameFacing, where rejected hits are transparent: traversal
+// goes on to the next surface. Under HitRule::FirstHitLeaving (the default) only the source triangle
 // (and zero-area triangles) are transparent: the closest other hit is valid when the ray leaves
 // the volume through it, cos(N_hit, direction) > kPerpendicularTolerance, and otherwise the ray
 // has no valid hit (+infinity). The distance is the
@@ -78,7 +78,7 @@ struct RayOrigin
   /// Hits with t < MinDistance are ignored (used for vertex origins, which lie on several
   /// triangles and have no single source triangle).
   double MinDistance = 0;
-  HitRule Rule = HitRule::SkipSameFacing;
+  HitRule Rule = HitRule::FirstHitLeaving;
 };
 
 class RayCaster

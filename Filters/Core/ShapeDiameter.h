@@ -95,8 +95,8 @@ struct ShapeDiameterOptions
   double ConeAngleDegrees = 120.0;  ///< full opening angle (paper: 120 degrees)
   double VertexOriginOffset = 1e-6; ///< tnear for origins without a source triangle, x bbox diagonal
   /// Which hit a ray measures (RayCaster.h). FirstHitLeaving nearly halves the pose divergence
-  /// of the normalised SDF on the elephant poses but is not the default yet (README, "Consistency").
-  HitRule Rule = HitRule::SkipSameFacing;
+  /// of the normalised SDF on the elephant poses against SkipSameFacing (README, "Consistency").
+  HitRule Rule = HitRule::FirstHitLeaving;
   std::size_t OriginsPerChunk = 256;
 };
 

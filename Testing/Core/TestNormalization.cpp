@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 using namespace shapediameter;
@@ -63,6 +64,43 @@ TEST(Normalization, ConstantEmptyAndExtremeInputs)
   const std::vector<double> tiny = NormalizeLogarithmic({ 1.0, 1.0 + 1e-15 });
   EXPECT_EQ(tiny[0], 0.0);
   EXPECT_EQ(tiny[1], 1.0);
+}
+
+TEST(Normalization, AGivenFamilyRangeReplacesTheOwnMinimumAndMaximum)
+{
+  // Two members of a family: [2, 6] and [3, 5]. Alone, each maps its own extremes to 0 and 1;
+  // with the family range [2, 6] the value 4 means the same on both, and 3 and 5 are not
+  // stretched to the ends.
+  const std::vector<double> narrow{ 3.0, 4.0, 5.0 };
+  EXPECT_EQ(NormalizeLogarithmic(narrow)[2], 1.0);
+  NormalizationOptions family;
+  family.UseGivenRange = true;
+  family.RangeMinimum = 2.0;
+  family.RangeMaximum = 6.0;
+  const std::vector<double> shared = NormalizeLogarithmic(narrow, family);
+  const std::vector<double> wide = NormalizeLogarithmic({ 2.0, 4.0, 6.0, 3.0, 5.0 });
+  EXPECT_EQ(shared[1], wide[1]);
+  EXPECT_EQ(shared[0], wide[3]);
+  EXPECT_EQ(shared[2], wide[4]);
+  EXPECT_NEAR(shared[1], std::log(3.0) / std::log(5.0), 1e-15);
+  EXPECT_EQ(NormalizationRange(narrow, family), std::make_pair(2.0, 6.0));
+  EXPECT_EQ(NormalizationRange(narrow), std::make_pair(3.0, 5.0));
+  // Values outside the given range end at 0 and 1.
+  family.RangeMinimum = 3.5;
+  family.RangeMaximum = 4.5;
+  const std::vector<double> clamped = NormalizeLogarithmic(narrow, family);
+  EXPECT_EQ(clamped[0], 0.0);
+  EXPECT_NEAR(clamped[1], std::log(3.0) / std::log(5.0), 1e-15);
+  EXPECT_EQ(clamped[2], 1.0);
+  // An empty or reversed given range is an error, not a silent fallback.
+  for (const auto& [low, high] : { std::make_pair(1.0, 1.0), std::make_pair(2.0, 1.0),
+         std::make_pair(0.0, std::numeric_limits<double>::infinity()),
+         std::make_pair(std::numeric_limits<double>::quiet_NaN(), 1.0) })
+  {
+    family.RangeMinimum = low;
+    family.RangeMaximum = high;
+    EXPECT_THROW(NormalizeLogarithmic(narrow, family), NormalizationError);
+  }
 }
 
 TEST(Normalization, BadInputThrows)

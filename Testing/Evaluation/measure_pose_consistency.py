@@ -18,7 +18,8 @@ classes (package shapediameter, from build/) and prints:
   different cluster after the best one-to-one matching of labels (Hungarian, scipy);
 - per pose: clusters covering at least 1 % of the area.
 
---family partitions every pose with one model fitted on all poses together (the pipeline
+--family normalises every pose with one range (the widest SDFNormalizationRange of the
+poses) and partitions it with one model fitted on all poses together (the pipeline
 command's --family). --expect-at-most makes it a test: exit status 1 when the Table-2 measure
 exceeds PERCENT. A FOLDER that does not exist prints 'SKIP: ...' and exits 0 (ctest skips).
 
@@ -77,7 +78,7 @@ def main():
     parser.add_argument("--cluster-model", type=int, default=None, help="vtkSDFGMMPartition ClusterModel (0 EM, 1 modes)")
     parser.add_argument("--clusters", type=int, default=None, help="NumberOfClusters (default: the filter's)")
     parser.add_argument("--lambda", dest="smoothness", type=float, default=None, help="Lambda (default: the filter's)")
-    parser.add_argument("--family", action="store_true", help="one model fitted on all poses together")
+    parser.add_argument("--family", action="store_true", help="one normalisation range and one model for all poses")
     parser.add_argument("--expect-at-most", type=float, default=None, metavar="PERCENT",
                         help="fail (exit 1) when the Table-2 measure exceeds PERCENT")
     arguments = parser.parse_args()
@@ -111,8 +112,16 @@ def main():
             smooth = shapediameter.vtkSDFBilateralSmooth()
             smooth.SetInputConnection(sdf.GetOutputPort())
             smooth.Update()
-            smoothed.append(smooth.GetOutput())
+            smoothed.append(smooth)
             print("%s: %d faces" % (name, smooth.GetOutput().GetNumberOfCells()), flush=True)
+    if arguments.family:
+        # One normalisation for the family: the widest range of SDFSmoothed over the poses.
+        ranges = [vtk_to_numpy(s.GetOutput().GetFieldData().GetArray("SDFNormalizationRange")) for s in smoothed]
+        shared = (min(r[0] for r in ranges), max(r[1] for r in ranges))
+        for smooth in smoothed:
+            smooth.SetNormalizationRange(*shared)
+            smooth.Update()
+    smoothed = [smooth.GetOutput() for smooth in smoothed]
     model = None
     if arguments.family:
         append = vtkAppendPolyData()

@@ -7,8 +7,10 @@
 #include "vtkAppendPolyData.h"
 #include "vtkCellData.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkLineSource.h"
 #include "vtkNew.h"
+#include "vtkSmartPointer.h"
 #include "vtkPolyData.h"
 #include "vtkSphereSource.h"
 #include "vtkStringArray.h"
@@ -17,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 using shapediameter::testing::MessageRecorder;
@@ -193,14 +196,34 @@ TEST(SDFBilateralSmooth, SmoothingMakesTheFigureMorePoseInvariant)
     }
   }
 
-  auto nsdf = [](const figure::ArticulatedFigure& shape, int iterations) {
-    vtkNew<vtkShapeDiameterFilter> sdf;
-    sdf->SetInputData(ToPolyData(shape.Points, shape.Triangles));
-    vtkNew<vtkSDFBilateralSmooth> smooth;
-    smooth->SetInputConnection(sdf->GetOutputPort());
-    smooth->SetNumberOfIterations(iterations);
-    smooth->Update();
-    return Values(smooth->GetOutput(), "SDFNormalized");
+  // Both poses are normalised over one range, the family's (the widest of their own ranges):
+  // with each pose's own min and max, a single face's extreme would decide the comparison
+  // (measured with HitRule 0: the smoothed maximum moves 2.8 % between the poses, its p99
+  // 0.04 %, and the mean |delta nsdf| below is then 0.0135 smoothed vs 0.0031 raw).
+  auto nsdfPair = [](const figure::ArticulatedFigure& a, const figure::ArticulatedFigure& b, int iterations) {
+    std::vector<vtkSmartPointer<vtkSDFBilateralSmooth>> smooths;
+    double family[2] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
+    for (const figure::ArticulatedFigure* shape : { &a, &b })
+    {
+      vtkNew<vtkShapeDiameterFilter> sdf;
+      sdf->SetInputData(ToPolyData(shape->Points, shape->Triangles));
+      auto smooth = vtkSmartPointer<vtkSDFBilateralSmooth>::New();
+      smooth->SetInputConnection(sdf->GetOutputPort());
+      smooth->SetNumberOfIterations(iterations);
+      smooth->Update();
+      vtkDataArray* own = smooth->GetOutput()->GetFieldData()->GetArray("SDFNormalizationRange");
+      family[0] = std::min(family[0], own->GetComponent(0, 0));
+      family[1] = std::max(family[1], own->GetComponent(1, 0));
+      smooths.push_back(smooth);
+    }
+    std::vector<std::vector<double>> values;
+    for (const auto& smooth : smooths)
+    {
+      smooth->SetNormalizationRange(family);
+      smooth->Update();
+      values.push_back(Values(smooth->GetOutput(), "SDFNormalized"));
+    }
+    return values;
   };
   auto meanDifference = [&](const std::vector<double>& a, const std::vector<double>& b) {
     double sum = 0.0;
@@ -215,8 +238,10 @@ TEST(SDFBilateralSmooth, SmoothingMakesTheFigureMorePoseInvariant)
     }
     return sum / static_cast<double>(count);
   };
-  const double before = meanDifference(nsdf(rest, 0), nsdf(posed, 0));
-  const double after = meanDifference(nsdf(rest, 3), nsdf(posed, 3));
+  const auto raw = nsdfPair(rest, posed, 0);
+  const auto smoothed = nsdfPair(rest, posed, 3);
+  const double before = meanDifference(raw[0], raw[1]);
+  const double after = meanDifference(smoothed[0], smoothed[1]);
   std::printf("mean |delta nsdf| away from joints: raw %.5f, smoothed %.5f\n", before, after);
   EXPECT_LT(after, before);
 }

@@ -9,11 +9,14 @@ simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], ns=vars(simple))
 data = os.environ["SHAPEDIAMETER_DATA_DIR"]
 
 
-def chain(name, model=None, k=4):
+def chain(name, model=None, k=4, cluster_model=0):
     reader = simple.OFFReader(FileName=os.path.join(data, name))
     sdf = simple.ShapeDiameter(Input=reader)
     smooth = simple.SDFBilateralSmooth(Input=sdf, SDFArray=["CELLS", "SDF"])
-    properties = dict(Input=smooth, NumberOfClusters=k, NormalizedSDFArray=["CELLS", "SDFNormalized"])
+    # ClusterModel 0 (the paper's EM) fits exactly k clusters; the default (1, density modes)
+    # takes at most k.
+    properties = dict(Input=smooth, NumberOfClusters=k, ClusterModel=cluster_model,
+                      NormalizedSDFArray=["CELLS", "SDFNormalized"])
     if model is not None:
         properties["Model"] = model
     partition = simple.SDFGMMPartition(**properties)
@@ -31,12 +34,17 @@ for name in ("SDF", "SDFSmoothed", "SDFNormalized", "SDFProbabilities", "SDFClus
 k = mesh.GetFieldData().GetArray("SDFClusterCount").GetValue(0)
 if k != 4 or cells.GetArray("SDFProbabilities").GetNumberOfComponents() != 4:
     sys.exit("expected 4 clusters, got %d" % k)
-low, high = cells.GetArray("SDFCluster").GetRange()
-segments = int(cells.GetArray("SDFSegment").GetRange()[1]) + 1
-print("hand: clusters %d..%d, %d segments" % (low, high, segments))
-# Five fingers, a palm and a wrist: a hand has at least six connected parts.
-if high < 1 or segments < 6:
-    sys.exit("implausible partition of the hand: clusters up to %d, %d segments" % (high, segments))
+
+# The defaults (density modes, at most 5 clusters): the hand has two thickness levels, fingers
+# and palm; four fingers and the palm are at least five connected parts (the thumb is about as
+# thick as the palm and may join it).
+defaults = servermanager.Fetch(chain("hand.off", k=5, cluster_model=1))
+count = defaults.GetFieldData().GetArray("SDFClusterCount").GetValue(0)
+low, high = defaults.GetCellData().GetArray("SDFCluster").GetRange()
+segments = int(defaults.GetCellData().GetArray("SDFSegment").GetRange()[1]) + 1
+print("hand, defaults: %d clusters, labels %d..%d, %d segments" % (count, low, high, segments))
+if count < 2 or low != 0 or high != count - 1 or segments < 5:
+    sys.exit("implausible partition of the hand: %d clusters, labels %d..%d, %d segments" % (count, low, high, segments))
 
 # Family: the elephant partitioned with the hand's mixture reuses the same means.
 elephant = servermanager.Fetch(chain("elephant-with-holes.off", model=hand))

@@ -86,6 +86,27 @@ with tempfile.TemporaryDirectory() as out:
         if dims[0] < 512 or covered < 0.02:
             fail("%s looks blank: dims %r, %.4f of pixels covered" % (picture, dims, covered))
 
+    # --family: one normalisation range (the widest of the members' SDFSmoothed) and one model.
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    family_dir = os.path.join(out, "family")
+    members = [os.path.join(source, "Data", name) for name in ("hand.off", "camel.off")]
+    result = run(*members, "--family", "--output-dir", family_dir, "--no-render", "--quiet")
+    if result.returncode != 0:
+        fail("pipeline --family failed", result)
+    fields, smoothed = [], []
+    for name in ("hand", "camel"):
+        reader = vtkXMLPolyDataReader()
+        reader.SetFileName(os.path.join(family_dir, name + ".vtp"))
+        reader.Update()
+        data = reader.GetOutput()
+        fields.append({key: tuple(vtk_to_numpy(data.GetFieldData().GetArray(key)).ravel())
+                       for key in ("SDFNormalizationRange", "SDFGMMMeans")})
+        smoothed.append(vtk_to_numpy(data.GetCellData().GetArray("SDFSmoothed")))
+    widest = (min(v.min() for v in smoothed), max(v.max() for v in smoothed))
+    print("family:", fields, "widest SDFSmoothed range", widest)
+    if fields[0] != fields[1] or fields[0]["SDFNormalizationRange"] != widest:
+        fail("--family did not share one normalisation range and one model: %r, widest %r" % (fields, widest))
+
     # Error contract: one line on stderr, non-zero exit, no traceback.
     for bad in (os.path.join(out, "missing.off"), os.path.join(out, "garbage.off")):
         if bad.endswith("garbage.off"):

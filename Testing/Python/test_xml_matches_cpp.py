@@ -24,10 +24,12 @@ for proxy in ElementTree.parse(xml).getroot().iter("SourceProxy"):
         getter = "Get" + command[3:]
         instance = cls()
         cast = float if prop.tag == "DoubleVectorProperty" else int
-        default = cast(float(prop.get("default_values")))
+        defaults = [cast(float(value)) for value in prop.get("default_values").split()]
         actual = getattr(instance, getter)()
-        if abs(actual - default) > 1e-12 * max(1.0, abs(default)):
-            failures.append("%s.%s: XML default %r, C++ %r" % (proxy.get("name"), name, default, actual))
+        actuals = list(actual) if isinstance(actual, (tuple, list)) else [actual]
+        if len(actuals) != len(defaults) or any(
+                abs(a - d) > 1e-12 * max(1.0, abs(d)) for a, d in zip(actuals, defaults)):
+            failures.append("%s.%s: XML default %r, C++ %r" % (proxy.get("name"), name, defaults, actuals))
         checked += 1
         domain = prop.find("IntRangeDomain")
         if domain is None:
