@@ -121,8 +121,11 @@ PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const std::vector<st
   return coarse;
 }
 
-/// Faces within `rings` rings of a face that has a neighbour with another label.
-std::vector<std::uint8_t> BoundaryBand(const Adjacency& adjacency, const std::vector<int>& labels, int rings)
+/// Faces within `rings` rings of a face that has a neighbour with another label, or that lies
+/// in a connected region of at least `minimumRegion` faces whose label is not their most
+/// probable one (a part the coarse solve lost: it has no boundary left to refine from).
+std::vector<std::uint8_t> BoundaryBand(const Adjacency& adjacency, const std::vector<int>& labels,
+  const std::vector<int>& mostProbable, int rings, std::size_t minimumRegion)
 {
   const std::size_t n = labels.size();
   std::vector<std::uint8_t> inBand(n, 0);
@@ -136,6 +139,43 @@ std::vector<std::uint8_t> BoundaryBand(const Adjacency& adjacency, const std::ve
         inBand[f] = 1;
         frontier.push_back(f);
         break;
+      }
+    }
+  }
+  // Regions of faces off their most probable label, connected through faces with the same
+  // most probable label; large ones join the band.
+  std::vector<std::uint8_t> visited(n, 0);
+  std::vector<std::size_t> region;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (visited[seed] || labels[seed] == mostProbable[seed])
+    {
+      continue;
+    }
+    region.assign(1, seed);
+    visited[seed] = 1;
+    for (std::size_t i = 0; i < region.size(); ++i)
+    {
+      const std::size_t f = region[i];
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+      {
+        const std::size_t g = adjacency.entries[e].first;
+        if (!visited[g] && labels[g] != mostProbable[g] && mostProbable[g] == mostProbable[seed])
+        {
+          visited[g] = 1;
+          region.push_back(g);
+        }
+      }
+    }
+    if (region.size() >= minimumRegion)
+    {
+      for (const std::size_t f : region)
+      {
+        if (!inBand[f])
+        {
+          inBand[f] = 1;
+          frontier.push_back(f);
+        }
       }
     }
   }
@@ -175,7 +215,7 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   const AlphaExpansionOptions& options, const ProgressCallback& progress)
 {
   if (multilevel.directBelowFaces < 16 || multilevel.clusterSize < 2 || multilevel.clusterSize > 1024 ||
-    multilevel.bandRings < 1 || multilevel.bandRings > 64)
+    multilevel.bandRings < 1 || multilevel.bandRings > 64 || multilevel.lostRegionFaces < 1)
   {
     throw PartitionEnergyError("multilevel cut: options out of range");
   }
@@ -213,7 +253,8 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   }
 
   // The band at full resolution, the rest fixed.
-  const std::vector<std::uint8_t> inBand = BoundaryBand(adjacency, result.labels, multilevel.bandRings);
+  const std::vector<std::uint8_t> inBand =
+    BoundaryBand(adjacency, result.labels, mostProbable, multilevel.bandRings, multilevel.lostRegionFaces);
   std::vector<std::size_t> bandIndex(energy.faceCount, 0);
   std::vector<std::size_t> bandFaces;
   for (std::size_t f = 0; f < energy.faceCount; ++f)

@@ -104,6 +104,9 @@ TEST(MultilevelCut, SmallProblemsAreThePlainAlphaExpansion)
   bad = MultilevelOptions();
   bad.bandRings = 0;
   EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
+  bad = MultilevelOptions();
+  bad.lostRegionFaces = 0;
+  EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
 }
 
 TEST(MultilevelCut, AbortIsReported)
