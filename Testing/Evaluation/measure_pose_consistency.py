@@ -39,12 +39,9 @@ import shapediameter
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersCore import vtkAppendPolyData
 from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
-from vtkmodules.vtkIOGeometry import vtkOBJReader, vtkSTLReader
-from vtkmodules.vtkIOPLY import vtkPLYReader
-from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
-READERS = {".obj": vtkOBJReader, ".off": shapediameter.vtkOFFReader, ".ply": vtkPLYReader,
-           ".stl": vtkSTLReader, ".vtp": vtkXMLPolyDataReader}
+import chain_settings
+from chain_settings import READERS
 
 
 def read(path, scratch):
@@ -74,10 +71,7 @@ def table2(labelings):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("folder")
-    parser.add_argument("--hit-rule", type=int, default=None, help="vtkShapeDiameterFilter HitRule (default: the filter's)")
-    parser.add_argument("--cluster-model", type=int, default=None, help="vtkSDFGMMPartition ClusterModel (0 EM, 1 modes)")
-    parser.add_argument("--clusters", type=int, default=None, help="NumberOfClusters (default: the filter's)")
-    parser.add_argument("--lambda", dest="smoothness", type=float, default=None, help="Lambda (default: the filter's)")
+    chain_settings.add_arguments(parser)
     parser.add_argument("--family", action="store_true", help="one normalisation range and one model for all poses")
     parser.add_argument("--expect-at-most", type=float, default=None, metavar="PERCENT",
                         help="fail (exit 1) when the Table-2 measure exceeds PERCENT")
@@ -92,22 +86,10 @@ def main():
         sys.exit("%s: fewer than two poses" % arguments.folder)
     columns = {"SDF": [], "SDFSmoothed": [], "SDFNormalized": [], "SDFCluster": [], "Area": []}
 
-    def configured_partition():
-        partition = shapediameter.vtkSDFGMMPartition()
-        if arguments.cluster_model is not None:
-            partition.SetClusterModel(arguments.cluster_model)
-        if arguments.clusters is not None:
-            partition.SetNumberOfClusters(arguments.clusters)
-        if arguments.smoothness is not None:
-            partition.SetLambda(arguments.smoothness)
-        return partition
-
     smoothed = []
     with tempfile.TemporaryDirectory() as scratch:
         for name in names:
-            sdf = shapediameter.vtkShapeDiameterFilter()
-            if arguments.hit_rule is not None:
-                sdf.SetHitRule(arguments.hit_rule)
+            sdf = chain_settings.shape_diameter(arguments)
             sdf.SetInputData(read(os.path.join(arguments.folder, name), scratch))
             smooth = shapediameter.vtkSDFBilateralSmooth()
             smooth.SetInputConnection(sdf.GetOutputPort())
@@ -127,11 +109,11 @@ def main():
         append = vtkAppendPolyData()
         for surface in smoothed:
             append.AddInputData(surface)
-        model = configured_partition()
+        model = chain_settings.partition(arguments)
         model.SetInputConnection(append.GetOutputPort())
         model.Update()
     for surface in smoothed:
-        partition = configured_partition()
+        partition = chain_settings.partition(arguments)
         partition.SetInputData(surface)
         if model is not None:
             partition.SetModelConnection(model.GetOutputPort())

@@ -27,30 +27,19 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersCore import vtkTriangleFilter
 from vtkmodules.vtkFiltersModeling import vtkLinearSubdivisionFilter, vtkLoopSubdivisionFilter
 from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
-from vtkmodules.vtkIOGeometry import vtkOBJReader, vtkSTLReader
-from vtkmodules.vtkIOPLY import vtkPLYReader
-from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
-READERS = {".obj": vtkOBJReader, ".off": shapediameter.vtkOFFReader, ".ply": vtkPLYReader,
-           ".stl": vtkSTLReader, ".vtp": vtkXMLPolyDataReader}
+import chain_settings
+from chain_settings import READERS
 
 
 def partition(source, arguments):
     """Cluster labels and face areas of the chain on `source` (an algorithm)."""
-    sdf = shapediameter.vtkShapeDiameterFilter()
-    if arguments.hit_rule is not None:
-        sdf.SetHitRule(arguments.hit_rule)
+    sdf = chain_settings.shape_diameter(arguments)
     sdf.SetInputConnection(source.GetOutputPort())
     smooth = shapediameter.vtkSDFBilateralSmooth()
     smooth.SetInputConnection(sdf.GetOutputPort())
-    parts = shapediameter.vtkSDFGMMPartition()
+    parts = chain_settings.partition(arguments)
     parts.SetInputConnection(smooth.GetOutputPort())
-    if arguments.cluster_model is not None:
-        parts.SetClusterModel(arguments.cluster_model)
-    if arguments.clusters is not None:
-        parts.SetNumberOfClusters(arguments.clusters)
-    if arguments.smoothness is not None:
-        parts.SetLambda(arguments.smoothness)
     sizes = vtkCellSizeFilter()
     sizes.SetInputConnection(parts.GetOutputPort())
     sizes.Update()
@@ -76,10 +65,7 @@ def large_clusters(labels, area):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("meshes", nargs="+")
-    parser.add_argument("--hit-rule", type=int, default=None, help="vtkShapeDiameterFilter HitRule (default: the filter's)")
-    parser.add_argument("--cluster-model", type=int, default=None, help="vtkSDFGMMPartition ClusterModel")
-    parser.add_argument("--clusters", type=int, default=None, help="NumberOfClusters (default: the filter's)")
-    parser.add_argument("--lambda", dest="smoothness", type=float, default=None, help="Lambda (default: the filter's)")
+    chain_settings.add_arguments(parser)
     parser.add_argument("--expect-at-most", type=float, default=None, metavar="PERCENT",
                         help="fail (exit 1) when a share exceeds PERCENT")
     arguments = parser.parse_args()

@@ -1,0 +1,35 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""What the evaluation scripts share: the mesh readers and the chain settings they expose."""
+import shapediameter
+from vtkmodules.vtkIOGeometry import vtkOBJReader, vtkSTLReader
+from vtkmodules.vtkIOPLY import vtkPLYReader
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+READERS = {".obj": vtkOBJReader, ".off": shapediameter.vtkOFFReader, ".ply": vtkPLYReader,
+           ".stl": vtkSTLReader, ".vtp": vtkXMLPolyDataReader}
+
+
+def add_arguments(parser):
+    """--hit-rule, --cluster-model, --clusters, --lambda; None = the filter's default."""
+    parser.add_argument("--hit-rule", type=int, default=None, help="vtkShapeDiameterFilter HitRule (default: the filter's)")
+    parser.add_argument("--cluster-model", type=int, default=None, help="vtkSDFGMMPartition ClusterModel (0 EM, 1 modes)")
+    parser.add_argument("--clusters", type=int, default=None, help="NumberOfClusters (default: the filter's)")
+    parser.add_argument("--lambda", dest="smoothness", type=float, default=None, help="Lambda (default: the filter's)")
+
+
+def shape_diameter(arguments):
+    sdf = shapediameter.vtkShapeDiameterFilter()
+    if arguments.hit_rule is not None:
+        sdf.SetHitRule(arguments.hit_rule)
+    return sdf
+
+
+def partition(arguments):
+    parts = shapediameter.vtkSDFGMMPartition()
+    if arguments.cluster_model is not None:
+        parts.SetClusterModel(arguments.cluster_model)
+    if arguments.clusters is not None:
+        parts.SetNumberOfClusters(arguments.clusters)
+    if arguments.smoothness is not None:
+        parts.SetLambda(arguments.smoothness)
+    return parts
