@@ -38,8 +38,8 @@
  * things: one normalisation (every member's vtkSDFBilateralSmooth::NormalizationRange set
  * to the widest of the members' `SDFNormalizationRange`) and one model (partition the
  * appended members once and feed that output as Model); the pipeline command's `--family`
- * does both. On the ten elephant poses this changes 2.88 % of the faces between poses
- * against 3.61 % for each pose alone; on the test figure 0.85 % against 0.87 %.
+ * does both. On the ten elephant poses this changes 3.59 % of the faces between poses
+ * against 5.01 % for each pose alone; on the test figure 0.85 % against 0.87 %.
 
  * Parameters (default, range; the ParaView proxy `SDFGMMPartition` mirrors them):
  * - NumberOfClusters k 5, [0, 16]: with ClusterModel 1 the most clusters (the density's
@@ -63,7 +63,7 @@
  *   estimate of bandwidth ModeBandwidth (default 0.02 of the value range, [0.001, 0.5]);
  *   each cluster is the basin between two valleys, modelled by one Gaussian of its weighted
  *   moments. Boundaries then lie where few faces are, so a small pose-dependent shift moves
- *   few faces: on the ten elephant poses 3.61 % of the faces change cluster against 9.13 %
+ *   few faces: on the ten elephant poses 5.01 % of the faces change cluster against 8.76 %
  *   with EM at k = 5 (README, "Consistency"). 0 = the paper's EM fit above: exactly k
  *   clusters, whose boundaries may fall inside a dense part of the histogram. A shape with
  *   fewer thickness levels than k gets fewer clusters with the modes (the hand 2).

@@ -28,6 +28,9 @@
 //      part whose clusters have ragged boundaries costs more on the coarse graph than its
 //      straight fine cut, vanishes there and leaves no boundary to refine from (the camel
 //      linearly subdivided to 78k faces lost a cluster on 16 % of its area; with it 0.5 %).
+//      It also makes the result follow the energy as the plain alpha-expansion does: on the
+//      84k-face elephant poses 5.01 % of the faces change cluster between poses, the plain
+//      cut 4.96 %, the coarse solve without this band 3.61 % (it smoothed more than λ asks).
 //   Graphs with at most directBelowFaces faces go straight to MinimizeByAlphaExpansion, so
 //   small meshes get exactly the plain alpha-expansion.
 //
