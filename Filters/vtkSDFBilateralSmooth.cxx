@@ -91,7 +91,9 @@ int vtkSDFBilateralSmooth::RequestData(
     const std::vector<double> polygonValues(smoothed.Values.begin() + first, smoothed.Values.begin() + last);
     NormalizationOptions normalization;
     normalization.Alpha = this->Alpha;
-    normalization.UseGivenRange = this->NormalizationRange[1] > this->NormalizationRange[0];
+    // max <= min means automatic; anything else, a non-finite bound included, is a given range
+    // (the core rejects a non-finite one).
+    normalization.UseGivenRange = !(this->NormalizationRange[1] <= this->NormalizationRange[0]);
     normalization.RangeMinimum = this->NormalizationRange[0];
     normalization.RangeMaximum = this->NormalizationRange[1];
     const std::vector<double> normalized = NormalizeLogarithmic(polygonValues, normalization);

@@ -31,7 +31,7 @@
  *   that one nsdf means one thickness on every member: set every member's range to the
  *   smallest minimum and the largest maximum of the members' `SDFNormalizationRange` (what
  *   the pipeline command's `--family` does). Values outside a given range map to 0 or 1.
- *   Any range with max <= min means automatic.
+ *   Any range with max <= min means automatic; a NaN or infinite bound is an error.
  * - NumberOfThreads 0 = all cores; the output does not depend on it.
  *
  * Output: the input with all its cells and arrays plus cell arrays `SDFSmoothed` (length

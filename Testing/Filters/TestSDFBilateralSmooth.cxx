@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 using shapediameter::testing::MessageRecorder;
@@ -160,6 +161,53 @@ TEST(SDFBilateralSmooth, BadArraysAreErrorsWithPassThrough)
   const SmoothRun bad = Smooth(nan);
   EXPECT_EQ(bad.Errors, 1);
   EXPECT_EQ(bad.Output->GetCellData()->GetArray("SDFNormalized"), nullptr);
+}
+
+TEST(SDFBilateralSmooth, AGivenNormalizationRangeIsUsedAndReported)
+{
+  // Values 1..2 over the faces; own range [1, 2], reported as field data.
+  vtkSmartPointer<vtkPolyData> mesh =
+    SphereWithField("SDF", [](vtkIdType c) { return 1.0 + static_cast<double>(c % 11) / 10.0; });
+  auto run = [&](double low, double high, int& errors) {
+    vtkNew<vtkSDFBilateralSmooth> filter;
+    vtkNew<MessageRecorder> recorder;
+    recorder->Observe(filter);
+    filter->SetInputData(mesh);
+    filter->SetNumberOfIterations(0);
+    filter->SetNormalizationRange(low, high);
+    filter->Update();
+    errors = recorder->Errors;
+    return vtkSmartPointer<vtkPolyData>(filter->GetOutput());
+  };
+  int errors = -1;
+  vtkSmartPointer<vtkPolyData> own = run(0.0, 0.0, errors);
+  EXPECT_EQ(errors, 0);
+  vtkDataArray* ownRange = own->GetFieldData()->GetArray("SDFNormalizationRange");
+  ASSERT_NE(ownRange, nullptr);
+  EXPECT_EQ(ownRange->GetNumberOfTuples(), 2);
+  EXPECT_EQ(ownRange->GetComponent(0, 0), 1.0);
+  EXPECT_EQ(ownRange->GetComponent(1, 0), 2.0);
+  // A family range [0, 4]: the value 2 maps to the fraction 1/2, not to 1.
+  vtkSmartPointer<vtkPolyData> family = run(0.0, 4.0, errors);
+  EXPECT_EQ(errors, 0);
+  EXPECT_EQ(family->GetFieldData()->GetArray("SDFNormalizationRange")->GetComponent(1, 0), 4.0);
+  const std::vector<double> sdf = Values(family, "SDF");
+  const std::vector<double> nsdf = Values(family, "SDFNormalized");
+  for (std::size_t f = 0; f < sdf.size(); ++f)
+  {
+    ASSERT_NEAR(nsdf[f], std::log1p(4.0 * sdf[f] / 4.0) / std::log1p(4.0), 1e-12);
+  }
+  // max <= min: automatic, the same as the default.
+  EXPECT_EQ(Values(run(3.0, 1.0, errors), "SDFNormalized"), Values(own, "SDFNormalized"));
+  EXPECT_EQ(errors, 0);
+  // A NaN or infinite bound: an error and a pass-through copy.
+  for (const auto& [low, high] : { std::make_pair(std::nan(""), 1.0), std::make_pair(0.0, std::numeric_limits<double>::infinity()) })
+  {
+    vtkSmartPointer<vtkPolyData> bad = run(low, high, errors);
+    EXPECT_EQ(errors, 1);
+    EXPECT_EQ(bad->GetCellData()->GetArray("SDFNormalized"), nullptr);
+    EXPECT_EQ(bad->GetNumberOfCells(), mesh->GetNumberOfCells());
+  }
 }
 
 TEST(SDFBilateralSmooth, ThreadCountDoesNotChangeTheResult)
