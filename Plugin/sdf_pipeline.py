@@ -273,23 +273,39 @@ class Pipeline:
         skeleton.UpdatePipeline()
         return skeleton
 
-    def render_histogram(self, partition, png, clusters):
+    def render_histogram(self, partition, png, means, weights):
         """The paper's Fig. 7: histogram of SDFNormalized with the fitted Gaussians, in
-        ParaView's own line chart (output port 1 of the partition)."""
+        ParaView's own line chart (output port 1 of the partition). Component c is drawn in
+        the colour of cluster c in the parts picture (the plugin's SDFCluster colour map) and
+        labelled like its legend, with its mean and weight; the x axis is nsdf's [0, 1]."""
         simple = self.simple
+        clusters = len(means)
         view = simple.CreateView("XYChartView")
         view.ViewSize = [1024, 600]
-        view.ChartTitle = "GMM fit of the normalised SDF (k = %d)" % clusters
-        view.LeftAxisTitle = "density"
+        view.ChartTitle = "Clusters of the normalised SDF (k = %d)" % clusters
+        view.LeftAxisTitle = "density (faces)"
         view.BottomAxisTitle = "SDFNormalized"
+        view.BottomAxisUseCustomRange = 1
+        view.BottomAxisRangeMinimum = 0.0
+        view.BottomAxisRangeMaximum = 1.0
         chart = simple.Show(simple.OutputPort(partition, 1), view)
         chart.UseIndexForXAxis = 0
         chart.XArrayName = "BinCenter"
-        curves = ["Density", "Mixture"] + ["Component%d" % c for c in range(clusters)]
+        components = ["Component%d" % c for c in range(clusters)]
+        curves = ["Density", "Mixture"] + components
         chart.SeriesVisibility = curves
-        chart.SeriesLabel = sum([[c, "histogram" if c == "Density" else c] for c in curves], [])
-        chart.SeriesLineThickness = sum([[c, "3" if c in ("Density", "Mixture") else "2"] for c in curves], [])
-        chart.SeriesColor = ["Density", "0", "0", "0", "Mixture", "0.55", "0.55", "0.55"]
+        labels = {"Density": "histogram", "Mixture": "mixture"}
+        labels.update({name: "cluster %d (mean %.2f, weight %.2f)" % (c, means[c], weights[c])
+                       for c, name in enumerate(components)})
+        chart.SeriesLabel = sum([[c, labels[c]] for c in curves], [])
+        chart.SeriesLineThickness = sum([[c, "4" if c == "Density" else "3"] for c in curves], [])
+        chart.SeriesLineStyle = sum([[c, "2" if c == "Mixture" else "1"] for c in curves], [])
+        colours = list(simple.GetColorTransferFunction("SDFCluster").IndexedColors)
+        series_colours = ["Density", "0.72", "0.72", "0.72", "Mixture", "0", "0", "0"]
+        for c, name in enumerate(components):
+            rgb = colours[3 * c:3 * c + 3] if len(colours) >= 3 * (c + 1) else [0.0, 0.0, 0.0]
+            series_colours += [name] + ["%.6f" % value for value in rgb]
+        chart.SeriesColor = series_colours
         simple.SaveScreenshot(png, view, ImageResolution=[1024, 600])
         simple.Delete(chart)
         simple.Delete(view)
@@ -392,10 +408,13 @@ class Pipeline:
                 sdf = "SDF" if cells.GetArray("SDF") is not None else None
                 self.render(result, os.path.join(out, name + "_sdf.png"), sdf)
                 if cells.GetArray("SDFCluster") is not None:
-                    clusters = int(data.GetFieldData().GetArray("SDFClusterCount").GetValue(0))
+                    field = data.GetFieldData()
+                    means, weights = ([field.GetArray(key).GetValue(c) for c in
+                                       range(int(field.GetArray("SDFClusterCount").GetValue(0)))]
+                                      for key in ("SDFGMMMeans", "SDFGMMWeights"))
                     self.render_parts(result, os.path.join(out, name + "_parts.png"))
                     if arguments.plot:
-                        self.render_histogram(result, os.path.join(out, name + "_gmm.png"), clusters)
+                        self.render_histogram(result, os.path.join(out, name + "_gmm.png"), means, weights)
                 if skeleton is not None:
                     self.render_skeleton(result, skeleton, os.path.join(out, name + "_skeleton.png"))
             self.timed(timings, "render", render)

@@ -86,8 +86,29 @@ with tempfile.TemporaryDirectory() as out:
         if dims[0] < 512 or covered < 0.02:
             fail("%s looks blank: dims %r, %.4f of pixels covered" % (picture, dims, covered))
 
-    # --family: one normalisation range (the widest of the members' SDFSmoothed) and one model.
+    # The GMM chart draws cluster c's Gaussian in the colour cluster c has in the parts picture
+    # (the plugin's SDFCluster colour map): every fitted cluster's colour covers pixels in both.
+    from paraview import simple
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], ns=vars(simple))
+    colours = list(simple.GetColorTransferFunction("SDFCluster").IndexedColors)
+    camel = vtkXMLPolyDataReader()
+    camel.SetFileName(os.path.join(out, "camel.vtp"))
+    camel.Update()
+    clusters = int(camel.GetOutput().GetFieldData().GetArray("SDFClusterCount").GetValue(0))
+    for picture in ("camel_gmm.png", "camel_parts.png"):
+        png = vtkPNGReader()
+        png.SetFileName(os.path.join(out, picture))
+        png.Update()
+        pixels = vtk_to_numpy(png.GetOutput().GetPointData().GetScalars())[:, :3].astype(int)
+        for c in range(clusters):
+            rgb = [round(255 * value) for value in colours[3 * c:3 * c + 3]]
+            count = int((abs(pixels - rgb).max(axis=1) <= 12).sum())
+            print("%s: cluster %d colour %r on %d pixels" % (picture, c, rgb, count))
+            if count < 300:
+                fail("%s: cluster %d's colour %r covers only %d pixels" % (picture, c, rgb, count))
+
+    # --family: one normalisation range (the widest of the members' SDFSmoothed) and one model.
     family_dir = os.path.join(out, "family")
     members = [os.path.join(source, "Data", name) for name in ("hand.off", "camel.off")]
     result = run(*members, "--family", "--output-dir", family_dir, "--no-render", "--quiet")
