@@ -51,8 +51,12 @@ def parse_arguments(argv):
                         help="graph-cut smoothness weight (default: the filter's, 0.03)")
     parser.add_argument("--samples", type=int, default=10000, help="skeleton surface samples")
     parser.add_argument("--family", action="store_true",
-                        help="fit one GMM on all meshes together and partition each with it")
+                        help="the meshes are one family: one normalisation range and one model "
+                             "fitted on all of them, each partitioned with it")
     parser.add_argument("--plot", action="store_true", help="also write <name>_gmm.png")
+    parser.add_argument("--skeleton-colors", choices=("bones", "pieces"), default="bones",
+                        help="<name>_skeleton.png: 'bones' = each bone and the faces it serves in one "
+                             "colour (default); 'pieces' = fitted segments vs connecting paths")
     parser.add_argument("--no-render", action="store_true", help="skip the PNG renderings")
     parser.add_argument("--quiet", action="store_true", help="print nothing but errors")
     arguments = parser.parse_args(argv)
@@ -311,27 +315,45 @@ class Pipeline:
         simple.Delete(view)
 
     def render_skeleton(self, surface, skeleton, png):
-        """The skeleton as tubes over a translucent surface."""
+        """The skeleton as tubes over a translucent surface. By bone (default): each bone in a
+        categorical colour and every face tinted with the colour of its bone (SkeletonBoneId),
+        so one sees which bone serves which part; "--skeleton-colors pieces": fitted segments
+        vs connecting paths over a grey surface."""
         simple = self.simple
+        by_bone = self.arguments.skeleton_colors == "bones"
         view = self.new_view()
-        shell = simple.Show(surface, view)
-        simple.ColorBy(shell, None)
-        shell.DiffuseColor = [0.75, 0.75, 0.8]
-        shell.Opacity = 0.25
+        shell = simple.Show(simple.OutputPort(skeleton, 1) if by_bone else surface, view)
+        shell.Opacity = 0.3 if by_bone else 0.25
         tubes = simple.Tube(Input=simple.OutputPort(skeleton, 0))
         bounds = surface.GetDataInformation().GetBounds()
         diagonal = sum((bounds[2 * i + 1] - bounds[2 * i]) ** 2 for i in range(3)) ** 0.5
         tubes.Radius = 0.004 * diagonal
         tubes.NumberofSides = 12
         bones = simple.Show(tubes, view)
-        simple.ColorBy(bones, ("CELLS", "IsConnection"))
-        lut = simple.GetColorTransferFunction("IsConnection")
-        lut.InterpretValuesAsCategories = 1
-        lut.Annotations = ["0", "fitted segment", "1", "connection"]
-        lut.IndexedColors = [0.85, 0.1, 0.1, 0.1, 0.3, 0.9]
+        if by_bone:
+            # The parts' 16 categorical colours (the plugin's SDFCluster map), cycled over bones.
+            palette = list(simple.GetColorTransferFunction("SDFCluster").IndexedColors)[:48]
+            count = int(tubes.CellData["BoneId"].GetRange(0)[1]) + 1
+            for display, array in ((bones, "BoneId"), (shell, "SkeletonBoneId")):
+                simple.ColorBy(display, ("CELLS", array))
+                lut = simple.GetColorTransferFunction(array)
+                lut.InterpretValuesAsCategories = 1
+                lut.Annotations = sum([[str(b), "bone %d" % b] for b in range(count)], [])
+                lut.IndexedColors = sum([palette[3 * (b % 16):3 * (b % 16) + 3] for b in range(count)], [])
+            shell.Ambient = 0.6
+            shell.Diffuse = 0.4
+            legend = simple.GetColorTransferFunction("BoneId")
+        else:
+            simple.ColorBy(shell, None)
+            shell.DiffuseColor = [0.75, 0.75, 0.8]
+            simple.ColorBy(bones, ("CELLS", "IsConnection"))
+            legend = simple.GetColorTransferFunction("IsConnection")
+            legend.InterpretValuesAsCategories = 1
+            legend.Annotations = ["0", "fitted segment", "1", "connection"]
+            legend.IndexedColors = [0.85, 0.1, 0.1, 0.1, 0.3, 0.9]
         bones.SetScalarBarVisibility(view, True)
-        bar = simple.GetScalarBar(lut, view)
-        bar.Title = "Skeleton"
+        bar = simple.GetScalarBar(legend, view)
+        bar.Title = "BoneId" if by_bone else "Skeleton"
         bar.TitleColor = [0, 0, 0]
         bar.LabelColor = [0, 0, 0]
         self.frame_camera(view, surface)
