@@ -12,9 +12,16 @@
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <exception>
+#include <future>
+#include <memory>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 namespace shapediameter::adapter
 {
@@ -205,27 +212,105 @@ std::string ReadNamedCellScalars(vtkPolyData* input, std::vector<double>& values
   return {};
 }
 
+namespace
+{
+/// What a worker thread reported last for one algorithm, waiting for its creating thread to
+/// pass it on (VTK's progress observers, Python's included, are not thread-safe).
+struct PendingProgress
+{
+  vtkAlgorithm* Algorithm = nullptr;
+  double Begin = 0.0;
+  double End = 1.0;
+  std::atomic<double> Latest{ -1.0 };
+  double Reported = -1.0;
+
+  void Report()
+  {
+    const double fraction = this->Latest.load(std::memory_order_relaxed);
+    if (fraction > this->Reported)
+    {
+      this->Reported = fraction;
+      this->Algorithm->UpdateProgress(this->Begin + (this->End - this->Begin) * fraction);
+    }
+  }
+};
+
+/// The progress callbacks created on this thread and still alive.
+thread_local std::vector<std::weak_ptr<PendingProgress>> PendingOnThisThread;
+
+void ReportPendingProgress()
+{
+  auto& pending = PendingOnThisThread;
+  pending.erase(std::remove_if(pending.begin(), pending.end(),
+                  [](const std::weak_ptr<PendingProgress>& entry) { return entry.expired(); }),
+    pending.end());
+  for (const auto& entry : pending)
+  {
+    if (const auto state = entry.lock())
+    {
+      state->Report();
+    }
+  }
+}
+} // namespace
+
 ParallelFor MakeSMPParallelFor(int threads)
 {
   return [threads](std::size_t count, const RangeBody& body) {
-    vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads, "STDThread", false }, [&]() {
-      vtkSMPTools::For(0, static_cast<vtkIdType>(count), [&](vtkIdType begin, vtkIdType end) {
-        body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end));
-      });
+    // The loop runs on a helper thread while this thread passes the workers' progress on to
+    // the algorithm every 50 ms: vtkSMPTools' STDThread backend does the work in its pool,
+    // so this thread would otherwise report nothing until the loop ends.
+    std::exception_ptr failure;
+    std::promise<void> done;
+    std::future<void> finished = done.get_future();
+    std::thread loop([&]() {
+      try
+      {
+        vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads, "STDThread", false }, [&]() {
+          vtkSMPTools::For(0, static_cast<vtkIdType>(count), [&](vtkIdType begin, vtkIdType end) {
+            body(static_cast<std::size_t>(begin), static_cast<std::size_t>(end));
+          });
+        });
+      }
+      catch (...)
+      {
+        failure = std::current_exception();
+      }
+      done.set_value();
     });
+    while (finished.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready)
+    {
+      ReportPendingProgress();
+    }
+    loop.join();
+    ReportPendingProgress();
+    if (failure)
+    {
+      std::rethrow_exception(failure);
+    }
   };
 }
 
 ProgressCallback MakeProgress(vtkAlgorithm* algorithm, double begin, double end)
 {
-  // Progress events reach observers (and Python) that are not thread-safe: only the
-  // thread that created the callback reports progress; every thread may read the abort flag.
-  return [algorithm, begin, end, owner = std::this_thread::get_id()](double fraction) {
+  // Any thread may call it: the fraction is stored, and the creating thread reports it (here,
+  // or while it waits for a parallel loop). Every thread may read the abort flag.
+  auto state = std::make_shared<PendingProgress>();
+  state->Algorithm = algorithm;
+  state->Begin = begin;
+  state->End = end;
+  PendingOnThisThread.push_back(state);
+  return [state, owner = std::this_thread::get_id()](double fraction) {
+    const double clamped = std::min(1.0, std::max(0.0, fraction));
+    double previous = state->Latest.load(std::memory_order_relaxed);
+    while (clamped > previous && !state->Latest.compare_exchange_weak(previous, clamped, std::memory_order_relaxed))
+    {
+    }
     if (std::this_thread::get_id() == owner)
     {
-      algorithm->UpdateProgress(begin + (end - begin) * std::min(1.0, std::max(0.0, fraction)));
+      state->Report();
     }
-    return !algorithm->GetAbortExecute();
+    return !state->Algorithm->GetAbortExecute();
   };
 }
 

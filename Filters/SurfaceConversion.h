@@ -92,12 +92,15 @@ vtkSmartPointer<ArrayT> MakeArray(const char* name, const std::vector<ValueT>& v
 }
 
 /// A core ParallelFor running on vtkSMPTools' STDThread backend with `threads`
-/// workers (0 = all cores), whatever backend the application selected globally.
+/// workers (0 = all cores), whatever backend the application selected globally. While the
+/// loop runs (on a helper thread), the calling thread reports the progress that workers
+/// gave to callbacks made by MakeProgress on it, every 50 ms.
 ParallelFor MakeSMPParallelFor(int threads);
 
 /// A core ProgressCallback that maps [0, 1] into [begin, end] of the algorithm's
-/// progress (reported from the creating thread only) and returns false once the
-/// algorithm's AbortExecute flag is set.
+/// progress and returns false once the algorithm's AbortExecute flag is set. Any thread may
+/// call it; the progress events are raised on the creating thread only (directly, or from
+/// a MakeSMPParallelFor loop it waits for), never going backwards.
 ProgressCallback MakeProgress(vtkAlgorithm* algorithm, double begin, double end);
 
 } // namespace shapediameter::adapter

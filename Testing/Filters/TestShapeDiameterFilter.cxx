@@ -6,6 +6,7 @@
 #include "vtkAppendPolyData.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCallbackCommand.h"
 #include "vtkCubeSource.h"
 #include "vtkDataArray.h"
 #include "vtkIntArray.h"
@@ -27,6 +28,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 using shapediameter::testing::DataFile;
@@ -314,4 +316,64 @@ TEST(ShapeDiameterFilter, PerPointWritesPointArrays)
   const double faceMean = Mean(Values(Compute(sphere).Output));
   EXPECT_NEAR(Median(sdf), faceMean, 0.02 * faceMean);
   EXPECT_TRUE(AllFinite(sdf));
+}
+
+TEST(ShapeDiameterFilter, ProgressIsSteadyOnTheCallingThreadAndAbortStopsTheLoop)
+{
+  // vtkSMPTools' STDThread pool does the work, so the calling thread must pass the workers'
+  // progress on while it waits (before: one jump from 0.05 to 1 after the whole loop).
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(160);
+  sphere->SetPhiResolution(160);
+  sphere->Update();
+  struct Seen
+  {
+    std::vector<double> Progress;
+    std::vector<std::thread::id> Threads;
+    double AbortAbove = 2.0;
+  };
+  auto run = [&](Seen& seen) {
+    vtkNew<vtkShapeDiameterFilter> filter;
+    filter->SetInputData(sphere->GetOutput());
+    filter->SetNumberOfThreads(2);
+    vtkNew<vtkCallbackCommand> observer;
+    observer->SetClientData(&seen);
+    observer->SetCallback([](vtkObject* caller, unsigned long, void* clientData, void*) {
+      auto* record = static_cast<Seen*>(clientData);
+      auto* algorithm = static_cast<vtkAlgorithm*>(caller);
+      record->Progress.push_back(algorithm->GetProgress());
+      record->Threads.push_back(std::this_thread::get_id());
+      if (algorithm->GetProgress() > record->AbortAbove)
+      {
+        algorithm->SetAbortExecute(1);
+      }
+    });
+    filter->AddObserver(vtkCommand::ProgressEvent, observer);
+    filter->Update();
+    return vtkSmartPointer<vtkPolyData>(filter->GetOutput());
+  };
+  Seen full;
+  vtkSmartPointer<vtkPolyData> output = run(full);
+  ASSERT_NE(output->GetCellData()->GetArray("SDF"), nullptr);
+  EXPECT_TRUE(std::is_sorted(full.Progress.begin(), full.Progress.end()));
+  EXPECT_TRUE(std::all_of(full.Threads.begin(), full.Threads.end(),
+    [](std::thread::id id) { return id == std::this_thread::get_id(); }));
+  const auto inside = std::count_if(
+    full.Progress.begin(), full.Progress.end(), [](double p) { return p > 0.06 && p < 0.94; });
+  std::printf("%zu progress events, %ld inside the ray loop\n", full.Progress.size(), static_cast<long>(inside));
+  EXPECT_GE(inside, 3) << "progress must move while the rays are cast";
+
+  // Abort from the observer as soon as the loop has started: no SDF, the input passed through.
+  Seen aborted;
+  aborted.AbortAbove = 0.06;
+  vtkSmartPointer<vtkPolyData> stopped = run(aborted);
+  EXPECT_EQ(stopped->GetCellData()->GetArray("SDF"), nullptr);
+  EXPECT_EQ(stopped->GetNumberOfCells(), sphere->GetOutput()->GetNumberOfCells());
+  // The pipeline itself reports 1 when RequestData returns; the loop's own values stop early.
+  double lastOfTheLoop = 0.0;
+  for (const double p : aborted.Progress)
+  {
+    lastOfTheLoop = p < 1.0 ? std::max(lastOfTheLoop, p) : lastOfTheLoop;
+  }
+  EXPECT_LT(lastOfTheLoop, 0.9) << "the loop went on after the abort";
 }
