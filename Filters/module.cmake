@@ -3,7 +3,7 @@
 # module directory, see the top-level CMakeLists.txt).
 set(_filters_dir "${CMAKE_CURRENT_LIST_DIR}")
 set(_classes
-  vtkOFFReader
+  vtkSDFOFFReader
   vtkShapeDiameterFilter
   vtkSDFBilateralSmooth
   vtkSDFGMMPartition

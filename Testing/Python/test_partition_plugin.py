@@ -10,7 +10,7 @@ data = os.environ["SHAPEDIAMETER_DATA_DIR"]
 
 
 def chain(name, model=None, k=4):
-    reader = simple.OFFReader(FileName=os.path.join(data, name))
+    reader = simple.SDFOFFReader(FileName=os.path.join(data, name))
     sdf = simple.ShapeDiameter(Input=reader)
     smooth = simple.SDFBilateralSmooth(Input=sdf, SDFArray=["CELLS", "SDF"])
     properties = dict(Input=smooth, NumberOfClusters=k, NormalizedSDFArray=["CELLS", "SDFNormalized"])
