@@ -102,7 +102,10 @@ distributed_seconds = time.perf_counter() - start
 def owners_by_global_id(proxy):
     """{global cell id: [ranks holding it]} and per-rank bounding boxes of the faces, for the
     data of `proxy` as it lies on the ranks."""
-    ids_proxy = simple.ProcessIds(Input=proxy) if hasattr(simple, "ProcessIds") else simple.ProcessIdScalars(Input=proxy)
+    # ProcessIdScalars first: ParaView 5.13 still has it, and its newer ProcessIds writes constant
+    # implicit arrays (PointProcessIds/CellProcessIds) that Fetch's append of the ranks' pieces
+    # drops under MPI (measured: 2 ranks, no array left).
+    ids_proxy = simple.ProcessIdScalars(Input=proxy) if hasattr(simple, "ProcessIdScalars") else simple.ProcessIds(Input=proxy)
     data = servermanager.Fetch(ids_proxy)
     # ParaView 5.11's ProcessIdScalars marks points only: a cell lies on the rank of its
     # points (the fetched pieces are appended, each with its own points).
