@@ -4,7 +4,7 @@
 // the skeleton are global). The filters therefore run their unchanged serial algorithm ONCE,
 // on process 0, on the whole surface gathered from every process in its original cell and
 // point order, and each process gets back its own cells with the new arrays. With global
-// ids on the input (vtkOFFReader adds them under MPI) results are bit-identical to a serial
+// ids on the input (vtkSDFOFFReader adds them under MPI) results are bit-identical to a serial
 // run whatever the number of processes (Testing/Python/mpi_compare.py checks it).
 //
 // Private to the module: not installed, not wrapped.
@@ -39,7 +39,7 @@ using SerialBody = std::function<int(vtkInformationVector** inputVector, vtkInfo
  * 1. The polydata on input port 0 of every process is sent to process 0 (point-to-point:
  *    vtkCommunicator splits messages above 2 GiB, a gather's MPI counts would overflow).
  * 2. Process 0 rebuilds the whole surface: cells sorted by their global id (the cell
- *    GlobalIds attribute, e.g. `GlobalCellIds` that vtkOFFReader adds in distributed runs;
+ *    GlobalIds attribute, e.g. `GlobalCellIds` that vtkSDFOFFReader adds in distributed runs;
  *    else RedistributeDataSet's `vtkOriginalCellIds`, which are global when one process held
  *    the whole input, accepted when equal ids always mean the same corners; else process
  *    order), a cell present on several processes (BoundaryMode "Assign to all regions")

@@ -3,7 +3,7 @@
 # module directory, see the top-level CMakeLists.txt).
 set(_filters_dir "${CMAKE_CURRENT_LIST_DIR}")
 set(_classes
-  vtkOFFReader
+  vtkSDFOFFReader
   vtkShapeDiameterFilter
   vtkSDFBilateralSmooth
   vtkSDFGMMPartition
@@ -31,4 +31,10 @@ vtk_module_compile_options(ShapeDiameter::Filters PRIVATE -Wall -Wextra)
 if (TARGET VTK::ParallelMPI)
   vtk_module_link(ShapeDiameter::Filters PRIVATE "$<TARGET_FILE:VTK::ParallelMPI>")
   vtk_module_definitions(ShapeDiameter::Filters PRIVATE SHAPEDIAMETER_HAVE_MPI)
+  # ParaView 5.13's vtkMPICommunicator.h includes <mpi.h> (5.11's did not): its directory, from
+  # the MPI that ParaView's config found, privately (not exported to consumers).
+  if (TARGET MPI::MPI_C)
+    vtk_module_include(ShapeDiameter::Filters
+      PRIVATE "$<TARGET_PROPERTY:MPI::MPI_C,INTERFACE_INCLUDE_DIRECTORIES>")
+  endif ()
 endif ()

@@ -155,7 +155,7 @@ class Pipeline:
     def read(self, path):
         simple = self.simple
         if path.lower().endswith(".off"):
-            source = simple.OFFReader(FileName=path)
+            source = simple.SDFOFFReader(FileName=path)
         else:
             source = simple.OpenDataFile(path)
             if source is None:

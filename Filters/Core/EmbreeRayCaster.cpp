@@ -1,7 +1,18 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "EmbreeRayCaster.h"
 
+// Embree 3 (Debian 12) and Embree 4 (Debian 13) from the same source: CMake sets
+// SHAPEDIAMETER_EMBREE_MAJOR on the embree target to the major version it found; the API
+// differences are the RTC_VERSION_MAJOR branches below (header path, RTCIntersectContext vs
+// RTCRayQueryContext + RTCIntersectArguments in rtcIntersect1).
+#if SHAPEDIAMETER_EMBREE_MAJOR >= 4
+#include <embree4/rtcore.h>
+#else
 #include <embree3/rtcore.h>
+#endif
+#if RTC_VERSION_MAJOR != SHAPEDIAMETER_EMBREE_MAJOR
+#error "Embree header and the Embree package CMake found differ in major version"
+#endif
 
 #include <algorithm>
 #include <string>
@@ -13,11 +24,18 @@ namespace
 {
 using raycasterdetail::TrianglePlane;
 
-/// Embree passes our context back to the filter: RTCIntersectContext must stay the first
-/// member so that the pointer Embree gives us is the address of this struct.
+#if RTC_VERSION_MAJOR >= 4
+using RayContext = RTCRayQueryContext;
+#else
+using RayContext = RTCIntersectContext;
+#endif
+
+/// Embree passes our context back to the filter: the Embree context (RTCIntersectContext in
+/// Embree 3, RTCRayQueryContext in Embree 4) must stay the first member so that the pointer
+/// Embree gives us is the address of this struct.
 struct FilterContext
 {
-  RTCIntersectContext Context;
+  RayContext Context;
   const TrianglePlane* Planes;
   double OriginNormal[3]; // unit
   unsigned int SourceTriangle;
@@ -237,7 +255,14 @@ void EmbreeRayCaster::CastCone(const RayOrigin& origin, const double* directions
     std::fill(outDistances, outDistances + count, infinity);
     return;
   }
+#if RTC_VERSION_MAJOR >= 4
+  rtcInitRayQueryContext(&filter.Context);
+  RTCIntersectArguments arguments;
+  rtcInitIntersectArguments(&arguments);
+  arguments.context = &filter.Context; // the geometry's filter (RejectInvalidHits) receives it
+#else
   rtcInitIntersectContext(&filter.Context);
+#endif
   filter.SkipSameFacing = origin.Rule == HitRule::SkipSameFacing;
   filter.Planes = impl.Planes.data();
   filter.SourceTriangle =
@@ -281,7 +306,11 @@ void EmbreeRayCaster::CastCone(const RayOrigin& origin, const double* directions
       rayHit.ray.flags = 0;
       rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
       rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+#if RTC_VERSION_MAJOR >= 4
+      rtcIntersect1(impl.Scene, &rayHit, &arguments);
+#else
       rtcIntersect1(impl.Scene, &filter.Context, &rayHit);
+#endif
       if (rayHit.hit.geomID != RTC_INVALID_GEOMETRY_ID)
       {
         hitTriangles[i - blockBegin] = rayHit.hit.primID;

@@ -13,7 +13,7 @@
 //
 // Benchmarks (every one runs REPEATS iterations and reports min_ms and median_ms counters;
 // on a shared machine the minimum is the most faithful estimate, other processes only add):
-//   Read          vtkOFFReader.
+//   Read          vtkSDFOFFReader.
 //   SDF, RawEmbree, Smooth, Partition, Skeleton   one stage alone, on the cached output of
 //                 the previous stage (the filter re-executes every iteration).
 //   Paired        per iteration: raw Embree (BVH build + cast), the SDF filter and the
@@ -55,7 +55,7 @@
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkNew.h"
-#include "vtkOFFReader.h"
+#include "vtkSDFOFFReader.h"
 #include "vtkPolyData.h"
 #include "vtkSDFBilateralSmooth.h"
 #include "vtkSDFGMMPartition.h"
@@ -178,13 +178,13 @@ void RequireCellArray(vtkPolyData* data, const char* name, const char* stage)
 
 vtkSmartPointer<vtkPolyData> ReadMesh(const std::string& path)
 {
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(path.c_str());
   reader->Update();
   vtkSmartPointer<vtkPolyData> mesh = reader->GetOutput();
   if (mesh->GetNumberOfPolys() == 0)
   {
-    throw std::runtime_error("vtkOFFReader read no polygon from " + path);
+    throw std::runtime_error("vtkSDFOFFReader read no polygon from " + path);
   }
   return mesh;
 }
@@ -399,12 +399,12 @@ void Guarded(benchmark::State& state, const std::function<void()>& body)
 void BM_Read(benchmark::State& state, const std::string& path)
 {
   Guarded(state, [&] {
-    vtkNew<vtkOFFReader> reader;
+    vtkNew<vtkSDFOFFReader> reader;
     reader->SetFileName(path.c_str());
     TimeFilter(state, reader, [&] {
       if (reader->GetOutput()->GetNumberOfPolys() == 0)
       {
-        throw std::runtime_error("vtkOFFReader read no polygon from " + path);
+        throw std::runtime_error("vtkSDFOFFReader read no polygon from " + path);
       }
     });
     state.counters["faces"] = static_cast<double>(reader->GetOutput()->GetNumberOfPolys());

@@ -15,7 +15,11 @@ namespace
 
 struct RawContext
 {
+#if RTC_VERSION_MAJOR >= 4
+  RTCRayQueryContext Context; // first member: Embree hands this pointer to the filter
+#else
   RTCIntersectContext Context; // first member: Embree hands this pointer to the filter
+#endif
   float Normal[3];
   unsigned int Source;
 };
@@ -134,13 +138,22 @@ double CastRaw(const RawScene& scene, const RawRays& rays, const ParallelFor& pa
   parallelFor(faces, [&](std::size_t begin, std::size_t end) {
     RawContext context;
     RTCRayHit rayHit;
+#if RTC_VERSION_MAJOR >= 4
+    RTCIntersectArguments arguments;
+    rtcInitIntersectArguments(&arguments);
+    arguments.context = &context.Context;
+#endif
     for (std::size_t f = begin; f < end; ++f)
     {
       if (rays.Skip[f])
       {
         continue;
       }
+#if RTC_VERSION_MAJOR >= 4
+      rtcInitRayQueryContext(&context.Context);
+#else
       rtcInitIntersectContext(&context.Context);
+#endif
       context.Normal[0] = rays.Normals[3 * f];
       context.Normal[1] = rays.Normals[3 * f + 1];
       context.Normal[2] = rays.Normals[3 * f + 2];
@@ -163,7 +176,11 @@ double CastRaw(const RawScene& scene, const RawRays& rays, const ParallelFor& pa
         rayHit.ray.flags = 0;
         rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+#if RTC_VERSION_MAJOR >= 4
+        rtcIntersect1(scene.Get(), &rayHit, &arguments);
+#else
         rtcIntersect1(scene.Get(), &context.Context, &rayHit);
+#endif
         if (rayHit.hit.geomID != RTC_INVALID_GEOMETRY_ID)
         {
           sum += rayHit.ray.tfar;

@@ -15,7 +15,12 @@
 #include "MeshTypes.h"
 #include "Parallel.h"
 
+// Embree 3 or 4: CMake sets SHAPEDIAMETER_EMBREE_MAJOR on the embree target (see EmbreeRayCaster.cpp).
+#if SHAPEDIAMETER_EMBREE_MAJOR >= 4
+#include <embree4/rtcore.h>
+#else
 #include <embree3/rtcore.h>
+#endif
 
 #include <cstdint>
 #include <vector>

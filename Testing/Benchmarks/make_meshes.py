@@ -9,7 +9,7 @@ exist are kept (delete them to regenerate). Each file is written under a tempora
 and renamed, so an interrupted run never leaves a truncated mesh behind.
 
 The source is read with the project's wrapped reader (`from shapediameter import
-vtkOFFReader`, needs PYTHONPATH=<build>/lib/python3.11/site-packages) when it is
+vtkSDFOFFReader`, needs PYTHONPATH=<build>/lib/python3.11/site-packages) when it is
 importable, else with a small numpy parser for triangle-only OFF files. Subdivision is
 vtkLoopSubdivisionFilter, which keeps the winding (outward stays outward).
 """
@@ -65,16 +65,16 @@ def to_polydata(points, triangles):
 
 def read_source(path):
     try:
-        from shapediameter import vtkOFFReader  # noqa: PLC0415 (optional dependency)
+        from shapediameter import vtkSDFOFFReader  # noqa: PLC0415 (optional dependency)
     except ImportError:
         print(f"make_meshes: shapediameter not importable, parsing {path} with numpy")
         return to_polydata(*read_off_numpy(path))
-    reader = vtkOFFReader()
+    reader = vtkSDFOFFReader()
     reader.SetFileName(path)
     reader.Update()
     polydata = reader.GetOutput()
     if polydata.GetNumberOfPolys() == 0:
-        raise RuntimeError(f"vtkOFFReader read no polygon from {path}")
+        raise RuntimeError(f"vtkSDFOFFReader read no polygon from {path}")
     return polydata
 
 

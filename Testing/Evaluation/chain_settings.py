@@ -5,7 +5,7 @@ from vtkmodules.vtkIOGeometry import vtkOBJReader, vtkSTLReader
 from vtkmodules.vtkIOPLY import vtkPLYReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
-READERS = {".obj": vtkOBJReader, ".off": shapediameter.vtkOFFReader, ".ply": vtkPLYReader,
+READERS = {".obj": vtkOBJReader, ".off": shapediameter.vtkSDFOFFReader, ".ply": vtkPLYReader,
            ".stl": vtkSTLReader, ".vtp": vtkXMLPolyDataReader}
 
 

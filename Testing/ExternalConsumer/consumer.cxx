@@ -4,7 +4,7 @@
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkNew.h>
-#include <vtkOFFReader.h>
+#include <vtkSDFOFFReader.h>
 #include <vtkPolyData.h>
 #include <vtkSDFBilateralSmooth.h>
 #include <vtkSDFGMMPartition.h>
@@ -19,7 +19,7 @@ int main(int argc, char* argv[])
     std::cerr << "usage: consumer MESH.off\n";
     return 2;
   }
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(argv[1]);
   vtkNew<vtkShapeDiameterFilter> sdf;
   sdf->SetInputConnection(reader->GetOutputPort());

@@ -9,7 +9,7 @@
 #include "vtkAppendPolyData.h"
 #include "vtkLinearSubdivisionFilter.h"
 #include "vtkLoopSubdivisionFilter.h"
-#include "vtkOFFReader.h"
+#include "vtkSDFOFFReader.h"
 #include "vtkTriangleFilter.h"
 #include "vtkCellData.h"
 #include "vtkDoubleArray.h"
@@ -317,7 +317,7 @@ TEST(SDFGMMPartition, ASubdivisionKeepsTheParts)
   // multilevel cut, which lost a whole cluster of the linear one (16 % of the area) before
   // regions off their most probable label joined its refinement band
   // (Filters/Core/MultilevelCut.h). Measured after: linear 0.50 %, Loop 0.91 % of the faces.
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(shapediameter::testing::DataFile("camel.off").c_str());
   vtkNew<vtkTriangleFilter> triangles;
   triangles->SetInputConnection(reader->GetOutputPort());

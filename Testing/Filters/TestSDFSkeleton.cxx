@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ArticulatedFigure.h"
 #include "FilterTestUtilities.h"
-#include "vtkOFFReader.h"
+#include "vtkSDFOFFReader.h"
 #include "vtkSDFBilateralSmooth.h"
 #include "vtkSDFGMMPartition.h"
 #include "vtkSDFSkeleton.h"
@@ -159,7 +159,7 @@ TEST(SDFSkeleton, FigureBonesFollowTheLimbsInTwoPoses)
 
 TEST(SDFSkeleton, OutputsAreLinkedAndDeterministic)
 {
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(DataFile("hand.off").c_str());
   reader->Update();
   const SkeletonRun one = Skeletonize(reader->GetOutput(), true, 1);
@@ -207,7 +207,7 @@ TEST(SDFSkeleton, TwoComponentsAndOpenMeshesAreDefined)
   EXPECT_GE(spheres.Skeleton->GetNumberOfCells(), 2) << "one skeleton per component";
   EXPECT_TRUE(ArraysFinite(spheres.Skeleton));
 
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(DataFile("elephant-with-holes.off").c_str());
   reader->Update();
   const SkeletonRun open = Skeletonize(reader->GetOutput());

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "FilterTestUtilities.h"
-#include "vtkOFFReader.h"
+#include "vtkSDFOFFReader.h"
 #include "vtkShapeDiameterFilter.h"
 
 #include "vtkAppendPolyData.h"
@@ -156,7 +156,7 @@ TEST(ShapeDiameterFilter, ScalingByFourScalesTheSDF)
 TEST(ShapeDiameterFilter, OneAndTwoThreadsGiveIdenticalOutput)
 {
   vtkSmartPointer<vtkPolyData> camel;
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(DataFile("camel.off").c_str());
   reader->Update();
   const std::vector<double> one = Values(Compute(reader->GetOutput(), 1).Output);
@@ -296,7 +296,7 @@ TEST(ShapeDiameterFilter, BadInputIsAnErrorWithPassThrough)
 
 TEST(ShapeDiameterFilter, OpenMeshWithHolesIsFinite)
 {
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(DataFile("elephant-with-holes.off").c_str());
   reader->Update();
   const FilterRun run = Compute(reader->GetOutput());

@@ -6,7 +6,7 @@
     pvpython Testing/Python/mpi_compare.py MESH.off --connect HOST:PORT   (a pvserver under mpiexec)
 
 Rank 0 runs the script (pvbatch's default, not --symmetric); the other ranks are
-ParaView's satellites. The chain OFFReader [-> RedistributeDataSet -> ExtractSurface] ->
+ParaView's satellites. The chain SDFOFFReader [-> RedistributeDataSet -> ExtractSurface] ->
 ShapeDiameter -> SDFBilateralSmooth -> SDFGMMPartition -> SDFSkeleton runs through the
 plugin's proxies on all ranks, with the surface split across them (checked: every rank
 holds faces) by the reader itself (--split reader, the default: compact spatial pieces,
@@ -73,11 +73,11 @@ if not check(processes >= args.min_processes, f"running on {processes} MPI proce
 if not args.connect:
     simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], ns=vars(simple))
 from shapediameter import (  # noqa: E402  (after the plugin: same library)
-    vtkOFFReader, vtkSDFBilateralSmooth, vtkSDFGMMPartition, vtkSDFSkeleton, vtkShapeDiameterFilter)
+    vtkSDFOFFReader, vtkSDFBilateralSmooth, vtkSDFGMMPartition, vtkSDFSkeleton, vtkShapeDiameterFilter)
 
 # ---- The distributed chain (ParaView proxies, every rank).
 start = time.perf_counter()
-reader = simple.OFFReader(FileName=args.mesh)
+reader = simple.SDFOFFReader(FileName=args.mesh)
 reader.SpatialPieces = 0 if args.split == "reader-file-order" else 1
 if args.split == "redistribute":
     redistributed = simple.RedistributeDataSet(Input=reader)
@@ -102,7 +102,10 @@ distributed_seconds = time.perf_counter() - start
 def owners_by_global_id(proxy):
     """{global cell id: [ranks holding it]} and per-rank bounding boxes of the faces, for the
     data of `proxy` as it lies on the ranks."""
-    ids_proxy = simple.ProcessIds(Input=proxy) if hasattr(simple, "ProcessIds") else simple.ProcessIdScalars(Input=proxy)
+    # ProcessIdScalars first: ParaView 5.13 still has it, and its newer ProcessIds writes constant
+    # implicit arrays (PointProcessIds/CellProcessIds) that Fetch's append of the ranks' pieces
+    # drops under MPI (measured: 2 ranks, no array left).
+    ids_proxy = simple.ProcessIdScalars(Input=proxy) if hasattr(simple, "ProcessIdScalars") else simple.ProcessIds(Input=proxy)
     data = servermanager.Fetch(ids_proxy)
     # ParaView 5.11's ProcessIdScalars marks points only: a cell lies on the rank of its
     # points (the fetched pieces are appended, each with its own points).
@@ -134,7 +137,7 @@ for ranks_of_face in owners.values():
         per_rank[rank] += 1
 # The file's face count, independent of any split (this process alone: one piece); the
 # serial reference chain below starts from this reader.
-serial_reader = vtkOFFReader()
+serial_reader = vtkSDFOFFReader()
 serial_reader.SetFileName(args.mesh)
 serial_reader.Update()
 file_faces = serial_reader.GetOutput().GetNumberOfCells()

@@ -10,7 +10,7 @@ data = os.environ["SHAPEDIAMETER_DATA_DIR"]
 
 
 def chain(name, model=None, k=4, cluster_model=0):
-    reader = simple.OFFReader(FileName=os.path.join(data, name))
+    reader = simple.SDFOFFReader(FileName=os.path.join(data, name))
     sdf = simple.ShapeDiameter(Input=reader)
     smooth = simple.SDFBilateralSmooth(Input=sdf, SDFArray=["CELLS", "SDF"])
     # ClusterModel 0 (the paper's EM) fits exactly k clusters; the default (1, density modes)

@@ -8,11 +8,11 @@ from paraview import simple
 plugin = os.environ["SHAPEDIAMETER_PLUGIN"]
 data = os.environ["SHAPEDIAMETER_DATA_DIR"]
 simple.LoadPlugin(plugin, ns=vars(simple))
-assert hasattr(simple, "OFFReader"), "OFFReader proxy missing after LoadPlugin"
+assert hasattr(simple, "SDFOFFReader"), "SDFOFFReader proxy missing after LoadPlugin"
 
 reader = simple.OpenDataFile(os.path.join(data, "camel.off"))
 assert reader is not None, "OpenDataFile found no reader for .off"
-assert reader.GetXMLName() == "OFFReader", reader.GetXMLName()
+assert reader.GetXMLName() == "SDFOFFReader", reader.GetXMLName()
 reader.UpdatePipeline()
 info = reader.GetDataInformation()
 cells = info.GetNumberOfCells()

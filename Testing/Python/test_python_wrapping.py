@@ -4,9 +4,9 @@ import math
 import os
 import sys
 
-from shapediameter import vtkOFFReader, vtkSDFBilateralSmooth, vtkSDFGMMPartition, vtkShapeDiameterFilter
+from shapediameter import vtkSDFOFFReader, vtkSDFBilateralSmooth, vtkSDFGMMPartition, vtkShapeDiameterFilter
 
-reader = vtkOFFReader()
+reader = vtkSDFOFFReader()
 reader.SetFileName(os.path.join(os.environ["SHAPEDIAMETER_DATA_DIR"], "hand.off"))
 sdf = vtkShapeDiameterFilter()
 sdf.SetInputConnection(reader.GetOutputPort())

@@ -7,7 +7,7 @@ import sys
 from paraview import simple, servermanager
 
 simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], ns=vars(simple))
-reader = simple.OFFReader(FileName=os.path.join(os.environ["SHAPEDIAMETER_DATA_DIR"], "hand.off"))
+reader = simple.SDFOFFReader(FileName=os.path.join(os.environ["SHAPEDIAMETER_DATA_DIR"], "hand.off"))
 sdf = simple.ShapeDiameter(Input=reader)
 assert sdf.NumberOfRays == 30 and abs(sdf.ConeAngle - 120) < 1e-12 and sdf.AutoOrient == 1
 sdf.UpdatePipeline()

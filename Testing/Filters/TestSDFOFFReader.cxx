@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "FilterTestUtilities.h"
-#include "vtkOFFReader.h"
+#include "vtkSDFOFFReader.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -28,9 +28,9 @@ std::string WriteTemporary(const std::string& name, const std::string& text)
 }
 } // namespace
 
-TEST(OFFReader, ReadsBundledCamel)
+TEST(SDFOFFReader, ReadsBundledCamel)
 {
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(DataFile("camel.off").c_str());
   reader->Update();
   vtkPolyData* mesh = reader->GetOutput();
@@ -39,13 +39,13 @@ TEST(OFFReader, ReadsBundledCamel)
   EXPECT_EQ(mesh->GetPolys()->GetMaxCellSize(), 3);
 }
 
-TEST(OFFReader, KeepsNGonsAndColours)
+TEST(SDFOFFReader, KeepsNGonsAndColours)
 {
   const std::string path = WriteTemporary("quad_colours.off",
     "COFF\n# a unit square and a triangle\n5 2 0\n"
     "0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n1 1 0 0 0 255 255\n0 1 0 10 20 30 255\n"
     "0.5 0.5 1 1 1 1 255\n\n4 0 1 2 3 200 100 50\n3 0 1 4\n");
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(path.c_str());
   reader->Update();
   vtkPolyData* mesh = reader->GetOutput();
@@ -61,10 +61,10 @@ TEST(OFFReader, KeepsNGonsAndColours)
   EXPECT_DOUBLE_EQ(mesh->GetPoint(4)[2], 1.0);
 }
 
-TEST(OFFReader, MalformedFileIsAnErrorWithEmptyOutput)
+TEST(SDFOFFReader, MalformedFileIsAnErrorWithEmptyOutput)
 {
   const std::string path = WriteTemporary("bad_index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   vtkNew<MessageRecorder> recorder;
   recorder->Observe(reader);
   reader->SetFileName(path.c_str());
@@ -74,22 +74,22 @@ TEST(OFFReader, MalformedFileIsAnErrorWithEmptyOutput)
   EXPECT_EQ(reader->GetOutput()->GetNumberOfCells(), 0);
 }
 
-TEST(OFFReader, MissingFileIsAnError)
+TEST(SDFOFFReader, MissingFileIsAnError)
 {
-  vtkNew<vtkOFFReader> reader;
+  vtkNew<vtkSDFOFFReader> reader;
   vtkNew<MessageRecorder> recorder;
   recorder->Observe(reader);
   reader->SetFileName("/nonexistent/mesh.off");
   reader->Update();
   EXPECT_EQ(recorder->Errors, 1);
   EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 0);
-  EXPECT_EQ(vtkOFFReader::CanReadFile("/nonexistent/mesh.off"), 0);
-  EXPECT_EQ(vtkOFFReader::CanReadFile(DataFile("camel.off").c_str()), 1);
+  EXPECT_EQ(vtkSDFOFFReader::CanReadFile("/nonexistent/mesh.off"), 0);
+  EXPECT_EQ(vtkSDFOFFReader::CanReadFile(DataFile("camel.off").c_str()), 1);
 }
 
-TEST(OFFReader, PiecesShareTheFacesAndCarryGlobalIds)
+TEST(SDFOFFReader, PiecesShareTheFacesAndCarryGlobalIds)
 {
-  vtkNew<vtkOFFReader> serial;
+  vtkNew<vtkSDFOFFReader> serial;
   serial->SetFileName(DataFile("camel.off").c_str());
   serial->Update();
   vtkPolyData* whole = serial->GetOutput();
@@ -99,7 +99,7 @@ TEST(OFFReader, PiecesShareTheFacesAndCarryGlobalIds)
   std::vector<int> seen(static_cast<std::size_t>(faces), 0);
   for (int piece = 0; piece < pieces; ++piece)
   {
-    vtkNew<vtkOFFReader> reader;
+    vtkNew<vtkSDFOFFReader> reader;
     reader->SetFileName(DataFile("camel.off").c_str());
     reader->UpdatePiece(piece, pieces, 0);
     vtkPolyData* part = reader->GetOutput();

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "vtkOFFReader.h"
+#include "vtkSDFOFFReader.h"
 
 #include "MeshPieces.h"
 #include "OFFParser.h"
@@ -25,21 +25,21 @@
 #include <utility>
 #include <vector>
 
-vtkStandardNewMacro(vtkOFFReader);
+vtkStandardNewMacro(vtkSDFOFFReader);
 
 namespace
 {
 using shapediameter::adapter::MakeArray;
 } // namespace
 
-vtkOFFReader::vtkOFFReader()
+vtkSDFOFFReader::vtkSDFOFFReader()
 {
   this->SetNumberOfInputPorts(0);
 }
 
-vtkOFFReader::~vtkOFFReader() = default;
+vtkSDFOFFReader::~vtkSDFOFFReader() = default;
 
-int vtkOFFReader::CanReadFile(const char* fileName)
+int vtkSDFOFFReader::CanReadFile(const char* fileName)
 {
   std::ifstream file(fileName ? fileName : "", std::ios::binary);
   std::string keyword;
@@ -55,14 +55,14 @@ int vtkOFFReader::CanReadFile(const char* fileName)
   return 0;
 }
 
-int vtkOFFReader::RequestInformation(
+int vtkSDFOFFReader::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   outputVector->GetInformationObject(0)->Set(CAN_HANDLE_PIECE_REQUEST(), 1);
   return 1;
 }
 
-int vtkOFFReader::RequestData(
+int vtkSDFOFFReader::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
@@ -140,7 +140,7 @@ int vtkOFFReader::RequestData(
   return 1;
 }
 
-void vtkOFFReader::PrintSelf(ostream& os, vtkIndent indent)
+void vtkSDFOFFReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << this->FileName << "\n";

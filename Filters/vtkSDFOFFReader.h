@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 /**
- * @class   vtkOFFReader
+ * @class   vtkSDFOFFReader
  * @brief   Reads Object File Format (OFF) polygon meshes into vtkPolyData.
  *
  * OFF is the format of CGAL's, the Princeton Segmentation Benchmark's and most
- * research meshes; VTK 9.2 and ParaView 5.11 have no reader for it.
+ * research meshes; VTK 9.2 and ParaView 5.11 have no reader for it. VTK >= 9.3 (ParaView
+ * 5.13) has `vtkOFFReader` (IOGeometry, plain ASCII OFF only): this class was called that
+ * too and is renamed so that the two do not collide (one class name in two libraries: the
+ * client-server and Python wrappers and the dynamic linker then pick one of them).
  *
  * Supported: `OFF`, `COFF` (per-vertex colours), `NOFF` (per-vertex normals),
  * `CNOFF`, `STOFF` (texture coordinates are read and dropped), `#` comments,
@@ -40,19 +43,19 @@
  * 12's current libexpat (2.5.0-1+deb12u5) ParaView 5.11's own data exchange loses cells (see
  * the README, "Distributed runs").
  */
-#ifndef vtkOFFReader_h
-#define vtkOFFReader_h
+#ifndef vtkSDFOFFReader_h
+#define vtkSDFOFFReader_h
 
 #include "ShapeDiameterFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
 #include <string>
 
-class SHAPEDIAMETERFILTERS_EXPORT vtkOFFReader : public vtkPolyDataAlgorithm
+class SHAPEDIAMETERFILTERS_EXPORT vtkSDFOFFReader : public vtkPolyDataAlgorithm
 {
 public:
-  static vtkOFFReader* New();
-  vtkTypeMacro(vtkOFFReader, vtkPolyDataAlgorithm);
+  static vtkSDFOFFReader* New();
+  vtkTypeMacro(vtkSDFOFFReader, vtkPolyDataAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -74,15 +77,15 @@ public:
   static int CanReadFile(const char* fileName);
 
 protected:
-  vtkOFFReader();
-  ~vtkOFFReader() override;
+  vtkSDFOFFReader();
+  ~vtkSDFOFFReader() override;
 
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
 private:
-  vtkOFFReader(const vtkOFFReader&) = delete;
-  void operator=(const vtkOFFReader&) = delete;
+  vtkSDFOFFReader(const vtkSDFOFFReader&) = delete;
+  void operator=(const vtkSDFOFFReader&) = delete;
 
   std::string FileName;
   bool SpatialPieces = true;
