@@ -277,6 +277,12 @@ class Pipeline:
         skeleton.UpdatePipeline()
         return skeleton
 
+    def cluster_palette(self):
+        """The RGB triples of the plugin's categorical SDFCluster colour map (16 colours), the
+        colours of the parts picture; other label pictures cycle through them."""
+        colours = list(self.simple.GetColorTransferFunction("SDFCluster").IndexedColors)
+        return [colours[i:i + 3] for i in range(0, len(colours) - 2, 3)]
+
     def render_histogram(self, partition, png, means, weights):
         """The paper's Fig. 7: histogram of SDFNormalized with the fitted Gaussians, in
         ParaView's own line chart (output port 1 of the partition). Component c is drawn in
@@ -304,11 +310,10 @@ class Pipeline:
         chart.SeriesLabel = sum([[c, labels[c]] for c in curves], [])
         chart.SeriesLineThickness = sum([[c, "4" if c == "Density" else "3"] for c in curves], [])
         chart.SeriesLineStyle = sum([[c, "2" if c == "Mixture" else "1"] for c in curves], [])
-        colours = list(simple.GetColorTransferFunction("SDFCluster").IndexedColors)
+        palette = self.cluster_palette()
         series_colours = ["Density", "0.72", "0.72", "0.72", "Mixture", "0", "0", "0"]
         for c, name in enumerate(components):
-            rgb = colours[3 * c:3 * c + 3] if len(colours) >= 3 * (c + 1) else [0.0, 0.0, 0.0]
-            series_colours += [name] + ["%.6f" % value for value in rgb]
+            series_colours += [name] + ["%.6f" % value for value in palette[c % len(palette)]]
         chart.SeriesColor = series_colours
         simple.SaveScreenshot(png, view, ImageResolution=[1024, 600])
         simple.Delete(chart)
@@ -331,15 +336,14 @@ class Pipeline:
         tubes.NumberofSides = 12
         bones = simple.Show(tubes, view)
         if by_bone:
-            # The parts' 16 categorical colours (the plugin's SDFCluster map), cycled over bones.
-            palette = list(simple.GetColorTransferFunction("SDFCluster").IndexedColors)[:48]
+            palette = self.cluster_palette()
             count = int(tubes.CellData["BoneId"].GetRange(0)[1]) + 1
             for display, array in ((bones, "BoneId"), (shell, "SkeletonBoneId")):
                 simple.ColorBy(display, ("CELLS", array))
                 lut = simple.GetColorTransferFunction(array)
                 lut.InterpretValuesAsCategories = 1
                 lut.Annotations = sum([[str(b), "bone %d" % b] for b in range(count)], [])
-                lut.IndexedColors = sum([palette[3 * (b % 16):3 * (b % 16) + 3] for b in range(count)], [])
+                lut.IndexedColors = sum([palette[b % len(palette)] for b in range(count)], [])
             shell.Ambient = 0.6
             shell.Diffuse = 0.4
             legend = simple.GetColorTransferFunction("BoneId")
