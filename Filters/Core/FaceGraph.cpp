@@ -266,53 +266,84 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
     }
   }
 
-  // ---- adjacency lists: count, then fill (both passes derive the same sorted, merged list)
-  auto collectNeighbors = [&](std::size_t f, std::vector<Candidate>& candidates) {
-    candidates.clear();
-    for (std::int64_t h = offsets[f]; h < offsets[f + 1]; ++h)
+  // ---- adjacency lists, one pass: each face's merged list goes to slots sized by an upper
+  // bound (its sides' other incidences), compacted afterwards only when merging left gaps.
+  std::vector<std::int64_t> slotOffsets(faceCount + 1, 0);
+  parallelFor(faceCount, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f)
     {
-      const auto hh = static_cast<std::size_t>(h);
-      if (groupBegin[hh] < 0)
+      std::int64_t bound = 0;
+      for (std::int64_t h = offsets[f]; h < offsets[f + 1]; ++h)
       {
-        continue;
+        const auto hh = static_cast<std::size_t>(h);
+        bound += groupBegin[hh] < 0 ? 0 : groupEnd[hh] - groupBegin[hh] - 1;
       }
-      const std::int64_t a = connectivity[hh];
-      const std::int64_t b = nextVertex(h);
-      const double length = (point(b) - point(a)).norm();
-      for (std::int64_t p = groupBegin[hh]; p < groupEnd[hh]; ++p)
-      {
-        const std::int64_t other =
-          halfedgeFace[static_cast<std::size_t>(entries[static_cast<std::size_t>(p)].Halfedge)];
-        if (other != static_cast<std::int64_t>(f))
-        {
-          candidates.push_back(Candidate{ other, std::min(a, b), std::max(a, b), length });
-        }
-      }
+      slotOffsets[f + 1] = bound;
     }
-    std::sort(candidates.begin(), candidates.end());
-    // Merge repeats of one neighbour (several shared edges); the first, smallest edge stays.
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < candidates.size(); ++i)
-    {
-      if (kept > 0 && candidates[kept - 1].Neighbor == candidates[i].Neighbor)
-      {
-        candidates[kept - 1].Length += candidates[i].Length;
-      }
-      else
-      {
-        candidates[kept++] = candidates[i];
-      }
-    }
-    candidates.resize(kept);
-  };
-
+  });
+  std::partial_sum(slotOffsets.begin(), slotOffsets.end(), slotOffsets.begin());
+  const auto slotCount = static_cast<std::size_t>(slotOffsets.back());
+  graph.Neighbors.resize(slotCount);
+  graph.SharedEdgeLengths.resize(slotCount);
+  graph.CenterDistances.resize(slotCount);
+  graph.NormalAngles.resize(slotCount);
+  graph.Concave.resize(slotCount);
   std::vector<std::int64_t> neighborCounts(faceCount, 0);
   parallelFor(faceCount, [&](std::size_t begin, std::size_t end) {
     std::vector<Candidate> candidates;
     for (std::size_t f = begin; f < end; ++f)
     {
-      collectNeighbors(f, candidates);
-      neighborCounts[f] = static_cast<std::int64_t>(candidates.size());
+      candidates.clear();
+      for (std::int64_t h = offsets[f]; h < offsets[f + 1]; ++h)
+      {
+        const auto hh = static_cast<std::size_t>(h);
+        if (groupBegin[hh] < 0)
+        {
+          continue;
+        }
+        const std::int64_t a = connectivity[hh];
+        const std::int64_t b = nextVertex(h);
+        const double length = (point(b) - point(a)).norm();
+        for (std::int64_t p = groupBegin[hh]; p < groupEnd[hh]; ++p)
+        {
+          const std::int64_t other =
+            halfedgeFace[static_cast<std::size_t>(entries[static_cast<std::size_t>(p)].Halfedge)];
+          if (other != static_cast<std::int64_t>(f))
+          {
+            candidates.push_back(Candidate{ other, std::min(a, b), std::max(a, b), length });
+          }
+        }
+      }
+      std::sort(candidates.begin(), candidates.end());
+      // Merge repeats of one neighbour (several shared edges); the first, smallest edge stays.
+      auto slot = static_cast<std::size_t>(slotOffsets[f]);
+      const std::size_t first = slot;
+      for (const Candidate& candidate : candidates)
+      {
+        if (slot > first && graph.Neighbors[slot - 1] == candidate.Neighbor)
+        {
+          graph.SharedEdgeLengths[slot - 1] += candidate.Length;
+          continue;
+        }
+        // The pair's geometry is symmetric: computed once, by the lower face (below).
+        graph.Neighbors[slot] = candidate.Neighbor;
+        graph.SharedEdgeLengths[slot] = candidate.Length;
+        if (candidate.Neighbor > static_cast<std::int64_t>(f))
+        {
+          const Vec3 centerF = graph.Centers.row(static_cast<Eigen::Index>(f)).transpose();
+          const Vec3 normalF = graph.Normals.row(static_cast<Eigen::Index>(f)).transpose();
+          const Vec3 centerG = graph.Centers.row(static_cast<Eigen::Index>(candidate.Neighbor)).transpose();
+          const Vec3 normalG = graph.Normals.row(static_cast<Eigen::Index>(candidate.Neighbor)).transpose();
+          const Vec3 edgeMidpoint = 0.5 * (point(candidate.EdgeLow) + point(candidate.EdgeHigh));
+          const double fold = normalF.dot(centerG - edgeMidpoint) + normalG.dot(centerF - edgeMidpoint);
+          const double foldTolerance = 1e-12 * ((centerG - edgeMidpoint).norm() + (centerF - edgeMidpoint).norm());
+          graph.CenterDistances[slot] = (centerG - centerF).norm();
+          graph.NormalAngles[slot] = std::atan2(normalF.cross(normalG).norm(), normalF.dot(normalG));
+          graph.Concave[slot] = fold > foldTolerance ? 1 : 0;
+        }
+        ++slot;
+      }
+      neighborCounts[f] = static_cast<std::int64_t>(slot - first);
     }
   });
   graph.Offsets.assign(faceCount + 1, 0);
@@ -320,33 +351,55 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
   {
     graph.Offsets[f + 1] = graph.Offsets[f] + neighborCounts[f];
   }
-  const auto adjacencyCount = static_cast<std::size_t>(graph.Offsets.back());
-  graph.Neighbors.resize(adjacencyCount);
-  graph.SharedEdgeLengths.resize(adjacencyCount);
-  graph.CenterDistances.resize(adjacencyCount);
-  graph.NormalAngles.resize(adjacencyCount);
-  graph.Concave.resize(adjacencyCount);
+  if (graph.Offsets.back() != slotOffsets.back())
+  {
+    // Faces sharing several edges left unused slots: move every list down to its place.
+    for (std::size_t f = 0; f < faceCount; ++f)
+    {
+      const auto from = static_cast<std::size_t>(slotOffsets[f]);
+      const auto to = static_cast<std::size_t>(graph.Offsets[f]);
+      for (std::size_t i = 0; i < static_cast<std::size_t>(neighborCounts[f]) && from != to; ++i)
+      {
+        graph.Neighbors[to + i] = graph.Neighbors[from + i];
+        graph.SharedEdgeLengths[to + i] = graph.SharedEdgeLengths[from + i];
+        graph.CenterDistances[to + i] = graph.CenterDistances[from + i];
+        graph.NormalAngles[to + i] = graph.NormalAngles[from + i];
+        graph.Concave[to + i] = graph.Concave[from + i];
+      }
+    }
+    const auto adjacencyCount = static_cast<std::size_t>(graph.Offsets.back());
+    graph.Neighbors.resize(adjacencyCount);
+    graph.SharedEdgeLengths.resize(adjacencyCount);
+    graph.CenterDistances.resize(adjacencyCount);
+    graph.NormalAngles.resize(adjacencyCount);
+    graph.Concave.resize(adjacencyCount);
+  }
+  // The higher face of each pair copies the lower one's geometry from its mirror entry (the
+  // values are symmetric in f and g, bit for bit: same operands, commuted).
   parallelFor(faceCount, [&](std::size_t begin, std::size_t end) {
-    std::vector<Candidate> candidates;
     for (std::size_t f = begin; f < end; ++f)
     {
-      collectNeighbors(f, candidates);
-      const Vec3 centerF = graph.Centers.row(static_cast<Eigen::Index>(f)).transpose();
-      const Vec3 normalF = graph.Normals.row(static_cast<Eigen::Index>(f)).transpose();
-      auto slot = static_cast<std::size_t>(graph.Offsets[f]);
-      for (const Candidate& candidate : candidates)
+      for (auto e = static_cast<std::size_t>(graph.Offsets[f]); e < static_cast<std::size_t>(graph.Offsets[f + 1]); ++e)
       {
-        const Vec3 centerG = graph.Centers.row(static_cast<Eigen::Index>(candidate.Neighbor)).transpose();
-        const Vec3 normalG = graph.Normals.row(static_cast<Eigen::Index>(candidate.Neighbor)).transpose();
-        const Vec3 edgeMidpoint = 0.5 * (point(candidate.EdgeLow) + point(candidate.EdgeHigh));
-        const double fold = normalF.dot(centerG - edgeMidpoint) + normalG.dot(centerF - edgeMidpoint);
-        const double foldTolerance = 1e-12 * ((centerG - edgeMidpoint).norm() + (centerF - edgeMidpoint).norm());
-        graph.Neighbors[slot] = candidate.Neighbor;
-        graph.SharedEdgeLengths[slot] = candidate.Length;
-        graph.CenterDistances[slot] = (centerG - centerF).norm();
-        graph.NormalAngles[slot] = std::atan2(normalF.cross(normalG).norm(), normalF.dot(normalG));
-        graph.Concave[slot] = fold > foldTolerance ? 1 : 0;
-        ++slot;
+        const auto g = static_cast<std::size_t>(graph.Neighbors[e]);
+        if (g > f)
+        {
+          continue;
+        }
+        auto mirror = static_cast<std::size_t>(graph.Offsets[g]);
+        const auto mirrorEnd = static_cast<std::size_t>(graph.Offsets[g + 1]);
+        while (mirror < mirrorEnd && graph.Neighbors[mirror] != static_cast<std::int64_t>(f))
+        {
+          ++mirror;
+        }
+        if (mirror == mirrorEnd)
+        {
+          throw FaceGraphError("internal error: face " + std::to_string(g) + " does not list its neighbour " +
+            std::to_string(f));
+        }
+        graph.CenterDistances[e] = graph.CenterDistances[mirror];
+        graph.NormalAngles[e] = graph.NormalAngles[mirror];
+        graph.Concave[e] = graph.Concave[mirror];
       }
     }
   });
