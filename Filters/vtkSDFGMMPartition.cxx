@@ -248,9 +248,9 @@ int vtkSDFGMMPartition::RequestData(
     energyOptions.lambda = this->Lambda;
     energyOptions.probabilityEpsilon = this->Epsilon;
     energyOptions.convexityFactor = this->ConvexityFactor;
-    const PartitionEnergy energy = BuildPartitionEnergy(posteriors, view, energyOptions);
+    const PartitionEnergy energy = BuildPartitionEnergy(posteriors, view, energyOptions, parallelFor);
     const AlphaExpansionResult cut =
-      MinimizeMultilevel(energy, MultilevelOptions(), AlphaExpansionOptions(), adapter::MakeProgress(this, 0.2, 0.95));
+      MinimizeMultilevel(energy, MultilevelOptions(), AlphaExpansionOptions(), adapter::MakeProgress(this, 0.2, 0.95), parallelFor);
     if (cut.aborted)
     {
       output->ShallowCopy(input);

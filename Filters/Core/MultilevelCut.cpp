@@ -2,6 +2,8 @@
 #include "MultilevelCut.h"
 
 #include <algorithm>
+#include <memory>
+#include <mutex>
 #include <cstdint>
 #include <tuple>
 #include <utility>
@@ -200,6 +202,119 @@ std::vector<std::uint8_t> BoundaryBand(const Adjacency& adjacency, const std::ve
   return inBand;
 }
 
+/// The connected components of the band (through pairs of band faces), each as its faces in
+/// increasing order; components ordered by their lowest face.
+std::vector<std::vector<std::size_t>> BandComponents(const Adjacency& adjacency, const std::vector<std::uint8_t>& inBand,
+  const std::vector<std::size_t>& bandFaces, const std::vector<std::size_t>& bandIndex)
+{
+  constexpr std::size_t none = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> component(bandFaces.size(), none);
+  std::vector<std::vector<std::size_t>> components;
+  for (std::size_t seed = 0; seed < bandFaces.size(); ++seed)
+  {
+    if (component[seed] != none)
+    {
+      continue;
+    }
+    std::vector<std::size_t> faces(1, bandFaces[seed]);
+    component[seed] = components.size();
+    for (std::size_t i = 0; i < faces.size(); ++i)
+    {
+      const std::size_t f = faces[i];
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+      {
+        const std::size_t g = adjacency.entries[e].first;
+        if (inBand[g] && component[bandIndex[g]] == none)
+        {
+          component[bandIndex[g]] = components.size();
+          faces.push_back(g);
+        }
+      }
+    }
+    std::sort(faces.begin(), faces.end());
+    components.push_back(std::move(faces));
+  }
+  return components;
+}
+
+/// The energy of `faces` (a band component, increasing) with every other face fixed at
+/// `labels`: pairs with fixed faces become data costs.
+PartitionEnergy BandEnergy(const PartitionEnergy& energy, const Adjacency& adjacency, const std::vector<std::uint8_t>& inBand,
+  const std::vector<std::size_t>& faces, const std::vector<int>& labels)
+{
+  const auto k = static_cast<std::size_t>(energy.labelCount);
+  PartitionEnergy part;
+  part.faceCount = faces.size();
+  part.labelCount = energy.labelCount;
+  part.dataCost.resize(faces.size() * k);
+  for (std::size_t b = 0; b < faces.size(); ++b)
+  {
+    const std::size_t f = faces[b];
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      part.dataCost[b * k + l] = energy.dataCost[f * k + l];
+    }
+    for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+    {
+      const auto [g, w] = adjacency.entries[e];
+      if (!inBand[g])
+      {
+        for (std::size_t l = 0; l < k; ++l)
+        {
+          part.dataCost[b * k + l] += static_cast<int>(l) != labels[g] ? w : 0.0;
+        }
+      }
+      else if (g > f)
+      {
+        // Pairs in the order of their lower face, then of the adjacency: the sub-energy does
+        // not depend on how the band is split among threads.
+        part.pairFirst.push_back(static_cast<std::int64_t>(b));
+        part.pairSecond.push_back(static_cast<std::int64_t>(
+          std::lower_bound(faces.begin(), faces.end(), g) - faces.begin()));
+        part.pairWeight.push_back(w);
+      }
+    }
+  }
+  return part;
+}
+
+/// Progress of parts solved concurrently, each weighted by its size; the callback is called
+/// under a lock and never goes backwards. Any part's abort request is seen by all.
+class SharedProgress
+{
+public:
+  SharedProgress(ProgressCallback progress, std::size_t total)
+    : Progress(std::move(progress))
+    , Total(std::max<std::size_t>(1, total))
+  {
+  }
+
+  ProgressCallback ForPart(std::size_t size) const
+  {
+    if (!Progress)
+    {
+      return nullptr;
+    }
+    auto reported = std::make_shared<double>(0.0);
+    return [this, size, reported](double fraction) {
+      const std::lock_guard<std::mutex> lock(Mutex);
+      Done += (fraction - *reported) * static_cast<double>(size);
+      *reported = fraction;
+      Highest = std::max(Highest, std::min(1.0, Done / static_cast<double>(Total)));
+      Continue = Continue && Progress(Highest);
+      return Continue;
+    };
+  }
+
+private:
+  ProgressCallback Progress;
+  std::size_t Total;
+  mutable std::mutex Mutex;
+  mutable double Done = 0.0;
+  mutable double Highest = 0.0;
+  mutable bool Continue = true;
+};
+
 ProgressCallback SubRange(const ProgressCallback& progress, double from, double to)
 {
   if (!progress)
@@ -212,7 +327,7 @@ ProgressCallback SubRange(const ProgressCallback& progress, double from, double 
 } // namespace
 
 AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel,
-  const AlphaExpansionOptions& options, const ProgressCallback& progress)
+  const AlphaExpansionOptions& options, const ProgressCallback& progress, const ParallelFor& parallelFor)
 {
   if (multilevel.directBelowFaces < 16 || multilevel.clusterSize < 2 || multilevel.clusterSize > 1024 ||
     multilevel.bandRings < 1 || multilevel.bandRings > 64 || multilevel.lostRegionFaces < 1)
@@ -235,7 +350,7 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   // Coarse solve, projected onto the faces.
   const PartitionEnergy coarse = CoarseEnergy(energy, cluster, clusterCount);
   const AlphaExpansionResult coarseResult =
-    MinimizeMultilevel(coarse, multilevel, options, SubRange(progress, 0.0, 0.5));
+    MinimizeMultilevel(coarse, multilevel, options, SubRange(progress, 0.0, 0.5), parallelFor);
   AlphaExpansionResult result;
   result.initialEnergy = energy.Evaluate(mostProbable);
   result.labels.resize(energy.faceCount);
@@ -265,53 +380,38 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
       bandFaces.push_back(f);
     }
   }
-  const auto k = static_cast<std::size_t>(energy.labelCount);
-  PartitionEnergy band;
-  band.faceCount = bandFaces.size();
-  band.labelCount = energy.labelCount;
-  band.dataCost.resize(bandFaces.size() * k);
-  std::vector<int> bandLabels(bandFaces.size());
-  for (std::size_t b = 0; b < bandFaces.size(); ++b)
-  {
-    const std::size_t f = bandFaces[b];
-    bandLabels[b] = result.labels[f];
-    for (std::size_t l = 0; l < k; ++l)
+  // The band's connected components are independent problems (everything around them is
+  // fixed): each is solved on its own, in parallel. An expansion move's cut of a union of
+  // components is the union of their cuts (the source side is the set reachable from s), so
+  // this is the joint alpha-expansion up to moves that change nothing or below the tolerance.
+  const std::vector<std::vector<std::size_t>> components = BandComponents(adjacency, inBand, bandFaces, bandIndex);
+  std::vector<AlphaExpansionResult> solved(components.size());
+  const SharedProgress bandProgress(SubRange(progress, 0.5, 1.0), bandFaces.size());
+  parallelFor(components.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c)
     {
-      band.dataCost[b * k + l] = energy.dataCost[f * k + l];
-    }
-    for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
-    {
-      const auto [g, w] = adjacency.entries[e];
-      if (!inBand[g])
+      const std::vector<std::size_t>& faces = components[c];
+      const PartitionEnergy part = BandEnergy(energy, adjacency, inBand, faces, result.labels);
+      std::vector<int> partLabels(faces.size());
+      for (std::size_t i = 0; i < faces.size(); ++i)
       {
-        for (std::size_t l = 0; l < k; ++l)
-        {
-          band.dataCost[b * k + l] += static_cast<int>(l) != result.labels[g] ? w : 0.0;
-        }
+        partLabels[i] = result.labels[faces[i]];
       }
+      solved[c] = MinimizeByAlphaExpansion(part, partLabels, options, bandProgress.ForPart(faces.size()));
     }
-  }
-  for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+  });
+  result.converged = true;
+  for (std::size_t c = 0; c < components.size(); ++c)
   {
-    const auto a = static_cast<std::size_t>(energy.pairFirst[p]);
-    const auto b = static_cast<std::size_t>(energy.pairSecond[p]);
-    if (inBand[a] && inBand[b])
+    for (std::size_t i = 0; i < components[c].size(); ++i)
     {
-      band.pairFirst.push_back(static_cast<std::int64_t>(bandIndex[a]));
-      band.pairSecond.push_back(static_cast<std::int64_t>(bandIndex[b]));
-      band.pairWeight.push_back(energy.pairWeight[p]);
+      result.labels[components[c][i]] = solved[c].labels[i];
     }
+    result.moves += solved[c].moves;
+    result.appliedMoves += solved[c].appliedMoves;
+    result.converged = result.converged && solved[c].converged;
+    result.aborted = result.aborted || solved[c].aborted;
   }
-  const AlphaExpansionResult bandResult =
-    MinimizeByAlphaExpansion(band, bandLabels, options, SubRange(progress, 0.5, 1.0));
-  for (std::size_t b = 0; b < bandFaces.size(); ++b)
-  {
-    result.labels[bandFaces[b]] = bandResult.labels[b];
-  }
-  result.moves += bandResult.moves;
-  result.appliedMoves += bandResult.appliedMoves;
-  result.converged = bandResult.converged;
-  result.aborted = bandResult.aborted;
   result.energy = energy.Evaluate(result.labels);
   result.energyTrace.push_back(result.energy);
   if (progress)

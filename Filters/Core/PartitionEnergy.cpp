@@ -239,7 +239,7 @@ void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry)
 }
 
 PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
-  const DualGraphView& graph, const PartitionEnergyOptions& options)
+  const DualGraphView& graph, const PartitionEnergyOptions& options, const ParallelFor& parallelFor)
 {
   ValidateOptions(options);
   ValidateDualGraph(graph, options.geometricWeights);
@@ -248,48 +248,69 @@ PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posterior
   {
     throw PartitionEnergyError("partition energy: posteriors must be faceCount x k with k >= 1");
   }
+  if (!posteriors.allFinite())
+  {
+    for (std::size_t f = 0; f < n; ++f)
+    {
+      if (!posteriors.row(static_cast<Eigen::Index>(f)).allFinite())
+      {
+        throw PartitionEnergyError("partition energy: posterior of face " + std::to_string(f) + " is NaN or infinite");
+      }
+    }
+  }
   PartitionEnergy energy;
   energy.faceCount = n;
   energy.labelCount = static_cast<int>(posteriors.cols());
   const auto k = static_cast<std::size_t>(energy.labelCount);
   energy.dataCost.resize(n * k);
   const GeometricWeights weights = ComputeGeometricWeights(graph, options);
-  for (std::size_t f = 0; f < n; ++f)
-  {
-    const double faceWeight = weights.face.empty() ? 1.0 : weights.face[f];
-    for (std::size_t l = 0; l < k; ++l)
+  // Pairs in the order of their lower face: each face writes its own data costs and pairs
+  // (slots from a prefix sum), so the result does not depend on the thread split.
+  std::vector<std::size_t> pairStart(n + 1, 0);
+  parallelFor(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f)
     {
-      const double p = posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l));
-      if (!std::isfinite(p))
+      const double faceWeight = weights.face.empty() ? 1.0 : weights.face[f];
+      for (std::size_t l = 0; l < k; ++l)
       {
-        throw PartitionEnergyError("partition energy: posterior of face " + std::to_string(f) + " is NaN or infinite");
+        const double p = posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l));
+        energy.dataCost[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.probabilityEpsilon);
       }
-      energy.dataCost[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.probabilityEpsilon);
+      std::size_t higher = 0;
+      for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+      {
+        higher += graph.neighbours[e] > static_cast<std::int64_t>(f) ? 1 : 0;
+      }
+      pairStart[f + 1] = higher;
     }
-  }
-  const std::size_t pairCount = EntryCount(graph) / 2;
-  energy.pairFirst.reserve(pairCount);
-  energy.pairSecond.reserve(pairCount);
-  energy.pairWeight.reserve(pairCount);
-  for (std::size_t f = 0; f < n; ++f)
-  {
-    for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+  });
+  std::partial_sum(pairStart.begin(), pairStart.end(), pairStart.begin());
+  energy.pairFirst.resize(pairStart[n]);
+  energy.pairSecond.resize(pairStart[n]);
+  energy.pairWeight.resize(pairStart[n]);
+  parallelFor(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f)
     {
-      const std::int64_t g = graph.neighbours[e];
-      if (g <= static_cast<std::int64_t>(f))
+      std::size_t pair = pairStart[f];
+      for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
       {
-        continue;
+        const std::int64_t g = graph.neighbours[e];
+        if (g <= static_cast<std::int64_t>(f))
+        {
+          continue;
+        }
+        double weight = options.lambda * SmoothnessTerm(graph.normalAngle[e], graph.concave[e] != 0, options);
+        if (weights.perUnitLength > 0.0)
+        {
+          weight *= graph.edgeLength[e] * weights.perUnitLength;
+        }
+        energy.pairFirst[pair] = static_cast<std::int64_t>(f);
+        energy.pairSecond[pair] = g;
+        energy.pairWeight[pair] = weight;
+        ++pair;
       }
-      double weight = options.lambda * SmoothnessTerm(graph.normalAngle[e], graph.concave[e] != 0, options);
-      if (weights.perUnitLength > 0.0)
-      {
-        weight *= graph.edgeLength[e] * weights.perUnitLength;
-      }
-      energy.pairFirst.push_back(static_cast<std::int64_t>(f));
-      energy.pairSecond.push_back(g);
-      energy.pairWeight.push_back(weight);
     }
-  }
+  });
   return energy;
 }
 

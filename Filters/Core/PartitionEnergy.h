@@ -138,9 +138,10 @@ double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOpt
 /// requireGeometry: edge lengths and face areas must be present and finite >= 0.
 void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry);
 
-/// Builds E from the GMM posteriors (faceCount x k) and the adjacency.
+/// Builds E from the GMM posteriors (faceCount x k) and the adjacency. Pairs are listed in the
+/// order of their lower face, then of its adjacency; the result is the same for any parallelFor.
 PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
-  const DualGraphView& graph, const PartitionEnergyOptions& options = {});
+  const DualGraphView& graph, const PartitionEnergyOptions& options = {}, const ParallelFor& parallelFor = SerialFor);
 
 /// argmin_l e1(f, l) per face (= argmax posterior; lowest label on ties).
 std::vector<int> MostProbableLabels(const PartitionEnergy& energy);

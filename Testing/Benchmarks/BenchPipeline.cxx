@@ -43,6 +43,7 @@
 
 #include "MultilevelCut.h"
 #include "BilateralSmoothing.h"
+#include "DensityModes.h"
 #include "EmbreeRayCaster.h"
 #include "FaceGraph.h"
 #include "GaussianMixture.h"
@@ -801,11 +802,25 @@ void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
       const FaceGraph graph = BuildFaceGraph(points, offsets, connectivity, parallelFor);
       const Eigen::Map<const Eigen::VectorXd> faceValues(values.data(), static_cast<Eigen::Index>(values.size()));
       laps.Lap();
-      GaussianMixtureOptions fit;
-      fit.restarts = partition->GetRestarts();
-      fit.maxIterations = partition->GetMaximumIterations();
-      fit.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(partition->GetSeed()));
-      const GaussianMixtureModel model = FitGaussianMixture(faceValues, partition->GetNumberOfClusters(), fit);
+      // The filter's default cluster model (density modes); EM when ClusterModel is 0.
+      GaussianMixtureModel model;
+      if (partition->GetClusterModel() == 1)
+      {
+        DensityModesOptions modes;
+        modes.Bandwidth = partition->GetModeBandwidth();
+        modes.MinimumProminence = partition->GetModeProminence();
+        modes.MaximumModes = partition->GetNumberOfClusters() > 0 ? partition->GetNumberOfClusters() : partition->GetMaximumClusters();
+        const Eigen::Map<const Eigen::VectorXd> areas(graph.Areas.data(), static_cast<Eigen::Index>(graph.Areas.size()));
+        model = FitDensityModes(faceValues, areas, modes).Model;
+      }
+      else
+      {
+        GaussianMixtureOptions fit;
+        fit.restarts = partition->GetRestarts();
+        fit.maxIterations = partition->GetMaximumIterations();
+        fit.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(partition->GetSeed()));
+        model = FitGaussianMixture(faceValues, partition->GetNumberOfClusters(), fit);
+      }
       laps.Lap();
       const PosteriorMatrix posteriors = ComputePosteriors(model, faceValues, parallelFor);
       laps.Lap();
@@ -814,9 +829,9 @@ void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
       energyOptions.lambda = partition->GetLambda();
       energyOptions.probabilityEpsilon = partition->GetEpsilon();
       energyOptions.convexityFactor = partition->GetConvexityFactor();
-      const PartitionEnergy energy = BuildPartitionEnergy(posteriors, view, energyOptions);
+      const PartitionEnergy energy = BuildPartitionEnergy(posteriors, view, energyOptions, parallelFor);
       laps.Lap();
-      const AlphaExpansionResult cut = MinimizeMultilevel(energy);
+      const AlphaExpansionResult cut = MinimizeMultilevel(energy, {}, {}, nullptr, parallelFor);
       laps.Lap();
       const ConnectedSegments segments = FindConnectedSegments(view, cut.labels, graph.Areas);
       benchmark::DoNotOptimize(segments.segment.data());

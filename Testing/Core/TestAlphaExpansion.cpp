@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -189,6 +190,52 @@ TEST(PartitionEnergy, BuildAndEvaluateHandComputedCase)
 
   EXPECT_THROW(energy.Evaluate({ 0, 0 }), PartitionEnergyError);
   EXPECT_THROW(energy.Evaluate({ 0, 2, 0 }), PartitionEnergyError);
+}
+
+TEST(PartitionEnergy, TheSameForAnyThreadSplit)
+{
+  // A random graph of 500 faces (each with up to 4 higher neighbours) and random posteriors:
+  // serial and threaded builds list the same pairs in the same order with the same weights.
+  std::mt19937_64 generator(17);
+  std::vector<TestGraph::Edge> edges;
+  for (int f = 0; f < 500; ++f)
+  {
+    for (int g = f + 1; g < std::min(500, f + 5); ++g)
+    {
+      if (Uniform(generator) < 0.7)
+      {
+        edges.emplace_back(f, g, kPi * Uniform(generator), Uniform(generator) < 0.5, 0.1 + Uniform(generator));
+      }
+    }
+  }
+  const TestGraph graph(500, edges);
+  PosteriorMatrix posteriors(500, 3);
+  for (Eigen::Index f = 0; f < 500; ++f)
+  {
+    const double a = Uniform(generator), b = Uniform(generator);
+    posteriors.row(f) << a, b * (1 - a), (1 - b) * (1 - a);
+  }
+  const PartitionEnergy serial = BuildPartitionEnergy(posteriors, graph.View());
+  ASSERT_EQ(serial.pairWeight.size(), edges.size());
+  for (const unsigned threads : { 2u, 3u, 7u })
+  {
+    const PartitionEnergy threaded = BuildPartitionEnergy(posteriors, graph.View(), {}, ThreadedFor(threads));
+    EXPECT_EQ(threaded.dataCost, serial.dataCost) << threads << " threads";
+    EXPECT_EQ(threaded.pairFirst, serial.pairFirst) << threads << " threads";
+    EXPECT_EQ(threaded.pairSecond, serial.pairSecond) << threads << " threads";
+    EXPECT_EQ(threaded.pairWeight, serial.pairWeight) << threads << " threads";
+  }
+  PosteriorMatrix withNaN = posteriors;
+  withNaN(321, 1) = std::nan("");
+  try
+  {
+    BuildPartitionEnergy(withNaN, graph.View(), {}, ThreadedFor(3));
+    ADD_FAILURE() << "a NaN posterior must throw";
+  }
+  catch (const PartitionEnergyError& error)
+  {
+    EXPECT_NE(std::string(error.what()).find("face 321"), std::string::npos) << error.what();
+  }
 }
 
 TEST(PartitionEnergy, BadGraphsAndPosteriorsThrow)

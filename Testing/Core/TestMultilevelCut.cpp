@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdint>
+#include <mutex>
 #include <random>
 #include <vector>
 
@@ -107,6 +109,40 @@ TEST(MultilevelCut, SmallProblemsAreThePlainAlphaExpansion)
   bad = MultilevelOptions();
   bad.lostRegionFaces = 0;
   EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
+}
+
+TEST(MultilevelCut, BandComponentsGiveTheSameCutOnAnyNumberOfThreads)
+{
+  // Three bands: the fine pass re-solves (at least) two separate boundary bands, which run
+  // concurrently with threads; labels, energy and move counts must not depend on it.
+  const PartitionEnergy energy = NoisyBands(120, 2.0);
+  MultilevelOptions coarsen;
+  coarsen.directBelowFaces = 500;
+  const AlphaExpansionResult serial = MinimizeMultilevel(energy, coarsen);
+  for (const unsigned threads : { 2u, 3u, 8u })
+  {
+    std::mutex mutex;
+    std::vector<double> reported;
+    const AlphaExpansionResult threaded = MinimizeMultilevel(energy, coarsen, {},
+      [&](double fraction) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        reported.push_back(fraction);
+        return true;
+      },
+      shapediameter::ThreadedFor(threads));
+    EXPECT_EQ(threaded.labels, serial.labels) << threads << " threads";
+    EXPECT_EQ(threaded.energy, serial.energy) << threads << " threads";
+    EXPECT_EQ(threaded.moves, serial.moves) << threads << " threads";
+    EXPECT_TRUE(threaded.converged);
+    ASSERT_FALSE(reported.empty());
+    EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end())) << "progress never goes backwards";
+    EXPECT_EQ(reported.back(), 1.0);
+  }
+  // An abort requested while the bands are being solved stops every band.
+  const AlphaExpansionResult aborted = MinimizeMultilevel(
+    energy, coarsen, {}, [](double fraction) { return fraction < 0.55; }, shapediameter::ThreadedFor(2));
+  EXPECT_TRUE(aborted.aborted);
+  EXPECT_EQ(aborted.labels.size(), energy.faceCount);
 }
 
 TEST(MultilevelCut, AbortIsReported)
