@@ -256,7 +256,7 @@ int vtkSDFGMMPartition::RequestData(
       output->ShallowCopy(input);
       return 1;
     }
-    const ConnectedSegments segments = FindConnectedSegments(view, cut.labels, graph.Areas);
+    const ConnectedSegments segments = FindConnectedSegments(view, cut.labels, graph.Areas, parallelFor);
 
     const vtkIdType cellCount = input->GetNumberOfCells();
     vtkNew<vtkDoubleArray> probabilities;

@@ -2,6 +2,7 @@
 #include "PartitionEnergy.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -46,7 +47,7 @@ std::size_t EntryCount(const DualGraphView& graph)
 }
 
 /// Offsets, neighbour range, no self loops, symmetry.
-void ValidateTopology(const DualGraphView& graph)
+void ValidateTopology(const DualGraphView& graph, const ParallelFor& parallelFor)
 {
   if (graph.offsets == nullptr && graph.faceCount == 0)
   {
@@ -73,28 +74,66 @@ void ValidateTopology(const DualGraphView& graph)
   {
     throw PartitionEnergyError("dual graph: neighbour indices are missing");
   }
+  // The neighbour lists, checked in parallel; the lowest failing face is checked again on
+  // its own for the message, so the error does not depend on the thread split.
   const auto faceCount = static_cast<std::int64_t>(n);
-  for (std::size_t f = 0; f < n; ++f)
-  {
+  auto checkFace = [&](std::size_t f, bool raise) {
     for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
     {
       const std::int64_t g = graph.neighbours[e];
+      const char* problem = nullptr;
       if (g < 0 || g >= faceCount)
+      {
+        problem = "out of range";
+      }
+      else if (g == static_cast<std::int64_t>(f))
+      {
+        problem = "self";
+      }
+      else
+      {
+        const std::int64_t* begin = graph.neighbours + graph.offsets[g];
+        const std::int64_t* end = graph.neighbours + graph.offsets[g + 1];
+        problem = std::find(begin, end, static_cast<std::int64_t>(f)) == end ? "asymmetric" : nullptr;
+      }
+      if (problem == nullptr)
+      {
+        continue;
+      }
+      if (!raise)
+      {
+        return false;
+      }
+      if (problem[0] == 'o')
       {
         throw PartitionEnergyError("dual graph: neighbour index out of range at face " + std::to_string(f));
       }
-      if (g == static_cast<std::int64_t>(f))
+      if (problem[0] == 's')
       {
         throw PartitionEnergyError("dual graph: face " + std::to_string(f) + " is its own neighbour");
       }
-      const std::int64_t* begin = graph.neighbours + graph.offsets[g];
-      const std::int64_t* end = graph.neighbours + graph.offsets[g + 1];
-      if (std::find(begin, end, static_cast<std::int64_t>(f)) == end)
+      throw PartitionEnergyError("dual graph: not symmetric, face " + std::to_string(g) +
+        " does not list its neighbour " + std::to_string(f));
+    }
+    return true;
+  };
+  std::atomic<std::size_t> firstBad{ n };
+  parallelFor(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end && f < firstBad.load(std::memory_order_relaxed); ++f)
+    {
+      if (!checkFace(f, false))
       {
-        throw PartitionEnergyError("dual graph: not symmetric, face " + std::to_string(g) +
-          " does not list its neighbour " + std::to_string(f));
+        std::size_t current = firstBad.load(std::memory_order_relaxed);
+        while (f < current && !firstBad.compare_exchange_weak(current, f, std::memory_order_relaxed))
+        {
+        }
+        return;
       }
     }
+  });
+  if (firstBad.load() < n)
+  {
+    checkFace(firstBad.load(), true);
   }
 }
 
@@ -195,9 +234,9 @@ double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOpt
   return -std::log(std::max(scaled / kPi, options.minAngleRatio));
 }
 
-void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry)
+void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry, const ParallelFor& parallelFor)
 {
-  ValidateTopology(graph);
+  ValidateTopology(graph, parallelFor);
   if (requireGeometry && graph.faceCount > 0)
   {
     if (graph.faceArea == nullptr)
@@ -242,7 +281,7 @@ PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posterior
   const DualGraphView& graph, const PartitionEnergyOptions& options, const ParallelFor& parallelFor)
 {
   ValidateOptions(options);
-  ValidateDualGraph(graph, options.geometricWeights);
+  ValidateDualGraph(graph, options.geometricWeights, parallelFor);
   const std::size_t n = graph.faceCount;
   if (static_cast<std::size_t>(posteriors.rows()) != n || posteriors.cols() < 1)
   {
@@ -348,10 +387,10 @@ std::vector<int> HierarchyLevel(const std::vector<int>& clusters, int level)
   return result;
 }
 
-ConnectedSegments FindConnectedSegments(
-  const DualGraphView& graph, const std::vector<int>& labels, const std::vector<double>& faceAreas)
+ConnectedSegments FindConnectedSegments(const DualGraphView& graph, const std::vector<int>& labels,
+  const std::vector<double>& faceAreas, const ParallelFor& parallelFor)
 {
-  ValidateTopology(graph);
+  ValidateTopology(graph, parallelFor);
   const std::size_t n = graph.faceCount;
   if (labels.size() != n || faceAreas.size() != n)
   {

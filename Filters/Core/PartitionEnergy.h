@@ -135,8 +135,10 @@ struct PartitionEnergy
 double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOptions& options = {});
 
 /// Throws PartitionEnergyError when the graph breaks a rule of the header.
-/// requireGeometry: edge lengths and face areas must be present and finite >= 0.
-void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry);
+/// requireGeometry: edge lengths and face areas must be present and finite >= 0. The
+/// neighbour lists are checked through parallelFor; the error names the lowest failing face
+/// whatever the thread split.
+void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry, const ParallelFor& parallelFor = SerialFor);
 
 /// Builds E from the GMM posteriors (faceCount x k) and the adjacency. Pairs are listed in the
 /// order of their lower face, then of its adjacency; the result is the same for any parallelFor.
@@ -160,7 +162,7 @@ struct ConnectedSegments
 
 /// Connected components of equal label over the adjacency, numbered by decreasing total area
 /// (ties: the segment containing the lower face index first). faceAreas: finite, >= 0.
-ConnectedSegments FindConnectedSegments(
-  const DualGraphView& graph, const std::vector<int>& labels, const std::vector<double>& faceAreas);
+ConnectedSegments FindConnectedSegments(const DualGraphView& graph, const std::vector<int>& labels,
+  const std::vector<double>& faceAreas, const ParallelFor& parallelFor = SerialFor);
 
 } // namespace shapediameter

@@ -833,7 +833,7 @@ void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
       laps.Lap();
       const AlphaExpansionResult cut = MinimizeMultilevel(energy, {}, {}, nullptr, parallelFor);
       laps.Lap();
-      const ConnectedSegments segments = FindConnectedSegments(view, cut.labels, graph.Areas);
+      const ConnectedSegments segments = FindConnectedSegments(view, cut.labels, graph.Areas, parallelFor);
       benchmark::DoNotOptimize(segments.segment.data());
       laps.Lap();
       laps.Finish();

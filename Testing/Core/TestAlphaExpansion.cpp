@@ -225,6 +225,29 @@ TEST(PartitionEnergy, TheSameForAnyThreadSplit)
     EXPECT_EQ(threaded.pairSecond, serial.pairSecond) << threads << " threads";
     EXPECT_EQ(threaded.pairWeight, serial.pairWeight) << threads << " threads";
   }
+  // A broken graph: the error names the same (lowest) failing face whatever the split.
+  TestGraph broken = graph;
+  const auto entry = static_cast<std::size_t>(broken.offsets[400]);
+  broken.neighbours[entry] = broken.neighbours[entry] == 0 ? 1 : 0;
+  auto messageOf = [&](const ParallelFor& parallelFor) {
+    try
+    {
+      BuildPartitionEnergy(posteriors, broken.View(), {}, parallelFor);
+    }
+    catch (const PartitionEnergyError& error)
+    {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  const std::string serialMessage = messageOf(SerialFor);
+  EXPECT_NE(serialMessage.find("not symmetric"), std::string::npos) << serialMessage;
+  EXPECT_EQ(messageOf(ThreadedFor(3)), serialMessage);
+  EXPECT_EQ(messageOf(ThreadedFor(7)), serialMessage);
+  const std::vector<int> labels(500, 0);
+  EXPECT_EQ(FindConnectedSegments(graph.View(), labels, graph.area, ThreadedFor(3)).SegmentCount(),
+    FindConnectedSegments(graph.View(), labels, graph.area).SegmentCount());
+  EXPECT_THROW(FindConnectedSegments(broken.View(), labels, broken.area, ThreadedFor(3)), PartitionEnergyError);
   PosteriorMatrix withNaN = posteriors;
   withNaN(321, 1) = std::nan("");
   try
