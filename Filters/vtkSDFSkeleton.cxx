@@ -157,6 +157,7 @@ int vtkSDFSkeleton::RequestData(
     options.Sampling.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
     options.Thinning.NumberOfIterations = this->NumberOfIterations;
     options.Thinning.ConfidenceThreshold = this->ConfidenceThreshold;
+    options.Thinning.MinimumConfidentShare = this->MinimumConfidentShare;
     options.Thinning.SpacingFactor = this->SpacingFactor;
     const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
       PointMatrix(0, 3), {}, options, adapter::MakeSMPParallelFor(this->NumberOfThreads),
@@ -236,6 +237,7 @@ void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfSamples: " << this->NumberOfSamples << "\n";
   os << indent << "NumberOfIterations: " << this->NumberOfIterations << "\n";
   os << indent << "ConfidenceThreshold: " << this->ConfidenceThreshold << "\n";
+  os << indent << "MinimumConfidentShare: " << this->MinimumConfidentShare << "\n";
   os << indent << "SpacingFactor: " << this->SpacingFactor << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";

@@ -6,12 +6,20 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numeric>
 
 namespace shapediameter
 {
+
+namespace
+{
+/// MinimumConfidentShare never lowers the threshold below this: a junction of three branches
+/// has confidence about 0.5, a blob at most that.
+constexpr double kLowestConfidentShareThreshold = 0.6;
+} // namespace
 
 namespace
 {
@@ -439,6 +447,10 @@ void ValidateThinningOptions(const SkeletonThinningOptions& options)
   {
     throw SkeletonError("skeleton: ConfidenceThreshold must be in [0, 1]");
   }
+  if (!(options.MinimumConfidentShare >= 0.0 && options.MinimumConfidentShare <= 1.0))
+  {
+    throw SkeletonError("skeleton: MinimumConfidentShare must be in [0, 1]");
+  }
   if (!(options.SpacingFactor >= 0.0 && options.SpacingFactor <= 10.0))
   {
     throw SkeletonError("skeleton: thinning SpacingFactor must be in [0, 10]");
@@ -569,11 +581,30 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
     result.Positions.swap(nextPositions);
   }
 
+  // The threshold, lowered so that at least MinimumConfidentShare of the defined points pass.
+  double threshold = options.ConfidenceThreshold;
+  {
+    std::vector<double> defined;
+    for (const double confidence : result.Confidence)
+    {
+      if (confidence > 0.0)
+      {
+        defined.push_back(confidence);
+      }
+    }
+    const auto wanted = static_cast<std::size_t>(std::ceil(options.MinimumConfidentShare * static_cast<double>(defined.size())));
+    if (wanted > 0)
+    {
+      std::nth_element(defined.begin(), defined.begin() + static_cast<std::ptrdiff_t>(wanted - 1), defined.end(), std::greater<double>());
+      threshold = std::min(threshold, std::max(kLowestConfidentShareThreshold, defined[wanted - 1]));
+    }
+  }
+  result.AppliedConfidenceThreshold = threshold;
   // Epsilon-thinning: most confident first, each kept point suppresses its epsilon-ball.
   std::vector<std::int64_t> candidates;
   for (std::size_t k = 0; k < count; ++k)
   {
-    if (result.Confidence[k] > 0.0 && result.Confidence[k] >= options.ConfidenceThreshold)
+    if (result.Confidence[k] > 0.0 && result.Confidence[k] >= threshold)
     {
       candidates.push_back(static_cast<std::int64_t>(k));
     }

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -517,6 +518,58 @@ TEST(SkeletonThinning, FixedDataProjectionDoesNotShrinkCircles)
   }
   EXPECT_LT(fixedWorst, 0.035);
   EXPECT_GT(contractedWorst, 0.06);
+}
+
+TEST(SkeletonThinning, MinimumConfidentShareLowersTheThresholdButNotBelowJunctions)
+{
+  // Thick stubs: short noisy tubes whose neighbourhoods are barely line-like (confidence about
+  // 0.6-0.8), next to a ball (confidence near 1/3). A fixed threshold of 0.8 keeps almost
+  // nothing; the share lowers it to the confidence at that share, never below 0.6.
+  ProjectedCloud cloud;
+  std::mt19937_64 generator(22);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const int tube = 600;
+  const int ball = 600;
+  cloud.Positions.resize(tube + ball, 3);
+  for (int i = 0; i < tube; ++i)
+  {
+    cloud.Positions.row(i) << 0.005 * i, 0.28 * normal(generator), 0.28 * normal(generator);
+  }
+  for (int i = 0; i < ball; ++i)
+  {
+    cloud.Positions.row(tube + i) << 20.0 + 0.4 * normal(generator), 0.4 * normal(generator), 0.4 * normal(generator);
+  }
+  cloud.Radius.assign(static_cast<std::size_t>(tube + ball), 1.0);
+  cloud.SourceFace.assign(cloud.Radius.size(), 0);
+  SkeletonThinningOptions fixed;
+  fixed.MinimumConfidentShare = 0.0;
+  const ThinnedCloud alone = ThinProjectedCloud(cloud, fixed, SerialFor);
+  EXPECT_EQ(alone.AppliedConfidenceThreshold, 0.8);
+  std::vector<double> sorted = alone.Confidence;
+  std::sort(sorted.begin(), sorted.end(), std::greater<double>());
+  const std::size_t above = static_cast<std::size_t>(std::count_if(sorted.begin(), sorted.end(), [](double c) { return c >= 0.8; }));
+  ASSERT_LT(above, sorted.size() / 10) << "the test needs a cloud that is mostly below 0.8";
+
+  const ThinnedCloud shared = ThinProjectedCloud(cloud, {}, SerialFor); // share 0.2
+  const double expected = std::max(0.6, sorted[static_cast<std::size_t>(std::ceil(0.2 * static_cast<double>(sorted.size()))) - 1]);
+  EXPECT_EQ(shared.AppliedConfidenceThreshold, expected);
+  EXPECT_LT(shared.AppliedConfidenceThreshold, 0.8);
+  EXPECT_GT(shared.Thinned.size(), alone.Thinned.size());
+  for (const std::int64_t kept : shared.Thinned)
+  {
+    EXPECT_GE(shared.Confidence[static_cast<std::size_t>(kept)], expected);
+  }
+  SkeletonThinningOptions everything;
+  everything.MinimumConfidentShare = 1.0; // would take every point: floored at 0.6
+  const ThinnedCloud floored = ThinProjectedCloud(cloud, everything, SerialFor);
+  EXPECT_EQ(floored.AppliedConfidenceThreshold, 0.6);
+  for (const std::int64_t kept : floored.Thinned)
+  {
+    EXPECT_LT(kept, tube) << "no point of the ball passes 0.6";
+  }
+  SkeletonThinningOptions bad;
+  bad.MinimumConfidentShare = 1.5;
+  EXPECT_THROW(ThinProjectedCloud(cloud, bad, SerialFor), SkeletonError);
 }
 
 TEST(SkeletonThinning, InvalidOptionsThrow)

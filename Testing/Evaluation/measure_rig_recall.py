@@ -1,0 +1,180 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""Skeleton against an artist's rig: how much of every rig bone has a skeleton branch nearby.
+
+    pvpython Testing/Evaluation/measure_rig_recall.py MESH RIG.tgf [--samples-per-bone 21]
+             [--tolerance 0.05] [--hit-rule 0|1] [--expect-recall PERCENT]
+             [--expect-leaves N]
+
+MESH (.obj, .obj.gz, .off, .ply, .stl, .vtp) runs through ShapeDiameter -> SDFBilateralSmooth
+-> SDFSkeleton at the defaults. RIG.tgf (Trivial Graph Format: "index x y z" joint lines, a
+'#' line, then "a b" bone lines, a second '#' optional) is in the mesh's coordinates. Printed:
+
+- recall: along every rig bone, samples evenly spaced (both ends included); a sample is
+  recalled when its distance to the nearest skeleton edge (or node, for a single-node
+  skeleton) is at most tolerance x the mesh's bounding-box diagonal; recall = recalled
+  samples / all samples;
+- leaves reached: rig joints of degree 1 whose position is within the same distance;
+- per bone: its recall and the largest distance (as a share of the diagonal).
+
+A rig is not a medial axis (joints sit where an animator wants them), but every limb of the
+rig should have a branch near it. --expect-recall / --expect-leaves make it a test (exit
+status 1 below either). A MESH or RIG that does not exist prints 'SKIP: ...' and exits 0.
+
+Needs PYTHONPATH to contain build/lib/python3.11/site-packages (the README's pvpython setup).
+"""
+import argparse
+import gzip
+import os
+import sys
+import tempfile
+
+import numpy as np
+
+import shapediameter
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersCore import vtkTriangleFilter
+
+import chain_settings
+from chain_settings import READERS
+
+
+def read_mesh(path, scratch):
+    if path.endswith(".gz"):
+        unpacked = os.path.join(scratch, os.path.basename(path)[:-3])
+        with gzip.open(path, "rb") as source, open(unpacked, "wb") as target:
+            target.write(source.read())
+        path = unpacked
+    reader = READERS[os.path.splitext(path)[1].lower()]()
+    reader.SetFileName(path)
+    triangles = vtkTriangleFilter()
+    triangles.SetInputConnection(reader.GetOutputPort())
+    triangles.Update()
+    return triangles.GetOutput()
+
+
+def read_tgf(path):
+    """Joints {index: xyz} and bones [(a, b)] of a TGF file; raises ValueError when malformed."""
+    joints, bones, section = {}, [], 0
+    with open(path) as text:
+        for number, line in enumerate(text, 1):
+            fields = line.split()
+            if not fields:
+                continue
+            if fields[0] == "#":
+                section += 1
+                continue
+            if section == 0:
+                if len(fields) < 4:
+                    raise ValueError("%s:%d: a joint needs 'index x y z'" % (path, number))
+                joints[int(fields[0])] = np.array([float(v) for v in fields[1:4]])
+            elif section == 1:
+                if len(fields) < 2:
+                    raise ValueError("%s:%d: a bone needs two joint indices" % (path, number))
+                a, b = int(fields[0]), int(fields[1])
+                if a not in joints or b not in joints:
+                    raise ValueError("%s:%d: bone %d-%d names an unknown joint" % (path, number, a, b))
+                bones.append((a, b))
+    if not bones:
+        raise ValueError("%s: no bones" % path)
+    return joints, bones
+
+
+def distances_to_segments(points, starts, ends):
+    """Distance of every point to the nearest of the segments [starts[i], ends[i]]."""
+    best = np.full(len(points), np.inf)
+    direction = ends - starts
+    length2 = np.maximum((direction ** 2).sum(axis=1), 1e-300)
+    for chunk in range(0, len(starts), 4096):
+        s, d, l2 = starts[chunk:chunk + 4096], direction[chunk:chunk + 4096], length2[chunk:chunk + 4096]
+        t = np.clip(((points[:, None, :] - s[None]) * d[None]).sum(axis=2) / l2[None], 0.0, 1.0)
+        nearest = s[None] + t[..., None] * d[None]
+        best = np.minimum(best, np.sqrt(((points[:, None, :] - nearest) ** 2).sum(axis=2)).min(axis=1))
+    return best
+
+
+def skeleton_segments(skeleton):
+    """Start and end points of every skeleton edge (a single node: a zero-length segment)."""
+    points = vtk_to_numpy(skeleton.GetPoints().GetData()).astype(float) if skeleton.GetNumberOfPoints() else np.zeros((0, 3))
+    starts, ends = [], []
+    lines = skeleton.GetLines()
+    ids = vtk_to_numpy(lines.GetConnectivityArray()) if lines.GetNumberOfCells() else np.zeros(0, int)
+    offsets = vtk_to_numpy(lines.GetOffsetsArray()) if lines.GetNumberOfCells() else np.zeros(1, int)
+    for c in range(len(offsets) - 1):
+        chain = ids[offsets[c]:offsets[c + 1]]
+        starts.extend(points[chain[:-1]])
+        ends.extend(points[chain[1:]])
+    if not starts and len(points):
+        starts, ends = list(points), list(points)
+    return np.array(starts).reshape(-1, 3), np.array(ends).reshape(-1, 3)
+
+
+def rig_recall(skeleton, joints, bones, diagonal, samples_per_bone=21, tolerance=0.05):
+    """(recall, leaves reached, leaf count, per-bone rows) of a skeleton polydata against a rig."""
+    starts, ends = skeleton_segments(skeleton)
+    if len(starts) == 0:
+        return 0.0, 0, 0, []
+    limit = tolerance * diagonal
+    rows, recalled, total = [], 0, 0
+    for a, b in bones:
+        t = np.linspace(0.0, 1.0, samples_per_bone)[:, None]
+        samples = joints[a][None] * (1 - t) + joints[b][None] * t
+        distance = distances_to_segments(samples, starts, ends)
+        hits = int((distance <= limit).sum())
+        recalled += hits
+        total += len(samples)
+        rows.append((a, b, hits / len(samples), distance.max() / diagonal))
+    degree = {}
+    for a, b in bones:
+        degree[a] = degree.get(a, 0) + 1
+        degree[b] = degree.get(b, 0) + 1
+    leaves = [j for j, d in degree.items() if d == 1]
+    leaf_distance = distances_to_segments(np.array([joints[j] for j in leaves]), starts, ends)
+    reached = int((leaf_distance <= limit).sum())
+    return recalled / total, reached, len(leaves), rows
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("mesh")
+    parser.add_argument("rig")
+    parser.add_argument("--samples-per-bone", type=int, default=21)
+    parser.add_argument("--tolerance", type=float, default=0.05, help="share of the bounding-box diagonal")
+    parser.add_argument("--hit-rule", type=int, default=None, help="vtkShapeDiameterFilter HitRule (default: the filter's)")
+    parser.add_argument("--expect-recall", type=float, default=None, metavar="PERCENT")
+    parser.add_argument("--expect-leaves", type=int, default=None, metavar="N")
+    arguments = parser.parse_args()
+    for path in (arguments.mesh, arguments.rig):
+        if not os.path.exists(path):
+            print("SKIP: %s does not exist (the shared development data is not on this machine)" % path)
+            return
+    joints, bones = read_tgf(arguments.rig)
+    with tempfile.TemporaryDirectory() as scratch:
+        surface = read_mesh(arguments.mesh, scratch)
+    sdf = chain_settings.shape_diameter(arguments)
+    sdf.SetInputData(surface)
+    smooth = shapediameter.vtkSDFBilateralSmooth()
+    smooth.SetInputConnection(sdf.GetOutputPort())
+    skeleton = shapediameter.vtkSDFSkeleton()
+    skeleton.SetInputConnection(smooth.GetOutputPort())
+    skeleton.Update()
+    bounds = np.array(surface.GetBounds()).reshape(3, 2)
+    diagonal = float(np.linalg.norm(bounds[:, 1] - bounds[:, 0]))
+    recall, reached, leaves, rows = rig_recall(skeleton.GetSkeleton(), joints, bones, diagonal,
+                                               arguments.samples_per_bone, arguments.tolerance)
+    print("%s: %d faces, skeleton %d nodes, %d bones" % (os.path.basename(arguments.mesh), surface.GetNumberOfCells(),
+          skeleton.GetSkeleton().GetNumberOfPoints(),
+          len(set(vtk_to_numpy(skeleton.GetSkeleton().GetCellData().GetArray("BoneId")).tolist()))))
+    for a, b, share, worst in rows:
+        print("  rig bone %d-%d: recall %5.1f %%, farthest sample %.3f of the diagonal" % (a, b, 100 * share, worst))
+    print("recall@%g %%: %.1f %%, leaves reached: %d of %d" % (100 * arguments.tolerance, 100 * recall, reached, leaves))
+    failed = []
+    if arguments.expect_recall is not None and not 100 * recall >= arguments.expect_recall:
+        failed.append("recall %.1f %% below %.1f %%" % (100 * recall, arguments.expect_recall))
+    if arguments.expect_leaves is not None and reached < arguments.expect_leaves:
+        failed.append("%d leaves reached, fewer than %d" % (reached, arguments.expect_leaves))
+    if failed:
+        sys.exit("FAIL: " + "; ".join(failed))
+
+
+if __name__ == "__main__":
+    main()
