@@ -1,5 +1,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """What the evaluation scripts share: the mesh readers and the chain settings they expose."""
+import gzip
+import os
+
 import shapediameter
 from vtkmodules.vtkIOGeometry import vtkOBJReader, vtkSTLReader
 from vtkmodules.vtkIOPLY import vtkPLYReader
@@ -7,6 +10,19 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 READERS = {".obj": vtkOBJReader, ".off": shapediameter.vtkSDFOFFReader, ".ply": vtkPLYReader,
            ".stl": vtkSTLReader, ".vtp": vtkXMLPolyDataReader}
+
+
+def read_mesh(path, scratch):
+    """The polydata of a mesh file in READERS' formats, optionally gzipped (unpacked into scratch)."""
+    if path.endswith(".gz"):
+        unpacked = os.path.join(scratch, os.path.basename(path)[:-3])
+        with gzip.open(path, "rb") as source, open(unpacked, "wb") as target:
+            target.write(source.read())
+        path = unpacked
+    reader = READERS[os.path.splitext(path)[1].lower()]()
+    reader.SetFileName(path)
+    reader.Update()
+    return reader.GetOutput()
 
 
 def add_arguments(parser):

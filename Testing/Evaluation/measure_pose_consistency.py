@@ -26,7 +26,6 @@ exceeds PERCENT. A FOLDER that does not exist prints 'SKIP: ...' and exits 0 (ct
 Needs PYTHONPATH to contain build/lib/python3.11/site-packages (the README's pvpython setup).
 """
 import argparse
-import gzip
 import itertools
 import os
 import sys
@@ -42,18 +41,6 @@ from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
 
 import chain_settings
 from chain_settings import READERS
-
-
-def read(path, scratch):
-    if path.endswith(".gz"):
-        unpacked = os.path.join(scratch, os.path.basename(path)[:-3])
-        with gzip.open(path, "rb") as source, open(unpacked, "wb") as target:
-            target.write(source.read())
-        path = unpacked
-    reader = READERS[os.path.splitext(path)[1].lower()]()
-    reader.SetFileName(path)
-    reader.Update()
-    return reader.GetOutput()
 
 
 def table2(labelings):
@@ -90,7 +77,7 @@ def main():
     with tempfile.TemporaryDirectory() as scratch:
         for name in names:
             sdf = chain_settings.shape_diameter(arguments)
-            sdf.SetInputData(read(os.path.join(arguments.folder, name), scratch))
+            sdf.SetInputData(chain_settings.read_mesh(os.path.join(arguments.folder, name), scratch))
             smooth = shapediameter.vtkSDFBilateralSmooth()
             smooth.SetInputConnection(sdf.GetOutputPort())
             smooth.Update()

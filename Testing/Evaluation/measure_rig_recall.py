@@ -23,7 +23,6 @@ status 1 below either). A MESH or RIG that does not exist prints 'SKIP: ...' and
 Needs PYTHONPATH to contain build/lib/python3.11/site-packages (the README's pvpython setup).
 """
 import argparse
-import gzip
 import os
 import sys
 import tempfile
@@ -35,19 +34,11 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersCore import vtkTriangleFilter
 
 import chain_settings
-from chain_settings import READERS
 
 
-def read_mesh(path, scratch):
-    if path.endswith(".gz"):
-        unpacked = os.path.join(scratch, os.path.basename(path)[:-3])
-        with gzip.open(path, "rb") as source, open(unpacked, "wb") as target:
-            target.write(source.read())
-        path = unpacked
-    reader = READERS[os.path.splitext(path)[1].lower()]()
-    reader.SetFileName(path)
+def read_triangles(path, scratch):
     triangles = vtkTriangleFilter()
-    triangles.SetInputConnection(reader.GetOutputPort())
+    triangles.SetInputData(chain_settings.read_mesh(path, scratch))
     triangles.Update()
     return triangles.GetOutput()
 
@@ -149,7 +140,7 @@ def main():
             return
     joints, bones = read_tgf(arguments.rig)
     with tempfile.TemporaryDirectory() as scratch:
-        surface = read_mesh(arguments.mesh, scratch)
+        surface = read_triangles(arguments.mesh, scratch)
     sdf = chain_settings.shape_diameter(arguments)
     sdf.SetInputData(surface)
     smooth = shapediameter.vtkSDFBilateralSmooth()
