@@ -3,7 +3,7 @@
 
     pvpython Testing/Evaluation/measure_pose_consistency.py FOLDER [--hit-rule 0|1]
              [--cluster-model 0|1] [--clusters K] [--lambda L] [--family]
-             [--expect-at-most PERCENT]
+             [--expect-at-most PERCENT] [--skeleton [--expect-bone-change-at-most PERCENT]]
 
 FOLDER holds the poses as .obj, .obj.gz, .off, .ply, .stl or .vtp files with identical
 connectivity (face i is the same place in every pose), e.g. ../shared/data/poses/elephant.
@@ -16,7 +16,10 @@ classes (package shapediameter, from build/) and prints:
   measure, in percent of the [0, 1] range);
 - the Table-2 measure of SDFCluster: mean over all pose pairs of the share of faces with a
   different cluster after the best one-to-one matching of labels (Hungarian, scipy);
-- per pose: clusters covering at least 1 % of the area.
+- per pose: clusters covering at least 1 % of the area;
+- with --skeleton: the skeleton of every pose (vtkSDFSkeleton at its defaults on the smoothed
+  pose): leaves and junctions per pose, and the Table-2 measure of SkeletonBoneId (faces
+  changing bone; faces linked to no bone count as one more label).
 
 --family normalises every pose with one range (the widest SDFNormalizationRange of the
 poses) and partitions it with one model fitted on all poses together (the pipeline
@@ -55,6 +58,24 @@ def table2(labelings):
     return 100.0 * float(np.mean(shares))
 
 
+def leaves_and_junctions(skeleton):
+    """Nodes of degree 1 and of degree >= 3 in the graph of the skeleton's polylines."""
+    lines = skeleton.GetLines()
+    if lines.GetNumberOfCells() == 0:
+        return 0, 0
+    ids = vtk_to_numpy(lines.GetConnectivityArray())
+    offsets = vtk_to_numpy(lines.GetOffsetsArray())
+    edges = set()
+    for c in range(len(offsets) - 1):
+        chain = ids[offsets[c]:offsets[c + 1]]
+        edges.update((min(a, b), max(a, b)) for a, b in zip(chain[:-1], chain[1:]) if a != b)
+    degree = {}
+    for a, b in edges:
+        degree[a] = degree.get(a, 0) + 1
+        degree[b] = degree.get(b, 0) + 1
+    return (sum(1 for d in degree.values() if d == 1), sum(1 for d in degree.values() if d >= 3))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("folder")
@@ -62,6 +83,10 @@ def main():
     parser.add_argument("--family", action="store_true", help="one normalisation range and one model for all poses")
     parser.add_argument("--expect-at-most", type=float, default=None, metavar="PERCENT",
                         help="fail (exit 1) when the Table-2 measure exceeds PERCENT")
+    parser.add_argument("--skeleton", action="store_true",
+                        help="also the skeleton of every pose: leaves, junctions, faces changing SkeletonBoneId")
+    parser.add_argument("--expect-bone-change-at-most", type=float, default=None, metavar="PERCENT",
+                        help="with --skeleton: fail when more than PERCENT of the faces change bone")
     arguments = parser.parse_args()
     if not os.path.isdir(arguments.folder):
         print("SKIP: %s does not exist (the shared development data is not on this machine)" % arguments.folder)
@@ -127,8 +152,25 @@ def main():
         " (family model)" if arguments.family else "", measure))
     large = [int((np.bincount(l, weights=a) / a.sum() >= 0.01).sum()) for l, a in zip(labels, columns["Area"])]
     print("clusters covering >= 1 %% of the area, per pose: %s" % large)
+    failures = []
     if arguments.expect_at_most is not None and not measure <= arguments.expect_at_most:
-        sys.exit("FAIL: %.2f %% of the faces change cluster, more than %.2f %%" % (measure, arguments.expect_at_most))
+        failures.append("%.2f %% of the faces change cluster, more than %.2f %%" % (measure, arguments.expect_at_most))
+    if arguments.skeleton:
+        bones, shapes = [], []
+        for surface in smoothed:
+            skeleton = shapediameter.vtkSDFSkeleton()
+            skeleton.SetInputData(surface)
+            skeleton.Update()
+            bones.append(vtk_to_numpy(skeleton.GetSurface().GetCellData().GetArray("SkeletonBoneId")).astype(int) + 1)
+            shapes.append(leaves_and_junctions(skeleton.GetSkeleton()))
+        bone_change = table2(bones)
+        print("skeleton (leaves, junctions) per pose: %s" % shapes)
+        print("SkeletonBoneId Table-2 measure: %.2f %% of the faces change bone between poses" % bone_change)
+        limit = arguments.expect_bone_change_at_most
+        if limit is not None and not bone_change <= limit:
+            failures.append("%.2f %% of the faces change bone, more than %.2f %%" % (bone_change, limit))
+    if failures:
+        sys.exit("FAIL: " + "; ".join(failures))
 
 
 if __name__ == "__main__":
