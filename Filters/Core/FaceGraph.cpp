@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -375,7 +376,10 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
     graph.Concave.resize(adjacencyCount);
   }
   // The higher face of each pair copies the lower one's geometry from its mirror entry (the
-  // values are symmetric in f and g, bit for bit: same operands, commuted).
+  // values are symmetric in f and g, bit for bit: same operands, commuted). Lists are sorted by
+  // neighbour. Nothing is thrown inside the loop (worker threads): a missing mirror, which the
+  // construction rules out, is reported after it.
+  std::atomic<bool> mirrorMissing{ false };
   parallelFor(faceCount, [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f)
     {
@@ -386,23 +390,24 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
         {
           continue;
         }
-        auto mirror = static_cast<std::size_t>(graph.Offsets[g]);
-        const auto mirrorEnd = static_cast<std::size_t>(graph.Offsets[g + 1]);
-        while (mirror < mirrorEnd && graph.Neighbors[mirror] != static_cast<std::int64_t>(f))
+        const auto listEnd = graph.Neighbors.begin() + graph.Offsets[g + 1];
+        const auto mirror = std::lower_bound(graph.Neighbors.begin() + graph.Offsets[g], listEnd, static_cast<std::int64_t>(f));
+        if (mirror == listEnd || *mirror != static_cast<std::int64_t>(f))
         {
-          ++mirror;
+          mirrorMissing = true;
+          continue;
         }
-        if (mirror == mirrorEnd)
-        {
-          throw FaceGraphError("internal error: face " + std::to_string(g) + " does not list its neighbour " +
-            std::to_string(f));
-        }
-        graph.CenterDistances[e] = graph.CenterDistances[mirror];
-        graph.NormalAngles[e] = graph.NormalAngles[mirror];
-        graph.Concave[e] = graph.Concave[mirror];
+        const auto m = static_cast<std::size_t>(mirror - graph.Neighbors.begin());
+        graph.CenterDistances[e] = graph.CenterDistances[m];
+        graph.NormalAngles[e] = graph.NormalAngles[m];
+        graph.Concave[e] = graph.Concave[m];
       }
     }
   });
+  if (mirrorMissing)
+  {
+    throw FaceGraphError("internal error: the adjacency is not symmetric");
+  }
   return graph;
 }
 

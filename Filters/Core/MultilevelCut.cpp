@@ -2,9 +2,8 @@
 #include "MultilevelCut.h"
 
 #include <algorithm>
-#include <memory>
-#include <mutex>
 #include <cstdint>
+#include <mutex>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -285,22 +284,21 @@ class SharedProgress
 public:
   SharedProgress(ProgressCallback progress, std::size_t total)
     : Progress(std::move(progress))
-    , Total(std::max<std::size_t>(1, total))
+    , Total(static_cast<double>(std::max<std::size_t>(1, total)))
   {
   }
 
-  ProgressCallback ForPart(std::size_t size) const
+  ProgressCallback ForPart(std::size_t size)
   {
     if (!Progress)
     {
       return nullptr;
     }
-    auto reported = std::make_shared<double>(0.0);
-    return [this, size, reported](double fraction) {
+    return [this, size = static_cast<double>(size), reported = 0.0](double fraction) mutable {
       const std::lock_guard<std::mutex> lock(Mutex);
-      Done += (fraction - *reported) * static_cast<double>(size);
-      *reported = fraction;
-      Highest = std::max(Highest, std::min(1.0, Done / static_cast<double>(Total)));
+      Done += (fraction - reported) * size;
+      reported = fraction;
+      Highest = std::max(Highest, std::min(1.0, Done / Total));
       Continue = Continue && Progress(Highest);
       return Continue;
     };
@@ -308,11 +306,11 @@ public:
 
 private:
   ProgressCallback Progress;
-  std::size_t Total;
-  mutable std::mutex Mutex;
-  mutable double Done = 0.0;
-  mutable double Highest = 0.0;
-  mutable bool Continue = true;
+  double Total;
+  std::mutex Mutex;
+  double Done = 0.0;
+  double Highest = 0.0;
+  bool Continue = true;
 };
 
 ProgressCallback SubRange(const ProgressCallback& progress, double from, double to)
@@ -386,7 +384,7 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   // this is the joint alpha-expansion up to moves that change nothing or below the tolerance.
   const std::vector<std::vector<std::size_t>> components = BandComponents(adjacency, inBand, bandFaces, bandIndex);
   std::vector<AlphaExpansionResult> solved(components.size());
-  const SharedProgress bandProgress(SubRange(progress, 0.5, 1.0), bandFaces.size());
+  SharedProgress bandProgress(SubRange(progress, 0.5, 1.0), bandFaces.size());
   parallelFor(components.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t c = begin; c < end; ++c)
     {

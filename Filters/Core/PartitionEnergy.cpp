@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <string>
 
 namespace shapediameter
 {
@@ -74,54 +75,36 @@ void ValidateTopology(const DualGraphView& graph, const ParallelFor& parallelFor
   {
     throw PartitionEnergyError("dual graph: neighbour indices are missing");
   }
-  // The neighbour lists, checked in parallel; the lowest failing face is checked again on
-  // its own for the message, so the error does not depend on the thread split.
+  // The neighbour lists, checked in parallel; the error is the lowest failing face's, so it
+  // does not depend on the thread split (and nothing is thrown on a worker thread).
   const auto faceCount = static_cast<std::int64_t>(n);
-  auto checkFace = [&](std::size_t f, bool raise) {
+  auto problemOf = [&](std::size_t f) -> std::string {
     for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
     {
       const std::int64_t g = graph.neighbours[e];
-      const char* problem = nullptr;
       if (g < 0 || g >= faceCount)
       {
-        problem = "out of range";
+        return "dual graph: neighbour index out of range at face " + std::to_string(f);
       }
-      else if (g == static_cast<std::int64_t>(f))
+      if (g == static_cast<std::int64_t>(f))
       {
-        problem = "self";
+        return "dual graph: face " + std::to_string(f) + " is its own neighbour";
       }
-      else
+      const std::int64_t* begin = graph.neighbours + graph.offsets[g];
+      const std::int64_t* end = graph.neighbours + graph.offsets[g + 1];
+      if (std::find(begin, end, static_cast<std::int64_t>(f)) == end)
       {
-        const std::int64_t* begin = graph.neighbours + graph.offsets[g];
-        const std::int64_t* end = graph.neighbours + graph.offsets[g + 1];
-        problem = std::find(begin, end, static_cast<std::int64_t>(f)) == end ? "asymmetric" : nullptr;
+        return "dual graph: not symmetric, face " + std::to_string(g) + " does not list its neighbour " +
+          std::to_string(f);
       }
-      if (problem == nullptr)
-      {
-        continue;
-      }
-      if (!raise)
-      {
-        return false;
-      }
-      if (problem[0] == 'o')
-      {
-        throw PartitionEnergyError("dual graph: neighbour index out of range at face " + std::to_string(f));
-      }
-      if (problem[0] == 's')
-      {
-        throw PartitionEnergyError("dual graph: face " + std::to_string(f) + " is its own neighbour");
-      }
-      throw PartitionEnergyError("dual graph: not symmetric, face " + std::to_string(g) +
-        " does not list its neighbour " + std::to_string(f));
     }
-    return true;
+    return {};
   };
   std::atomic<std::size_t> firstBad{ n };
   parallelFor(n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end && f < firstBad.load(std::memory_order_relaxed); ++f)
     {
-      if (!checkFace(f, false))
+      if (!problemOf(f).empty())
       {
         std::size_t current = firstBad.load(std::memory_order_relaxed);
         while (f < current && !firstBad.compare_exchange_weak(current, f, std::memory_order_relaxed))
@@ -133,7 +116,7 @@ void ValidateTopology(const DualGraphView& graph, const ParallelFor& parallelFor
   });
   if (firstBad.load() < n)
   {
-    checkFace(firstBad.load(), true);
+    throw PartitionEnergyError(problemOf(firstBad.load()));
   }
 }
 

@@ -16,13 +16,10 @@ namespace shapediameter
 
 namespace
 {
+
 /// MinimumConfidentShare never lowers the threshold below this: a junction of three branches
 /// has confidence about 0.5, a blob at most that.
 constexpr double kLowestConfidentShareThreshold = 0.6;
-} // namespace
-
-namespace
-{
 
 constexpr std::uint32_t LeafSize = 12;
 constexpr std::size_t MaximumDepth = 128;

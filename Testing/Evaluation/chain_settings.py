@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""What the evaluation scripts share: the mesh readers and the chain settings they expose."""
+"""What the evaluation scripts share: the mesh readers, the chain settings they expose, skeleton edges."""
 import gzip
 import os
 
 import shapediameter
+from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOGeometry import vtkOBJReader, vtkSTLReader
 from vtkmodules.vtkIOPLY import vtkPLYReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
@@ -23,6 +24,17 @@ def read_mesh(path, scratch):
     reader.SetFileName(path)
     reader.Update()
     return reader.GetOutput()
+
+
+def skeleton_edges(skeleton):
+    """(a, b) node ids of every pair of consecutive nodes along the skeleton's polylines."""
+    lines = skeleton.GetLines()
+    if lines.GetNumberOfCells() == 0:
+        return []
+    ids = vtk_to_numpy(lines.GetConnectivityArray())
+    offsets = vtk_to_numpy(lines.GetOffsetsArray())
+    return [(int(a), int(b)) for c in range(len(offsets) - 1)
+            for a, b in zip(ids[offsets[c]:offsets[c + 1] - 1], ids[offsets[c] + 1:offsets[c + 1]])]
 
 
 def add_arguments(parser):

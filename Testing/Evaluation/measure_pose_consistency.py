@@ -60,15 +60,7 @@ def table2(labelings):
 
 def leaves_and_junctions(skeleton):
     """Nodes of degree 1 and of degree >= 3 in the graph of the skeleton's polylines."""
-    lines = skeleton.GetLines()
-    if lines.GetNumberOfCells() == 0:
-        return 0, 0
-    ids = vtk_to_numpy(lines.GetConnectivityArray())
-    offsets = vtk_to_numpy(lines.GetOffsetsArray())
-    edges = set()
-    for c in range(len(offsets) - 1):
-        chain = ids[offsets[c]:offsets[c + 1]]
-        edges.update((min(a, b), max(a, b)) for a, b in zip(chain[:-1], chain[1:]) if a != b)
+    edges = {(min(a, b), max(a, b)) for a, b in chain_settings.skeleton_edges(skeleton) if a != b}
     degree = {}
     for a, b in edges:
         degree[a] = degree.get(a, 0) + 1

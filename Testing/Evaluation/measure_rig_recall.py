@@ -86,17 +86,10 @@ def distances_to_segments(points, starts, ends):
 def skeleton_segments(skeleton):
     """Start and end points of every skeleton edge (a single node: a zero-length segment)."""
     points = vtk_to_numpy(skeleton.GetPoints().GetData()).astype(float) if skeleton.GetNumberOfPoints() else np.zeros((0, 3))
-    starts, ends = [], []
-    lines = skeleton.GetLines()
-    ids = vtk_to_numpy(lines.GetConnectivityArray()) if lines.GetNumberOfCells() else np.zeros(0, int)
-    offsets = vtk_to_numpy(lines.GetOffsetsArray()) if lines.GetNumberOfCells() else np.zeros(1, int)
-    for c in range(len(offsets) - 1):
-        chain = ids[offsets[c]:offsets[c + 1]]
-        starts.extend(points[chain[:-1]])
-        ends.extend(points[chain[1:]])
-    if not starts and len(points):
-        starts, ends = list(points), list(points)
-    return np.array(starts).reshape(-1, 3), np.array(ends).reshape(-1, 3)
+    edges = np.array(chain_settings.skeleton_edges(skeleton), dtype=int).reshape(-1, 2)
+    if len(edges) == 0:
+        return points.copy(), points.copy()
+    return points[edges[:, 0]], points[edges[:, 1]]
 
 
 def rig_recall(skeleton, joints, bones, diagonal, samples_per_bone=21, tolerance=0.05):
