@@ -15,8 +15,8 @@ packages=(
   # paraview-dev's CMake config needs these without declaring them (see docs)
   libutfcpp-dev libavformat-dev libavcodec-dev libavutil-dev libswscale-dev libopenmpi-dev
   liblzma-dev liblz4-dev libdouble-conversion-dev
-  # rendering without a display
-  xvfb xauth
+  # rendering without a display; the GUI test grabs the window (Pillow over XCB)
+  xvfb xauth python3-pil
 )
 expat_minimum=
 case "$codename" in
@@ -25,11 +25,15 @@ case "$codename" in
     # with Qt6"), so no Qt development package is needed; the Python wrapping needs the
     # Python headers, which Debian 13's paraview-dev no longer pulls in.
     packages+=(python3-dev)
+    # Without the Qt SVG image plugin the GUI's toolbar icons are blank (GUI test's window).
+    packages+=(qt6-svg-plugins)
     ;;
   *)
     # ParaView 5.11 (Debian 12): paraview_add_plugin needs Qt5 and Qt5Help, and the
     # documentation step /usr/lib/qt5/bin/xmlpatterns.
     packages+=(qtbase5-dev qttools5-dev qtxmlpatterns5-dev-tools)
+    # Without the Qt SVG image plugin the GUI's toolbar icons are blank (GUI test's window).
+    packages+=(libqt5svg5)
     # Older than this libexpat1, ParaView 5.11 still reads raw appended XML data; a fresh
     # Debian 12 gets this version (a 2025 security update) and rejects it. Upgrade older
     # machines so that they see what a new user's machine sees (README, "Use from pvpython").

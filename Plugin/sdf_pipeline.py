@@ -107,6 +107,69 @@ class VTKMessages:
         return lines[-1] if lines else "unknown error"
 
 
+def frame_camera(view, source):
+    """Looks along the thinnest extent of the bounding box, so the silhouette is largest."""
+    bounds = source.GetDataInformation().GetBounds()
+    extents = [bounds[2 * i + 1] - bounds[2 * i] for i in range(3)]
+    thinnest = min(range(3), key=lambda i: extents[i])
+    center = [(bounds[2 * i] + bounds[2 * i + 1]) / 2 for i in range(3)]
+    direction = [0.0, 0.0, 0.0]
+    direction[thinnest] = 1.0
+    up = [0.0, 1.0, 0.0] if thinnest != 1 else [0.0, 0.0, 1.0]
+    view.CameraFocalPoint = center
+    view.CameraPosition = [c + d for c, d in zip(center, direction)]
+    view.CameraViewUp = up
+    view.ResetCamera()
+
+
+def cluster_palette(simple):
+    """The RGB triples of the plugin's categorical SDFCluster colour map (16 colours), the
+    colours of the parts picture; other label pictures cycle through them."""
+    colours = list(simple.GetColorTransferFunction("SDFCluster").IndexedColors)
+    return [colours[i:i + 3] for i in range(0, len(colours) - 2, 3)]
+
+
+def cluster_model(data):
+    """(means, weights) of the partition's clusters from its field data (SDFGMMMeans/Weights)."""
+    field = data.GetFieldData()
+    count = int(field.GetArray("SDFClusterCount").GetValue(0))
+    return tuple([field.GetArray(key).GetValue(c) for c in range(count)]
+                 for key in ("SDFGMMMeans", "SDFGMMWeights"))
+
+
+def show_cluster_chart(simple, partition, view, means, weights):
+    """The paper's Fig. 7 in a ParaView line chart `view`: the histogram of SDFNormalized
+    (output port 1 of the partition) with the fitted Gaussians. Component c is drawn in the
+    colour of cluster c in the parts picture (the plugin's SDFCluster colour map) and labelled
+    like its legend, with its mean and weight; the x axis is nsdf's [0, 1]. Used by the
+    pipeline command's --plot and by the GUI test's window; returns the chart's display."""
+    clusters = len(means)
+    view.ChartTitle = "Clusters of the normalised SDF (k = %d)" % clusters
+    view.LeftAxisTitle = "density (faces)"
+    view.BottomAxisTitle = "SDFNormalized"
+    view.BottomAxisUseCustomRange = 1
+    view.BottomAxisRangeMinimum = 0.0
+    view.BottomAxisRangeMaximum = 1.0
+    chart = simple.Show(simple.OutputPort(partition, 1), view)
+    chart.UseIndexForXAxis = 0
+    chart.XArrayName = "BinCenter"
+    components = ["Component%d" % c for c in range(clusters)]
+    curves = ["Density", "Mixture"] + components
+    chart.SeriesVisibility = curves
+    labels = {"Density": "histogram", "Mixture": "mixture"}
+    labels.update({name: "cluster %d (mean %.2f, weight %.2f)" % (c, means[c], weights[c])
+                   for c, name in enumerate(components)})
+    chart.SeriesLabel = sum([[c, labels[c]] for c in curves], [])
+    chart.SeriesLineThickness = sum([[c, "4" if c == "Density" else "3"] for c in curves], [])
+    chart.SeriesLineStyle = sum([[c, "2" if c == "Mixture" else "1"] for c in curves], [])
+    palette = cluster_palette(simple)
+    series_colours = ["Density", "0.72", "0.72", "0.72", "Mixture", "0", "0", "0"]
+    for c, name in enumerate(components):
+        series_colours += [name] + ["%.6f" % value for value in palette[c % len(palette)]]
+    chart.SeriesColor = series_colours
+    return chart
+
+
 class Pipeline:
     def __init__(self, arguments):
         self.arguments = arguments
@@ -218,7 +281,7 @@ class Pipeline:
             bar.LabelColor = [0, 0, 0]
         else:
             display.DiffuseColor = [0.75, 0.75, 0.8]
-        self.frame_camera(view, source)
+        frame_camera(view, source)
         simple.SaveScreenshot(png, view, ImageResolution=[1024, 768])
         simple.Delete(display)
         simple.Delete(view)
@@ -238,7 +301,7 @@ class Pipeline:
         bar.Title = "SDFCluster"
         bar.TitleColor = [0, 0, 0]
         bar.LabelColor = [0, 0, 0]
-        self.frame_camera(view, source)
+        frame_camera(view, source)
         simple.SaveScreenshot(png, view, ImageResolution=[1024, 768])
         simple.Delete(display)
         simple.Delete(view)
@@ -254,21 +317,6 @@ class Pipeline:
             pass
         return view
 
-    @staticmethod
-    def frame_camera(view, source):
-        """Looks along the thinnest extent of the bounding box, so the silhouette is largest."""
-        bounds = source.GetDataInformation().GetBounds()
-        extents = [bounds[2 * i + 1] - bounds[2 * i] for i in range(3)]
-        thinnest = min(range(3), key=lambda i: extents[i])
-        center = [(bounds[2 * i] + bounds[2 * i + 1]) / 2 for i in range(3)]
-        direction = [0.0, 0.0, 0.0]
-        direction[thinnest] = 1.0
-        up = [0.0, 1.0, 0.0] if thinnest != 1 else [0.0, 0.0, 1.0]
-        view.CameraFocalPoint = center
-        view.CameraPosition = [c + d for c, d in zip(center, direction)]
-        view.CameraViewUp = up
-        view.ResetCamera()
-
     def skeleton(self, source):
         skeleton = self.simple.SDFSkeleton(Input=source, NumberOfSamples=self.arguments.samples,
                                            NumberOfThreads=self.arguments.threads,
@@ -277,44 +325,12 @@ class Pipeline:
         skeleton.UpdatePipeline()
         return skeleton
 
-    def cluster_palette(self):
-        """The RGB triples of the plugin's categorical SDFCluster colour map (16 colours), the
-        colours of the parts picture; other label pictures cycle through them."""
-        colours = list(self.simple.GetColorTransferFunction("SDFCluster").IndexedColors)
-        return [colours[i:i + 3] for i in range(0, len(colours) - 2, 3)]
-
     def render_histogram(self, partition, png, means, weights):
-        """The paper's Fig. 7: histogram of SDFNormalized with the fitted Gaussians, in
-        ParaView's own line chart (output port 1 of the partition). Component c is drawn in
-        the colour of cluster c in the parts picture (the plugin's SDFCluster colour map) and
-        labelled like its legend, with its mean and weight; the x axis is nsdf's [0, 1]."""
+        """The paper's Fig. 7 as a PNG (see show_cluster_chart)."""
         simple = self.simple
-        clusters = len(means)
         view = simple.CreateView("XYChartView")
         view.ViewSize = [1024, 600]
-        view.ChartTitle = "Clusters of the normalised SDF (k = %d)" % clusters
-        view.LeftAxisTitle = "density (faces)"
-        view.BottomAxisTitle = "SDFNormalized"
-        view.BottomAxisUseCustomRange = 1
-        view.BottomAxisRangeMinimum = 0.0
-        view.BottomAxisRangeMaximum = 1.0
-        chart = simple.Show(simple.OutputPort(partition, 1), view)
-        chart.UseIndexForXAxis = 0
-        chart.XArrayName = "BinCenter"
-        components = ["Component%d" % c for c in range(clusters)]
-        curves = ["Density", "Mixture"] + components
-        chart.SeriesVisibility = curves
-        labels = {"Density": "histogram", "Mixture": "mixture"}
-        labels.update({name: "cluster %d (mean %.2f, weight %.2f)" % (c, means[c], weights[c])
-                       for c, name in enumerate(components)})
-        chart.SeriesLabel = sum([[c, labels[c]] for c in curves], [])
-        chart.SeriesLineThickness = sum([[c, "4" if c == "Density" else "3"] for c in curves], [])
-        chart.SeriesLineStyle = sum([[c, "2" if c == "Mixture" else "1"] for c in curves], [])
-        palette = self.cluster_palette()
-        series_colours = ["Density", "0.72", "0.72", "0.72", "Mixture", "0", "0", "0"]
-        for c, name in enumerate(components):
-            series_colours += [name] + ["%.6f" % value for value in palette[c % len(palette)]]
-        chart.SeriesColor = series_colours
+        chart = show_cluster_chart(simple, partition, view, means, weights)
         simple.SaveScreenshot(png, view, ImageResolution=[1024, 600])
         simple.Delete(chart)
         simple.Delete(view)
@@ -336,7 +352,7 @@ class Pipeline:
         tubes.NumberofSides = 12
         bones = simple.Show(tubes, view)
         if by_bone:
-            palette = self.cluster_palette()
+            palette = cluster_palette(self.simple)
             count = int(tubes.CellData["BoneId"].GetRange(0)[1]) + 1
             for display, array in ((bones, "BoneId"), (shell, "SkeletonBoneId")):
                 simple.ColorBy(display, ("CELLS", array))
@@ -360,7 +376,7 @@ class Pipeline:
         bar.Title = "BoneId" if by_bone else "Skeleton"
         bar.TitleColor = [0, 0, 0]
         bar.LabelColor = [0, 0, 0]
-        self.frame_camera(view, surface)
+        frame_camera(view, surface)
         simple.SaveScreenshot(png, view, ImageResolution=[1024, 768])
         for proxy in (bones, shell, tubes, view):
             simple.Delete(proxy)
@@ -434,10 +450,7 @@ class Pipeline:
                 sdf = "SDF" if cells.GetArray("SDF") is not None else None
                 self.render(result, os.path.join(out, name + "_sdf.png"), sdf)
                 if cells.GetArray("SDFCluster") is not None:
-                    field = data.GetFieldData()
-                    means, weights = ([field.GetArray(key).GetValue(c) for c in
-                                       range(int(field.GetArray("SDFClusterCount").GetValue(0)))]
-                                      for key in ("SDFGMMMeans", "SDFGMMWeights"))
+                    means, weights = cluster_model(data)
                     self.render_parts(result, os.path.join(out, name + "_parts.png"))
                     if arguments.plot:
                         self.render_histogram(result, os.path.join(out, name + "_gmm.png"), means, weights)
