@@ -60,6 +60,14 @@ public:
   /// consumed: set them all again before the next Solve()).
   double Solve();
 
+  /// Residual capacities: before Solve() the capacities set, after it what the flow left.
+  /// For tests (the source set against reachability in the residual graph) and benchmarks
+  /// (recording the graphs of a run). Terminal: > 0 the residual s->node, < 0 minus the
+  /// residual node->t (the part common to both links is not stored: it flows s->node->t).
+  std::size_t ArcCount() const { return this->Arcs.size(); }
+  double ArcResidual(std::int32_t arc) const { return this->Arcs[static_cast<std::size_t>(arc)].residual; }
+  double TerminalResidual(std::size_t node) const { return this->TerminalCapacity[node]; }
+
   /// After Solve(): true when the node is on the source side of the minimum cut.
   bool InSourceSet(std::size_t node) const
   {
