@@ -122,6 +122,12 @@ int vtkSDFSkeleton::RequestData(
 
   adapter::TriangulatedSurface surface;
   std::string reason = adapter::Triangulate(input, surface);
+  if (reason.empty() && surface.Triangles.rows() == 0)
+  {
+    // Polygon cells of fewer than three points only: nothing to sample, not even a
+    // placeholder node (one per component of triangles).
+    reason = "the input has no polygon with three points";
+  }
   std::vector<double> cellSdf;
   std::string arrayName;
   if (reason.empty())
@@ -168,6 +174,13 @@ int vtkSDFSkeleton::RequestData(
     }
 
     WriteSkeleton(skeleton, skeletonOutput);
+    if (skeleton.CloudPositions.rows() == 0)
+    {
+      // Samples are placed in proportion to area: a surface whose triangles all have zero
+      // area at double precision (coincident points, or lengths whose squares underflow)
+      // gets none, and only the documented placeholder node per component.
+      vtkWarningMacro("The surface has no area: no sample could be placed, the skeleton is one node per component.");
+    }
 
     // Port 1: each cell takes the link of its first triangle (-1 for cells without one).
     const vtkIdType cellCount = input->GetNumberOfCells();

@@ -48,9 +48,11 @@
  *   (input cell id), `Radius`, `Confidence`, and `SDFCluster` when the input has it.
  * Active scalars (what ParaView colours by): `BoneId`, `SkeletonBoneId`, `Confidence`.
  *
- * Bad input: no polygon, no usable SDF array (missing, non-numeric, several components,
- * non-finite or negative values), non-finite coordinates → vtkErrorMacro; ports 0 and 2
- * empty and port 1 a pass-through copy. Empty input → a warning and empty outputs.
+ * Bad input: no polygon (of three or more points), no usable SDF array (missing,
+ * non-numeric, several components, non-finite or negative values), non-finite coordinates →
+ * vtkErrorMacro; ports 0 and 2 empty and port 1 a pass-through copy. Empty input → a
+ * warning and empty outputs. A surface without area (all points coincident, or lengths
+ * whose squares underflow) → a warning, one node per component and no projected points.
  */
 #ifndef vtkSDFSkeleton_h
 #define vtkSDFSkeleton_h

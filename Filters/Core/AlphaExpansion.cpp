@@ -99,8 +99,9 @@ double EnergyOf(const PartitionEnergy& energy, const std::vector<int>& labels)
 class ExpansionGraph
 {
 public:
-  explicit ExpansionGraph(const PartitionEnergy& energy)
+  ExpansionGraph(const PartitionEnergy& energy, const std::function<void(const MaxFlowGraph&)>& beforeEachCut)
     : Energy(energy)
+    , BeforeEachCut(beforeEachCut)
     , Graph(energy.faceCount, energy.pairFirst, energy.pairSecond)
   {
     const std::size_t arcCount = 2 * energy.pairWeight.size();
@@ -159,6 +160,10 @@ public:
       // part both have in common).
       Graph.SetTerminalCapacities(f, alphaCost, keepCost);
     }
+    if (BeforeEachCut)
+    {
+      BeforeEachCut(Graph);
+    }
     Graph.Solve();
     result.resize(n);
     for (std::size_t f = 0; f < n; ++f)
@@ -170,6 +175,7 @@ public:
 
 private:
   const PartitionEnergy& Energy;
+  const std::function<void(const MaxFlowGraph&)>& BeforeEachCut;
   MaxFlowGraph Graph;
   std::vector<double> ArcWeight; ///< the pair weight of every arc, in arc order
 };
@@ -213,7 +219,7 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
     return result;
   }
 
-  ExpansionGraph graph(energy);
+  ExpansionGraph graph(energy, options.beforeEachCut);
   std::vector<int> candidate;
   const long totalMoves = static_cast<long>(options.maxCycles) * k;
   int movesWithoutDecrease = 0;
@@ -283,7 +289,8 @@ std::vector<int> OptimalExpansionMove(const PartitionEnergy& energy, const std::
   {
     return {};
   }
-  ExpansionGraph graph(energy);
+  const std::function<void(const MaxFlowGraph&)> noObserver;
+  ExpansionGraph graph(energy, noObserver);
   std::vector<int> result;
   graph.Move(labels, alpha, result);
   return result;

@@ -15,6 +15,15 @@
 //   the tests check it against Boost.Graph's implementation of the same algorithm on
 //   random graphs.
 //
+// Why not Boost.Graph's boykov_kolmogorov_max_flow: on the same graphs -- the recorded
+//   expansion moves of one alpha-expansion run, replayed to both in one process
+//   (Testing/Benchmarks/BenchMaxFlow.cpp, 2026-12-02, Release, one thread, shared 2-core VM) --
+//   Boost takes 1.3-1.5x our time on the camel (19,536 nodes, 58,608 arcs, 10 moves: 17.6 vs
+//   24.1 ms per sequence, paired) and 2.5-2.8x on the armadillo (52,000 nodes, 156,000 arcs,
+//   11 moves: 56 vs 142 ms), at a load average of 2; at 4-6 (other builds on the machine)
+//   1.6-2.3x on both. Ours was faster in every run. Topology built once for both; timed:
+//   filling the capacities and solving. Same flow value on every move.
+//
 // Result
 //   InSourceSet(i): i is reachable from s in the final residual graph. This is the unique
 //   minimal source set of a minimum cut, so the cut does not depend on the order of the
@@ -59,6 +68,14 @@ public:
   /// Maximum flow value for the capacities set since the last Solve() (the capacities are
   /// consumed: set them all again before the next Solve()).
   double Solve();
+
+  /// Residual capacities: before Solve() the capacities set, after it what the flow left.
+  /// For tests (the source set against reachability in the residual graph) and benchmarks
+  /// (recording the graphs of a run). Terminal: > 0 the residual s->node, < 0 minus the
+  /// residual node->t (the part common to both links is not stored: it flows s->node->t).
+  std::size_t ArcCount() const { return this->Arcs.size(); }
+  double ArcResidual(std::int32_t arc) const { return this->Arcs[static_cast<std::size_t>(arc)].residual; }
+  double TerminalResidual(std::size_t node) const { return this->TerminalCapacity[node]; }
 
   /// After Solve(): true when the node is on the source side of the minimum cut.
   bool InSourceSet(std::size_t node) const

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numeric>
 #include <utility>
@@ -45,6 +46,12 @@ Eigen::Vector3d FaceNormal(const ArticulatedFigure& figure, Eigen::Index t)
   const Eigen::Vector3d b = figure.Points.row(figure.Triangles(t, 1)).transpose();
   const Eigen::Vector3d c = figure.Points.row(figure.Triangles(t, 2)).transpose();
   return (b - a).cross(c - a);
+}
+
+Eigen::Vector3d FaceCenter(const ArticulatedFigure& figure, Eigen::Index t)
+{
+  return (figure.Points.row(figure.Triangles(t, 0)) + figure.Points.row(figure.Triangles(t, 1)) +
+           figure.Points.row(figure.Triangles(t, 2))).transpose() / 3.0;
 }
 
 std::size_t ComponentCount(const ArticulatedFigure& figure)
@@ -150,11 +157,111 @@ TEST(ArticulatedFigure, PartLabelsCoverEveryPartSymmetrically)
   EXPECT_NEAR(counts[LeftArm], counts[RightArm], 0.05 * counts[LeftArm]);
   EXPECT_NEAR(counts[LeftLeg], counts[RightLeg], 0.05 * counts[LeftLeg]);
   EXPECT_GT(counts[Torso], counts[LeftLeg]);
-  // Thickness classes: arm < leg < head < torso (diameters 0.14, 0.2, 0.36, 0.5).
-  EXPECT_LT(ArticulatedFigureTemplate::Limb(LeftArm).Radius, ArticulatedFigureTemplate::Limb(LeftLeg).Radius);
-  // A point on the left arm axis near the tip is labelled by its capsule.
-  const FigureLimb arm = ArticulatedFigureTemplate::Limb(LeftArm);
-  EXPECT_NEAR(ArticulatedFigureTemplate::PartDistance(arm.Pivot + 0.5 * arm.Direction, LeftArm), -arm.Radius, 1e-15);
+
+  // Labels against the geometry of the header (not against PartDistance, which makes them):
+  // regions that only one part reaches carry that part's label.
+  std::vector<int> regionFaces(FigurePartCount, 0);
+  std::size_t mislabelled = 0;
+  for (Eigen::Index t = 0; t < figure.Triangles.rows(); ++t)
+  {
+    const Eigen::Vector3d c = FaceCenter(figure, t);
+    int expected = -1;
+    if (c.x() > 0.5 && std::abs(c.y() - 0.3) < 0.1)
+    {
+      expected = LeftArm; // the figure's left side is +x
+    }
+    else if (c.x() < -0.5 && std::abs(c.y() - 0.3) < 0.1)
+    {
+      expected = RightArm;
+    }
+    else if (c.y() < -0.8)
+    {
+      expected = c.x() > 0.0 ? LeftLeg : RightLeg;
+    }
+    else if (c.y() > 0.65)
+    {
+      expected = Head;
+    }
+    else if (std::abs(c.y()) < 0.1)
+    {
+      expected = Torso;
+    }
+    if (expected >= 0)
+    {
+      ++regionFaces[static_cast<std::size_t>(expected)];
+      mislabelled += figure.FaceParts[static_cast<std::size_t>(t)] != expected ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(mislabelled, 0u);
+  for (int part = 0; part < FigurePartCount; ++part)
+  {
+    EXPECT_GT(regionFaces[static_cast<std::size_t>(part)], 100) << "part " << part;
+  }
+}
+
+TEST(ArticulatedFigure, MeshMatchesTheDocumentedGeometry)
+{
+  // The thickness classes the SDF tests rely on, measured on the surface: arm < leg < head <
+  // torso (radii 0.07, 0.1, 0.18, 0.25 in the header); and Limb(), which the poses rotate
+  // about, describes the limbs the mesh really has (radius about its axis, tip at Length).
+  const ArticulatedFigureTemplate& figure = SharedTemplate();
+  const ArticulatedFigure& rest = figure.Rest();
+  std::vector<std::vector<double>> radii(FigurePartCount);
+  std::vector<double> tips(FigurePartCount, -1e300);
+  for (Eigen::Index v = 0; v < rest.Points.rows(); ++v)
+  {
+    const Eigen::Vector3d p = rest.Points.row(v).transpose();
+    for (int part = LeftArm; part <= RightLeg; ++part)
+    {
+      if (figure.SkinWeight(v, static_cast<FigurePart>(part)) != 1.0)
+      {
+        continue; // near the joint the surface blends into the torso
+      }
+      const FigureLimb limb = ArticulatedFigureTemplate::Limb(static_cast<FigurePart>(part));
+      const double along = (p - limb.Pivot).dot(limb.Direction);
+      tips[static_cast<std::size_t>(part)] = std::max(tips[static_cast<std::size_t>(part)], along);
+      if (along < limb.Length - limb.Radius) // the cylinder, not the tip cap
+      {
+        radii[static_cast<std::size_t>(part)].push_back((p - limb.Pivot - along * limb.Direction).norm());
+      }
+    }
+    if (std::abs(p.y()) < 0.1)
+    {
+      radii[Torso].push_back(std::hypot(p.x(), p.z()));
+    }
+    if (p.y() > 0.7)
+    {
+      radii[Head].push_back((p - Eigen::Vector3d(0.0, 0.76, 0.0)).norm());
+    }
+  }
+  std::vector<double> measured(FigurePartCount);
+  for (int part = 0; part < FigurePartCount; ++part)
+  {
+    std::vector<double>& r = radii[static_cast<std::size_t>(part)];
+    ASSERT_GT(r.size(), 50u) << "part " << part;
+    std::nth_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2), r.end());
+    measured[static_cast<std::size_t>(part)] = r[r.size() / 2];
+  }
+  // Vertices lie on the zero set (1e-9), so away from the blends the radius is exact up to
+  // the projection; 1 % leaves room for the smooth minimum's reach (0.05) near the ends.
+  const double documented[FigurePartCount] = { 0.25, 0.18, 0.07, 0.07, 0.10, 0.10 };
+  std::printf("median radius torso %.4f head %.4f arms %.4f %.4f legs %.4f %.4f; tips %.4f %.4f %.4f %.4f\n",
+    measured[Torso], measured[Head], measured[LeftArm], measured[RightArm], measured[LeftLeg], measured[RightLeg],
+    tips[LeftArm], tips[RightArm], tips[LeftLeg], tips[RightLeg]);
+  for (int part = 0; part < FigurePartCount; ++part)
+  {
+    EXPECT_NEAR(measured[static_cast<std::size_t>(part)], documented[part], 0.01 * documented[part]) << "part " << part;
+  }
+  for (int part = LeftArm; part <= RightLeg; ++part)
+  {
+    const FigureLimb limb = ArticulatedFigureTemplate::Limb(static_cast<FigurePart>(part));
+    EXPECT_NEAR(measured[static_cast<std::size_t>(part)], limb.Radius, 0.01 * limb.Radius) << "limb " << part;
+    // The tip vertex is within a fraction of a grid cell (0.036) of the cap's apex.
+    EXPECT_NEAR(tips[static_cast<std::size_t>(part)], limb.Length, 0.01) << "limb " << part;
+  }
+  EXPECT_LT(measured[LeftArm], measured[LeftLeg]);
+  EXPECT_LT(measured[LeftLeg], measured[Head]);
+  EXPECT_LT(measured[Head], measured[Torso]);
 }
 
 TEST(ArticulatedFigure, PosesKeepConnectivityAndMoveOnlyTheBentLimb)

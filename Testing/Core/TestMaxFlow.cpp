@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The project's max-flow against Boost.Graph's Boykov-Kolmogorov on random graphs: the same
 // flow value, and a source set that is a minimum cut (its capacity equals the flow) and is
-// closed under residual reachability.
+// exactly the set of nodes reachable from s in the final residual graph, with no residual
+// path left to t.
 #include "MaxFlow.h"
 
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
@@ -157,6 +158,53 @@ double CutCapacity(const Problem& problem, const MaxFlowGraph& graph)
   return cut;
 }
 
+/// Nodes reachable from s in the residual graph after Solve() (breadth first over the arcs
+/// with residual capacity left). Also counts the reachable nodes that still have residual
+/// capacity to t: each would be an augmenting path, so a maximum flow has none.
+std::vector<bool> ReachableFromSource(const MaxFlowGraph& graph, std::size_t& reachingSink)
+{
+  std::vector<bool> reached(graph.NodeCount(), false);
+  std::vector<std::size_t> queue;
+  for (std::size_t i = 0; i < graph.NodeCount(); ++i)
+  {
+    if (graph.TerminalResidual(i) > 0.0)
+    {
+      reached[i] = true;
+      queue.push_back(i);
+    }
+  }
+  for (std::size_t head = 0; head < queue.size(); ++head)
+  {
+    const std::size_t i = queue[head];
+    for (std::int32_t arc = graph.FirstArc(i); arc < graph.FirstArc(i + 1); ++arc)
+    {
+      const auto j = static_cast<std::size_t>(graph.ArcHead(arc));
+      if (graph.ArcResidual(arc) > 0.0 && !reached[j])
+      {
+        reached[j] = true;
+        queue.push_back(j);
+      }
+    }
+  }
+  reachingSink = 0;
+  for (std::size_t i = 0; i < graph.NodeCount(); ++i)
+  {
+    reachingSink += reached[i] && graph.TerminalResidual(i) < 0.0 ? 1 : 0;
+  }
+  return reached;
+}
+
+/// Nodes whose InSourceSet() differs from residual reachability from s.
+std::size_t SourceSetMismatches(const MaxFlowGraph& graph, const std::vector<bool>& reachable)
+{
+  std::size_t mismatches = 0;
+  for (std::size_t i = 0; i < graph.NodeCount(); ++i)
+  {
+    mismatches += graph.InSourceSet(i) != reachable[i] ? 1 : 0;
+  }
+  return mismatches;
+}
+
 void Load(const Problem& problem, MaxFlowGraph& graph)
 {
   for (std::size_t i = 0; i < problem.nodes; ++i)
@@ -182,6 +230,11 @@ TEST(MaxFlow, SameFlowAsBoostAndAMinimumCut)
     const double tolerance = 1e-9 * std::max(1.0, reference);
     ASSERT_NEAR(flow, reference, tolerance) << "trial " << trial;
     ASSERT_NEAR(CutCapacity(problem, graph), flow, tolerance) << "trial " << trial << ": not a minimum cut";
+    std::size_t reachingSink = 0;
+    const std::vector<bool> reachable = ReachableFromSource(graph, reachingSink);
+    ASSERT_EQ(reachingSink, 0u) << "trial " << trial << ": an augmenting path is left";
+    ASSERT_EQ(SourceSetMismatches(graph, reachable), 0u)
+      << "trial " << trial << ": the source set is not the set reachable from s in the residual graph";
   }
 }
 
@@ -200,6 +253,11 @@ TEST(MaxFlow, ReusedTopologyGivesFreshResults)
   const double first = graph.Solve();
   Load(two, graph);
   const double second = graph.Solve();
+  // Nothing of the first solve's trees may survive into the second's cut.
+  std::size_t reachingSink = 0;
+  const std::vector<bool> reachable = ReachableFromSource(graph, reachingSink);
+  EXPECT_EQ(reachingSink, 0u);
+  EXPECT_EQ(SourceSetMismatches(graph, reachable), 0u);
   Load(one, graph);
   EXPECT_DOUBLE_EQ(graph.Solve(), first);
   EXPECT_NEAR(second, BoostMaxFlow(two), 1e-9 * std::max(1.0, second));
