@@ -2,7 +2,8 @@
 """The README's pipeline command end to end (renders through xvfb-run), plus its error contract.
 
 Runs it with --no-setup: no package installation and no build inside ctest; the wrapper uses the
-plugin of the build tree ctest runs in (SHAPEDIAMETER_BUILD_DIR, set by Testing/CMakeLists.txt)."""
+plugin of the build tree ctest runs in (SHAPEDIAMETER_BUILD_DIR, set by Testing/CMakeLists.txt).
+The wrapper does not repeat failed runs, so a crash while rendering (exit 134) fails this test."""
 import json
 import os
 import shutil
