@@ -34,6 +34,9 @@ case "$codename" in
     packages+=(qtbase5-dev qttools5-dev qtxmlpatterns5-dev-tools)
     # Without the Qt SVG image plugin the GUI's toolbar icons are blank (GUI test's window).
     packages+=(libqt5svg5)
+    # The OFF parser's libFuzzer target (Testing/run-fuzz-replay, run by Testing/run-tests on
+    # Debian 12 only; Debian 13 names them clang-19 / libclang-rt-19-dev).
+    packages+=(clang libclang-rt-14-dev)
     # Older than this libexpat1, ParaView 5.11 still reads raw appended XML data; a fresh
     # Debian 12 gets this version (a 2025 security update) and rejects it. Upgrade older
     # machines so that they see what a new user's machine sees (README, "Use from pvpython").

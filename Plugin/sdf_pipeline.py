@@ -59,6 +59,10 @@ def parse_arguments(argv):
                              "colour (default); 'pieces' = fitted segments vs connecting paths")
     parser.add_argument("--no-render", action="store_true", help="skip the PNG renderings")
     parser.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    # Read by the Plugin/sdf-pipeline wrapper before pvpython starts; listed here for --help.
+    parser.add_argument("--no-setup", action="store_true",
+                        help="skip the package check/installation and the build: run with the plugin "
+                             "of the existing build directory ($SHAPEDIAMETER_BUILD_DIR, default build/)")
     arguments = parser.parse_args(argv)
     if arguments.threads < 1:
         parser.error("--threads must be >= 1")

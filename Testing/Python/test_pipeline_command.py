@@ -1,5 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""The README's pipeline command end to end (renders through xvfb-run), plus its error contract."""
+"""The README's pipeline command end to end (renders through xvfb-run), plus its error contract.
+
+Runs it with --no-setup: no package installation and no build inside ctest; the wrapper uses the
+plugin of the build tree ctest runs in (SHAPEDIAMETER_BUILD_DIR, set by Testing/CMakeLists.txt).
+The wrapper does not repeat failed runs, so a crash while rendering (exit 134) fails this test."""
 import json
 import os
 import shutil
@@ -14,7 +18,8 @@ environment.pop("DISPLAY", None)  # exercise the xvfb-run path
 
 
 def run(*arguments):
-    return subprocess.run([command, *arguments], capture_output=True, text=True, env=environment, timeout=900)
+    return subprocess.run([command, "--no-setup", *arguments], capture_output=True, text=True, env=environment,
+                          timeout=900)
 
 
 def fail(message, result=None):
@@ -44,6 +49,16 @@ if skeleton.GetPointData().GetArray("Radius") is None:
 """
 
 with tempfile.TemporaryDirectory() as out:
+    # --no-setup really skips the set-up: with SHAPEDIAMETER_BUILD_DIR naming a regular file (the
+    # plugin comes from SHAPEDIAMETER_PLUGIN), any build step would fail at once (mkdir/configure).
+    not_a_build = os.path.join(out, "not-a-build-directory")
+    open(not_a_build, "w").close()
+    result = subprocess.run([command, "--no-setup", "--help"], capture_output=True, text=True, timeout=300,
+                            env=dict(environment, SHAPEDIAMETER_BUILD_DIR=not_a_build))
+    if result.returncode != 0 or "--no-setup" not in result.stdout:
+        fail("sdf-pipeline --no-setup --help with SHAPEDIAMETER_BUILD_DIR=%s (a file) exited %d: "
+             "did it try to install or build?" % (not_a_build, result.returncode), result)
+
     mesh = os.path.join(source, "Data", "camel.off")
     result = run(mesh, "--output-dir", out, "--quiet", "--plot")
     if result.returncode != 0:
