@@ -44,7 +44,8 @@
  *
  * Bad input: no polygons, or a non-finite coordinate used by a polygon → vtkErrorMacro
  * and a pass-through copy of the input without new arrays. Empty input → a warning and
- * an empty output. Abort is honoured between chunks of faces (the output is then the
+ * an empty output. Abort is honoured between the steps before the ray loop (triangulation,
+ * adjacency, orientation, BVH) and between chunks of faces in it (the output is then the
  * pass-through copy). No NaN is ever written.
  *
  * Deviations from the paper: the paper ignores "intersections where the normal at the

@@ -30,6 +30,8 @@
 //   SmoothBreakdown, PartitionBreakdown   the same for vtkSDFBilateralSmooth (face graph,
 //                 geodesic neighbourhoods, iterations, normalisation) and vtkSDFGMMPartition
 //                 (face graph, EM, posteriors, energy, alpha-expansion, segments).
+//   SDFAbort      abort requested from a ProgressEvent observer at progress 0.5: the time until
+//                 Update() returns (abort_latency_*), the largest gap between progress events.
 // Every *_min_ms / *_median_ms counter is also in --benchmark_out JSON; Paired and Chain add
 // *_cpu_* counters (process CPU time, all threads) that a loaded machine disturbs less.
 //
@@ -53,6 +55,7 @@
 #include "ShapeDiameter.h"
 #include "SurfaceConversion.h"
 
+#include "vtkCallbackCommand.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkNew.h"
@@ -849,6 +852,80 @@ void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
   });
 }
 
+/// What the abort benchmark's progress observer saw.
+struct AbortWatch
+{
+  vtkAlgorithm* Filter = nullptr;
+  double AbortAt = 0.5;
+  Clock::time_point Start, LastEvent, RequestedAt;
+  bool Requested = false;
+  int Events = 0;
+  double LargestGapMs = 0.0;
+
+  static void OnProgress(vtkObject*, unsigned long, void* clientData, void* callData)
+  {
+    auto* watch = static_cast<AbortWatch*>(clientData);
+    const auto now = Clock::now();
+    if (watch->Requested)
+    {
+      return;
+    }
+    ++watch->Events;
+    watch->LargestGapMs = std::max(watch->LargestGapMs, Milliseconds(watch->LastEvent, now));
+    watch->LastEvent = now;
+    if (*static_cast<double*>(callData) >= watch->AbortAt)
+    {
+      watch->Requested = true;
+      watch->RequestedAt = now;
+      watch->Filter->SetAbortExecute(1);
+    }
+  }
+};
+
+/// A user pressing abort in the middle of the SDF: an observer of ProgressEvent sets
+/// AbortExecute once the progress reaches 0.5 (inside the ray loop). Iteration time (and
+/// abort_latency_*) = from that call to Update()'s return; progress_gap_max_ms = the largest
+/// gap between two progress events before it (how steadily the bar moves), progress_events =
+/// how many. The aborted output must be the documented pass-through (no SDF array).
+void BM_SDFAbort(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    Samples latency, gap;
+    int events = 0;
+    for (auto _ : state)
+    {
+      vtkNew<vtkShapeDiameterFilter> sdf;
+      sdf->SetInputData(mesh.Surface);
+      sdf->SetNumberOfThreads(Threads());
+      AbortWatch watch;
+      watch.Filter = sdf;
+      vtkNew<vtkCallbackCommand> observer;
+      observer->SetCallback(AbortWatch::OnProgress);
+      observer->SetClientData(&watch);
+      sdf->AddObserver(vtkCommand::ProgressEvent, observer);
+      watch.Start = watch.LastEvent = Clock::now();
+      sdf->Update();
+      const auto end = Clock::now();
+      if (!watch.Requested)
+      {
+        throw std::runtime_error("the SDF filter never reported progress 0.5");
+      }
+      if (sdf->GetOutput()->GetCellData()->GetArray(vtkShapeDiameterFilter::SDF_ARRAY_NAME))
+      {
+        throw std::runtime_error("the aborted SDF filter wrote its SDF array");
+      }
+      latency.Add(Milliseconds(watch.RequestedAt, end));
+      gap.Add(watch.LargestGapMs);
+      events = watch.Events;
+      state.SetIterationTime(Milliseconds(watch.RequestedAt, end) / 1000.0);
+    }
+    SetCounters(state, "abort_latency_", latency);
+    state.counters["progress_gap_max_ms"] = gap.Median();
+    state.counters["progress_events"] = events;
+  });
+}
+
 std::string Stem(const std::string& path)
 {
   const std::size_t slash = path.find_last_of('/');
@@ -864,7 +941,7 @@ void RegisterMesh(const std::string& path)
     { "RawEmbree", BM_RawEmbree }, { "Smooth", BM_Smooth }, { "Partition", BM_Partition },
     { "Skeleton", BM_Skeleton }, { "Paired", BM_Paired }, { "Chain", BM_Chain },
     { "SDFBreakdown", BM_SDFBreakdown }, { "SmoothBreakdown", BM_SmoothBreakdown },
-    { "PartitionBreakdown", BM_PartitionBreakdown } };
+    { "PartitionBreakdown", BM_PartitionBreakdown }, { "SDFAbort", BM_SDFAbort } };
   for (const auto& [stage, function] : stages)
   {
     const std::string name = std::string(stage) + "/" + Stem(path);

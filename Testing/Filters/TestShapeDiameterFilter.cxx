@@ -376,4 +376,16 @@ TEST(ShapeDiameterFilter, ProgressIsSteadyOnTheCallingThreadAndAbortStopsTheLoop
     lastOfTheLoop = p < 1.0 ? std::max(lastOfTheLoop, p) : lastOfTheLoop;
   }
   EXPECT_LT(lastOfTheLoop, 0.9) << "the loop went on after the abort";
+
+  // Abort at the first event (0.01, after triangulation): honoured before the adjacency,
+  // orientation and BVH (over a second together at 832k faces), so no later step reports.
+  Seen early;
+  early.AbortAbove = 0.0;
+  vtkSmartPointer<vtkPolyData> stoppedEarly = run(early);
+  EXPECT_EQ(stoppedEarly->GetCellData()->GetArray("SDF"), nullptr);
+  EXPECT_EQ(stoppedEarly->GetNumberOfCells(), sphere->GetOutput()->GetNumberOfCells());
+  for (const double p : early.Progress)
+  {
+    EXPECT_TRUE(p <= 0.01 || p == 1.0) << "a step after the abort reported " << p;
+  }
 }

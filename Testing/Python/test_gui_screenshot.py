@@ -243,7 +243,7 @@ def main():
         environment = dict(os.environ, SHAPEDIAMETER_GUI_SCREENSHOT=view_png, SHAPEDIAMETER_GUI_WINDOW=window_png)
         environment.pop("DISPLAY", None)
         command = ["xvfb-run", "-a", "-n", str(random.randint(100, 5100)),
-                   "-s", "-screen 0 %dx%dx24" % SCREEN, "paraview", "-geometry", "%dx%d+0+0" % SCREEN, "--dr",
+                   "-s", "-screen 0 %dx%dx24 -noreset" % SCREEN, "paraview", "-geometry", "%dx%d+0+0" % SCREEN, "--dr",
                    "--plugin-search-paths=" + os.path.dirname(PLUGIN), "--plugins=ShapeDiameter",
                    "--script=" + os.path.join(GUI_DIR, "gui_chain.py"), "--test-script=" + checks, "--exit"]
         result = subprocess.run(command, env=environment, capture_output=True, text=True, timeout=600)
