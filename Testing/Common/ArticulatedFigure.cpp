@@ -447,6 +447,7 @@ ArticulatedFigure ArticulatedFigureTemplate::NonRigidPose(const FigurePose& pose
     const Vec3 rest = RestFigure.Points.row(v).transpose();
     std::array<double, 4> weights{};
     std::array<Vec3, 4> displacements;
+    std::array<bool, 4> movesLimb{};
     double weightSum = 0.0;
     for (int limbIndex = 0; limbIndex < 4; ++limbIndex)
     {
@@ -455,11 +456,14 @@ ArticulatedFigure ArticulatedFigureTemplate::NonRigidPose(const FigurePose& pose
       const double along = relative.dot(limb.Direction);
       const double across = (relative - along * limb.Direction).norm();
       // Across the axis the same fade into the torso as the rigid skinning, so the torso away
-      // from the joints stays still; along it the bend is spread instead of concentrated.
-      weights[limbIndex] =
-        1.0 - SmoothStep((across - SkinInner * limb.Radius) / ((SkinOuter - SkinInner) * limb.Radius));
+      // from the joints stays still; along it the weight is full a radius before the bend
+      // starts, so the axis line beyond the pivot (through the torso and the opposite arm)
+      // does not count, and the bend is spread over the joint instead of concentrated.
+      weights[limbIndex] = SmoothStep((along + 2.0 * limb.Radius) / limb.Radius) *
+        (1.0 - SmoothStep((across - SkinInner * limb.Radius) / ((SkinOuter - SkinInner) * limb.Radius)));
       const double jointLength = bend.JointLength * limb.Radius;
       const double progress = SmoothStep((along + limb.Radius) / jointLength);
+      movesLimb[limbIndex] = progress > 0.0 && (angles[limbIndex] != 0.0 || bend.Stretch > 0.0);
       const double lengthening = bend.Stretch * jointLength * progress;
       const Eigen::Matrix3d rotation =
         Eigen::AngleAxisd(angles[limbIndex] * progress, limb.BendAxis).toRotationMatrix();
@@ -467,11 +471,21 @@ ArticulatedFigure ArticulatedFigureTemplate::NonRigidPose(const FigurePose& pose
       weightSum += weights[limbIndex];
     }
     Vec3 displacement = Vec3::Zero();
+    bool moved = false;
     for (int limbIndex = 0; limbIndex < 4; ++limbIndex)
     {
-      displacement += weights[limbIndex] / std::max(1.0, weightSum) * displacements[limbIndex];
+      if (weights[limbIndex] > 0.0 && movesLimb[limbIndex])
+      {
+        displacement += weights[limbIndex] / std::max(1.0, weightSum) * displacements[limbIndex];
+        moved = true;
+      }
     }
-    posed.Points.row(v) = (rest + displacement).transpose();
+    // Vertices outside every joint keep their coordinates bit for bit (pivot + (p - pivot)
+    // need not round to p).
+    if (moved)
+    {
+      posed.Points.row(v) = (rest + displacement).transpose();
+    }
   }
   return posed;
 }

@@ -488,12 +488,17 @@ TEST(ArticulatedFigure, NonRigidPoseBendsAndStretchesAcrossTheJoints)
   for (int limb = LeftArm; limb <= RightLeg; ++limb)
   {
     const FigureLimb geometry = ArticulatedFigureTemplate::Limb(static_cast<FigurePart>(limb));
-    Eigen::Index tip = 0;
+    // The tip: the vertex farthest along the limb among those near its axis (both legs end
+    // at the same height).
+    Eigen::Index tip = -1;
+    double farthest = -1e300;
     for (Eigen::Index v = 0; v < rest.Points.rows(); ++v)
     {
-      if ((rest.Points.row(v).transpose() - geometry.Pivot).dot(geometry.Direction) >
-        (rest.Points.row(tip).transpose() - geometry.Pivot).dot(geometry.Direction))
+      const Eigen::Vector3d relative = rest.Points.row(v).transpose() - geometry.Pivot;
+      const double along = relative.dot(geometry.Direction);
+      if ((relative - along * geometry.Direction).norm() < 1.5 * geometry.Radius && along > farthest)
       {
+        farthest = along;
         tip = v;
       }
     }
