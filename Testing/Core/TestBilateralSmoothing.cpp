@@ -419,7 +419,8 @@ TEST(BilateralSmoothing, ArticulatedFigurePartsDenoisedAndPoseConsistent)
     smoothedPerPose.push_back(result.Values);
   }
   // The smoothed fields of the two poses agree better than their inputs, by the same factor
-  // of two the noise must shrink within each part above (stated before measuring).
+  // of two the noise must shrink within each part above (stated before measuring; measured
+  // 0.27, and 1.0 with the smoothing switched off, where identical inputs gave 0 before).
   auto meanDifference = [](const std::vector<double>& a, const std::vector<double>& b) {
     double sum = 0.0;
     for (std::size_t f = 0; f < a.size(); ++f)
