@@ -291,5 +291,7 @@ TEST(SDFBilateralSmooth, SmoothingMakesTheFigureMorePoseInvariant)
   const double before = meanDifference(raw[0], raw[1]);
   const double after = meanDifference(smoothed[0], smoothed[1]);
   std::printf("mean |delta nsdf| away from joints: raw %.5f, smoothed %.5f\n", before, after);
+  // Measured on the non-rigid pose: raw 0.00258, smoothed 0.00187 (equal, and red, with the
+  // smoothing's weights set to 0).
   EXPECT_LT(after, before);
 }
