@@ -108,14 +108,20 @@ struct TriangleSoup
   std::vector<std::array<std::int64_t, 3>> Triangles;
 };
 
-TriangleSoup MarchingTetrahedra(double cellSize)
+TriangleSoup MarchingTetrahedra(double cellSize, double gridAngle)
 {
+  // The grid lives in a frame rotated by gridToWorld; bounds are taken in that frame (a
+  // capsule stays a capsule under rotation), so every part is inside the grid at any angle.
+  const Eigen::Matrix3d gridToWorld =
+    Eigen::AngleAxisd(gridAngle, Vec3(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
   Vec3 lower = Vec3::Constant(1e300);
   Vec3 upper = Vec3::Constant(-1e300);
   for (const Capsule& capsule : PartCapsules())
   {
-    lower = lower.cwiseMin(capsule.A.cwiseMin(capsule.B) - Vec3::Constant(capsule.Radius));
-    upper = upper.cwiseMax(capsule.A.cwiseMax(capsule.B) + Vec3::Constant(capsule.Radius));
+    const Vec3 a = gridToWorld.transpose() * capsule.A;
+    const Vec3 b = gridToWorld.transpose() * capsule.B;
+    lower = lower.cwiseMin(a.cwiseMin(b) - Vec3::Constant(capsule.Radius));
+    upper = upper.cwiseMax(a.cwiseMax(b) + Vec3::Constant(capsule.Radius));
   }
   // A non-round offset keeps grid samples off the zero set (and off the symmetry planes).
   const Vec3 origin = lower - cellSize * Vec3(2.37, 2.61, 2.29);
@@ -123,7 +129,7 @@ TriangleSoup MarchingTetrahedra(double cellSize)
   const std::int64_t nx = counts[0], ny = counts[1], nz = counts[2];
   auto gridIndex = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return (k * ny + j) * nx + i; };
   auto gridPoint = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
-    return Vec3(origin + cellSize * Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
+    return Vec3(gridToWorld * (origin + cellSize * Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k))));
   };
   std::vector<double> field(static_cast<std::size_t>(nx * ny * nz));
   for (std::int64_t k = 0; k < nz; ++k)
@@ -206,8 +212,8 @@ TriangleSoup MarchingTetrahedra(double cellSize)
               const bool ordered = ids[a] < ids[b];
               const int low = ordered ? a : b;
               const int high = ordered ? b : a;
-              triangle[e] = vertexOnEdge(ids[low], ids[high], origin + cellSize * lattice[low],
-                origin + cellSize * lattice[high]);
+              triangle[e] = vertexOnEdge(ids[low], ids[high], gridToWorld * (origin + cellSize * lattice[low]),
+                gridToWorld * (origin + cellSize * lattice[high]));
               midpoints[e] = 0.5 * (lattice[a] + lattice[b]);
             }
             const Vec3 normal = (midpoints[1] - midpoints[0]).cross(midpoints[2] - midpoints[0]);
@@ -324,11 +330,11 @@ FigureLimb ArticulatedFigureTemplate::Limb(FigurePart limb)
 ArticulatedFigureTemplate::ArticulatedFigureTemplate(const FigureOptions& options)
 {
   if (!(options.CellSize > 0.005 && options.CellSize < 0.1) || options.RelaxationIterations < 0 ||
-    options.RelaxationIterations > 50)
+    options.RelaxationIterations > 50 || !(std::abs(options.GridAngle) <= 3.14159265358979323846))
   {
     throw std::invalid_argument("FigureOptions out of range");
   }
-  TriangleSoup soup = MarchingTetrahedra(options.CellSize);
+  TriangleSoup soup = MarchingTetrahedra(options.CellSize, options.GridAngle);
   Relax(soup, options.RelaxationIterations);
 
   const auto pointCount = static_cast<Eigen::Index>(soup.Points.size());
@@ -420,6 +426,62 @@ ArticulatedFigure ArticulatedFigureTemplate::Pose(const FigurePose& pose) const
         moved = true;
       }
     }
+    if (moved)
+    {
+      posed.Points.row(v) = (rest + displacement).transpose();
+    }
+  }
+  return posed;
+}
+
+ArticulatedFigure ArticulatedFigureTemplate::NonRigidPose(const FigurePose& pose, const NonRigidBend& bend) const
+{
+  if (!(bend.JointLength > 0.0 && bend.JointLength <= 8.0) || !(bend.Stretch >= 0.0 && bend.Stretch < 1.0))
+  {
+    throw std::invalid_argument("NonRigidBend out of range");
+  }
+  const std::array<double, 4> angles = { pose.LeftArm, pose.RightArm, pose.LeftLeg, pose.RightLeg };
+  ArticulatedFigure posed = RestFigure;
+  for (Eigen::Index v = 0; v < posed.Points.rows(); ++v)
+  {
+    const Vec3 rest = RestFigure.Points.row(v).transpose();
+    std::array<double, 4> weights{};
+    std::array<Vec3, 4> displacements;
+    std::array<bool, 4> movesLimb{};
+    double weightSum = 0.0;
+    for (int limbIndex = 0; limbIndex < 4; ++limbIndex)
+    {
+      const FigureLimb limb = Limb(static_cast<FigurePart>(LeftArm + limbIndex));
+      const Vec3 relative = rest - limb.Pivot;
+      const double along = relative.dot(limb.Direction);
+      const double across = (relative - along * limb.Direction).norm();
+      // Across the axis the same fade into the torso as the rigid skinning, so the torso away
+      // from the joints stays still; along it the weight is full a radius before the bend
+      // starts, so the axis line beyond the pivot (through the torso and the opposite arm)
+      // does not count, and the bend is spread over the joint instead of concentrated.
+      weights[limbIndex] = SmoothStep((along + 2.0 * limb.Radius) / limb.Radius) *
+        (1.0 - SmoothStep((across - SkinInner * limb.Radius) / ((SkinOuter - SkinInner) * limb.Radius)));
+      const double jointLength = bend.JointLength * limb.Radius;
+      const double progress = SmoothStep((along + limb.Radius) / jointLength);
+      movesLimb[limbIndex] = progress > 0.0 && (angles[limbIndex] != 0.0 || bend.Stretch > 0.0);
+      const double lengthening = bend.Stretch * jointLength * progress;
+      const Eigen::Matrix3d rotation =
+        Eigen::AngleAxisd(angles[limbIndex] * progress, limb.BendAxis).toRotationMatrix();
+      displacements[limbIndex] = limb.Pivot + rotation * (relative + lengthening * limb.Direction) - rest;
+      weightSum += weights[limbIndex];
+    }
+    Vec3 displacement = Vec3::Zero();
+    bool moved = false;
+    for (int limbIndex = 0; limbIndex < 4; ++limbIndex)
+    {
+      if (weights[limbIndex] > 0.0 && movesLimb[limbIndex])
+      {
+        displacement += weights[limbIndex] / std::max(1.0, weightSum) * displacements[limbIndex];
+        moved = true;
+      }
+    }
+    // Vertices outside every joint keep their coordinates bit for bit (pivot + (p - pivot)
+    // need not round to p).
     if (moved)
     {
       posed.Points.row(v) = (rest + displacement).transpose();

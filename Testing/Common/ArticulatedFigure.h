@@ -19,6 +19,11 @@
 //      The torso far from the joints and the head never move (bit-identical), the limb
 //      beyond one radius from the pivot moves rigidly, and the connectivity, the face
 //      order and the part labels are the same for every pose.
+//   5. NonRigidPose() bends each limb over a long joint region instead: the rotation angle
+//      grows smoothly along the limb axis (from one radius inside the torso to full over
+//      NonRigidBend::JointLength radii) and the joint region lengthens by
+//      NonRigidBend::Stretch, so triangles there shear, stretch on the outer side of the bend
+//      and shorten on the inner side, as in a skinned character. Same connectivity as Rest().
 //   Why: one connected surface is what real scans look like, so the partition, graph-cut
 //   and skeleton tests see real part boundaries, and the SDF sees no hidden faces.
 //
@@ -32,7 +37,9 @@
 // angles are computed the same way but the skin near the joint may fold.
 //
 // Resolution: FigureOptions::CellSize (default 0.036) gives about 25k faces; the face count
-// scales like 1 / CellSize^2. Everything is deterministic.
+// scales like 1 / CellSize^2. FigureOptions::GridAngle rotates the sampling grid, so a
+// template with another CellSize and GridAngle is a different tessellation of the same
+// surface (not a refinement of the same faces). Everything is deterministic.
 #pragma once
 
 #include "MeshTypes.h"
@@ -73,6 +80,20 @@ struct FigureOptions
   double CellSize = 0.036;
   /// Relaxation + projection iterations; [0, 50].
   int RelaxationIterations = 8;
+  /// Rotation of the sampling grid about the axis (1, 2, 3) / sqrt(14), radians; [-pi, pi].
+  /// 0 = axis-aligned grid (the figure every other test uses).
+  double GridAngle = 0.0;
+};
+
+/// How NonRigidPose() spreads a bend over the joint (lengths in limb radii).
+struct NonRigidBend
+{
+  /// The bend angle grows from 0 at one radius inside the torso to the full angle over this
+  /// length along the limb axis (a smoothstep); (0, 8]. The rigid Pose() blends over 2.
+  double JointLength = 4.0;
+  /// Extra length of the joint region as a fraction of JointLength, [0, 1): the local axial
+  /// stretch peaks at 1 + 1.5 Stretch in the middle of the joint.
+  double Stretch = 0.25;
 };
 
 /// A limb of the rest pose: the capsule axis runs from the pivot along Direction.
@@ -104,6 +125,9 @@ public:
   explicit ArticulatedFigureTemplate(const FigureOptions& options = {});
 
   ArticulatedFigure Pose(const FigurePose& pose) const;
+  /// Bends the limbs by `pose` smoothly over a long joint region with stretching (see the
+  /// file comment, step 5): no part of a limb near the torso moves rigidly.
+  ArticulatedFigure NonRigidPose(const FigurePose& pose, const NonRigidBend& bend = {}) const;
 
   const ArticulatedFigure& Rest() const { return RestFigure; }
   /// Skinning weight of vertex `point` for limb part `limb` (LeftArm .. RightLeg), in [0, 1].

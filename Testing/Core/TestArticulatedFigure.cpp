@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <numeric>
@@ -78,6 +80,63 @@ std::size_t ComponentCount(const ArticulatedFigure& figure)
     roots += find(v) == v;
   }
   return roots;
+}
+
+/// Edges not used exactly once in each direction (0 = watertight, 2-manifold, consistent).
+std::size_t BadEdgeCount(const ArticulatedFigure& figure, std::size_t* edgeCount = nullptr)
+{
+  std::map<std::pair<std::int64_t, std::int64_t>, int> directed;
+  for (Eigen::Index t = 0; t < figure.Triangles.rows(); ++t)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      ++directed[{ figure.Triangles(t, c), figure.Triangles(t, (c + 1) % 3) }];
+    }
+  }
+  std::size_t bad = 0;
+  for (const auto& [edge, count] : directed)
+  {
+    const auto reverse = directed.find({ edge.second, edge.first });
+    bad += count != 1 || reverse == directed.end() || reverse->second != 1;
+  }
+  if (edgeCount)
+  {
+    *edgeCount = directed.size() / 2;
+  }
+  return bad;
+}
+
+/// Interior edges whose two faces' normals point more than 120 degrees apart: a fold.
+std::size_t FoldedEdgeCount(const ArticulatedFigure& figure)
+{
+  std::map<std::pair<std::int64_t, std::int64_t>, Eigen::Index> faceOfEdge;
+  std::size_t folded = 0;
+  for (Eigen::Index t = 0; t < figure.Triangles.rows(); ++t)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      const std::int64_t a = figure.Triangles(t, c);
+      const std::int64_t b = figure.Triangles(t, (c + 1) % 3);
+      const auto other = faceOfEdge.find({ b, a });
+      if (other != faceOfEdge.end())
+      {
+        folded += FaceNormal(figure, t).normalized().dot(FaceNormal(figure, other->second).normalized()) < -0.5;
+      }
+      faceOfEdge[{ a, b }] = t;
+    }
+  }
+  return folded;
+}
+
+/// Share of the faces whose area changed by more than `tolerance` (relative) between poses.
+double ShareOfFacesResized(const ArticulatedFigure& rest, const ArticulatedFigure& posed, double tolerance)
+{
+  std::size_t resized = 0;
+  for (Eigen::Index t = 0; t < rest.Triangles.rows(); ++t)
+  {
+    resized += std::abs(FaceNormal(posed, t).norm() / FaceNormal(rest, t).norm() - 1.0) > tolerance;
+  }
+  return static_cast<double>(resized) / static_cast<double>(rest.Triangles.rows());
 }
 
 } // namespace
@@ -395,4 +454,119 @@ TEST(ArticulatedFigure, DeterministicResolutionAndBadOptions)
   bad.RelaxationIterations = -1;
   EXPECT_THROW(ArticulatedFigureTemplate{ bad }, std::invalid_argument);
   EXPECT_THROW(ArticulatedFigureTemplate::Limb(Torso), std::invalid_argument);
+}
+
+TEST(ArticulatedFigure, NonRigidPoseBendsAndStretchesAcrossTheJoints)
+{
+  const ArticulatedFigureTemplate& figure = SharedTemplate();
+  const ArticulatedFigure& rest = figure.Rest();
+  const FigurePose pose{ 0.7, -0.5, 0.6, -0.3 };
+  const NonRigidBend bend;
+  const ArticulatedFigure bent = figure.NonRigidPose(pose, bend);
+  ASSERT_EQ(bent.Points.rows(), rest.Points.rows());
+  EXPECT_TRUE(bent.Triangles == rest.Triangles);
+  EXPECT_EQ(bent.FaceParts, rest.FaceParts);
+  EXPECT_EQ(BadEdgeCount(bent), 0u);
+  EXPECT_EQ(FoldedEdgeCount(rest), 0u);
+  EXPECT_EQ(FoldedEdgeCount(bent), 0u);
+  for (Eigen::Index t = 0; t < bent.Triangles.rows(); ++t)
+  {
+    ASSERT_GT(FaceNormal(bent, t).norm(), 1e-7) << "triangle " << t;
+  }
+
+  // The torso between shoulders and hips and the head do not move; every limb is longer by
+  // the stretch of its joint (Stretch x JointLength radii), measured at its tip.
+  for (Eigen::Index v = 0; v < rest.Points.rows(); ++v)
+  {
+    const double y = rest.Points(v, 1);
+    if ((y > -0.25 && y < 0.1) || y > 0.6)
+    {
+      ASSERT_TRUE(rest.Points.row(v) == bent.Points.row(v)) << "vertex " << v;
+    }
+  }
+  const std::array<double, 4> angles = { pose.LeftArm, pose.RightArm, pose.LeftLeg, pose.RightLeg };
+  for (int limb = LeftArm; limb <= RightLeg; ++limb)
+  {
+    const FigureLimb geometry = ArticulatedFigureTemplate::Limb(static_cast<FigurePart>(limb));
+    // The tip: the vertex farthest along the limb among those near its axis (both legs end
+    // at the same height).
+    Eigen::Index tip = -1;
+    double farthest = -1e300;
+    for (Eigen::Index v = 0; v < rest.Points.rows(); ++v)
+    {
+      const Eigen::Vector3d relative = rest.Points.row(v).transpose() - geometry.Pivot;
+      const double along = relative.dot(geometry.Direction);
+      if ((relative - along * geometry.Direction).norm() < 1.5 * geometry.Radius && along > farthest)
+      {
+        farthest = along;
+        tip = v;
+      }
+    }
+    const Eigen::Vector3d restTip = rest.Points.row(tip).transpose() - geometry.Pivot;
+    const Eigen::Vector3d bentTip = bent.Points.row(tip).transpose() - geometry.Pivot;
+    EXPECT_NEAR(bentTip.norm() - restTip.norm(), bend.Stretch * bend.JointLength * geometry.Radius, 0.005)
+      << "limb " << limb;
+    const double turned = std::acos(std::clamp(restTip.normalized().dot(bentTip.normalized()), -1.0, 1.0));
+    EXPECT_NEAR(turned, std::abs(angles[static_cast<std::size_t>(limb - LeftArm)]), 0.02) << "limb " << limb;
+  }
+
+  // Not a rigid motion of the limbs: many faces change area, some edges stretch by a quarter
+  // and more, where the rigid Pose() at the same angles changes far fewer faces.
+  double longestStretch = 0.0;
+  for (Eigen::Index t = 0; t < rest.Triangles.rows(); ++t)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      const Eigen::Index a = rest.Triangles(t, c);
+      const Eigen::Index b = rest.Triangles(t, (c + 1) % 3);
+      longestStretch = std::max(longestStretch, (bent.Points.row(a) - bent.Points.row(b)).norm() /
+          (rest.Points.row(a) - rest.Points.row(b)).norm());
+    }
+  }
+  const double nonRigidResized = ShareOfFacesResized(rest, bent, 0.1);
+  const double rigidResized = ShareOfFacesResized(rest, figure.Pose(pose), 0.1);
+  std::printf("non-rigid pose: longest edge stretch %.3f, faces resized by > 10 %%: %.1f %% (rigid pose %.1f %%), "
+              "volume %.4f (rest %.4f)\n",
+    longestStretch, 100.0 * nonRigidResized, 100.0 * rigidResized, SignedVolume(bent), SignedVolume(rest));
+  EXPECT_GT(longestStretch, 1.25);
+  EXPECT_GT(nonRigidResized, 0.05);
+  EXPECT_GT(nonRigidResized, 2.0 * rigidResized);
+  // Longer limbs hold more volume: a cylinder of one radius per limb, about 2.5 % more.
+  EXPECT_GT(SignedVolume(bent), SignedVolume(rest));
+  EXPECT_LT(SignedVolume(bent), 1.06 * SignedVolume(rest));
+  EXPECT_THROW(figure.NonRigidPose(pose, NonRigidBend{ 0.0, 0.25 }), std::invalid_argument);
+  EXPECT_THROW(figure.NonRigidPose(pose, NonRigidBend{ 4.0, 1.0 }), std::invalid_argument);
+}
+
+TEST(ArticulatedFigure, RotatedCoarserGridIsAnotherTessellationOfTheSameSurface)
+{
+  const ArticulatedFigure& rest = SharedTemplate().Rest();
+  FigureOptions other;
+  other.CellSize = 0.042;
+  other.GridAngle = 0.6;
+  const ArticulatedFigureTemplate copyTemplate(other);
+  const ArticulatedFigure& copy = copyTemplate.Rest();
+  std::size_t edges = 0;
+  EXPECT_EQ(BadEdgeCount(copy, &edges), 0u);
+  EXPECT_EQ(copy.Points.rows() - static_cast<Eigen::Index>(edges) + copy.Triangles.rows(), 2);
+  EXPECT_EQ(ComponentCount(copy), 1u);
+  EXPECT_NEAR(SignedVolume(copy), SignedVolume(rest), 0.01 * SignedVolume(rest));
+  for (Eigen::Index v = 0; v < copy.Points.rows(); ++v)
+  {
+    ASSERT_LT(std::abs(ArticulatedFigureTemplate::SignedField(copy.Points.row(v).transpose())), 1e-9);
+  }
+  // Face count about (0.036 / 0.042)^2 of the reference's, and not its vertices: the typical
+  // copy vertex lies a good fraction of an edge away from every reference vertex.
+  EXPECT_NEAR(static_cast<double>(copy.Triangles.rows()), 0.735 * static_cast<double>(rest.Triangles.rows()),
+    0.1 * static_cast<double>(rest.Triangles.rows()));
+  std::vector<double> nearest;
+  for (Eigen::Index v = 0; v < copy.Points.rows(); v += 7)
+  {
+    nearest.push_back((rest.Points.rowwise() - copy.Points.row(v)).rowwise().norm().minCoeff());
+  }
+  std::nth_element(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(nearest.size() / 2), nearest.end());
+  EXPECT_GT(nearest[nearest.size() / 2], 0.005);
+  FigureOptions bad;
+  bad.GridAngle = 4.0;
+  EXPECT_THROW(ArticulatedFigureTemplate{ bad }, std::invalid_argument);
 }

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <vector>
@@ -382,17 +383,18 @@ TEST(BilateralSmoothing, ArticulatedFigurePartsDenoisedAndPoseConsistent)
 {
   using namespace shapediameter::testing;
   const ArticulatedFigureTemplate figure;
-  // A synthetic SDF: each part's diameter, plus 5 % noise.
+  // A synthetic SDF: each part's diameter, plus 5 % noise drawn anew for each pose, on the
+  // rest pose and on a non-rigid one (joints bent over four radii and stretched), so the two
+  // smoothings see different values on differently shaped neighbourhoods.
   const double diameters[FigurePartCount] = { 0.5, 0.36, 0.14, 0.14, 0.2, 0.2 };
-  FigurePose bentPose;
-  bentPose.LeftArm = 0.8;
-  bentPose.RightLeg = -0.6;
-  std::vector<std::vector<double>> smoothedPerPose;
-  for (const FigurePose& pose : { FigurePose{}, bentPose })
+  const ArticulatedFigure poses[2] = { figure.Rest(), figure.NonRigidPose(FigurePose{ 0.8, 0.0, 0.0, -0.6 }) };
+  const std::uint64_t noiseSeeds[2] = { 31, 32 };
+  std::vector<std::vector<double>> inputPerPose, smoothedPerPose;
+  for (int pose = 0; pose < 2; ++pose)
   {
-    const ArticulatedFigure mesh = figure.Pose(pose);
+    const ArticulatedFigure& mesh = poses[pose];
     const FaceGraph graph = BuildFaceGraph(mesh.Points, mesh.Triangles, ThreadedFor(2));
-    std::mt19937_64 random(31);
+    std::mt19937_64 random(noiseSeeds[pose]);
     std::vector<double> sdf(graph.FaceCount());
     for (std::size_t f = 0; f < sdf.size(); ++f)
     {
@@ -410,17 +412,27 @@ TEST(BilateralSmoothing, ArticulatedFigurePartsDenoisedAndPoseConsistent)
           after.push_back(result.Values[f]);
         }
       }
-      EXPECT_LT(StandardDeviation(after), 0.5 * StandardDeviation(before)) << "part " << part;
-      EXPECT_NEAR(Mean(after), diameters[part], 0.01 * diameters[part]) << "part " << part;
+      EXPECT_LT(StandardDeviation(after), 0.5 * StandardDeviation(before)) << "pose " << pose << ", part " << part;
+      EXPECT_NEAR(Mean(after), diameters[part], 0.01 * diameters[part]) << "pose " << pose << ", part " << part;
     }
+    inputPerPose.push_back(sdf);
     smoothedPerPose.push_back(result.Values);
   }
-  // Same input values, same connectivity: bending changes the smoothed field only slightly.
-  double meanDifference = 0.0;
-  for (std::size_t f = 0; f < smoothedPerPose[0].size(); ++f)
-  {
-    meanDifference += std::abs(smoothedPerPose[0][f] - smoothedPerPose[1][f]);
-  }
-  meanDifference /= static_cast<double>(smoothedPerPose[0].size());
-  EXPECT_LT(meanDifference, 1e-3);
+  // The smoothed fields of the two poses agree better than their inputs, by the same factor
+  // of two the noise must shrink within each part above (stated before measuring; measured
+  // 0.27, and 1.0 with the smoothing switched off, where identical inputs gave 0 before).
+  auto meanDifference = [](const std::vector<double>& a, const std::vector<double>& b) {
+    double sum = 0.0;
+    for (std::size_t f = 0; f < a.size(); ++f)
+    {
+      sum += std::abs(a[f] - b[f]);
+    }
+    return sum / static_cast<double>(a.size());
+  };
+  const double inputDifference = meanDifference(inputPerPose[0], inputPerPose[1]);
+  const double smoothedDifference = meanDifference(smoothedPerPose[0], smoothedPerPose[1]);
+  std::printf("rest vs non-rigid pose, mean |delta|: input %.5f, smoothed %.5f (ratio %.3f)\n", inputDifference,
+    smoothedDifference, smoothedDifference / inputDifference);
+  EXPECT_GT(inputDifference, 0.0);
+  EXPECT_LT(smoothedDifference, 0.5 * inputDifference);
 }

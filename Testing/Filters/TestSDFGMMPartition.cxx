@@ -18,8 +18,10 @@
 #include "vtkNew.h"
 #include "vtkPolyData.h"
 #include "vtkSphereSource.h"
+#include "vtkStaticPointLocator.h"
 #include "vtkTable.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -353,4 +355,190 @@ TEST(SDFGMMPartition, ASubdivisionKeepsTheParts)
     std::printf("camel vs its %s subdivision: %.2f %% of the faces change cluster\n", fine == 1 ? "linear" : "Loop", changed);
     EXPECT_LT(changed, 2.0);
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Consistency of the whole chain at its defaults (README "Defaults") on inputs where it is
+// not given by construction: a non-rigid pose and another tessellation of the figure.
+
+namespace
+{
+std::vector<double> FaceAreas(const figure::ArticulatedFigure& shape)
+{
+  std::vector<double> areas(static_cast<std::size_t>(shape.Triangles.rows()));
+  for (Eigen::Index t = 0; t < shape.Triangles.rows(); ++t)
+  {
+    const Eigen::Vector3d a = shape.Points.row(shape.Triangles(t, 0)).transpose();
+    const Eigen::Vector3d b = shape.Points.row(shape.Triangles(t, 1)).transpose();
+    const Eigen::Vector3d c = shape.Points.row(shape.Triangles(t, 2)).transpose();
+    areas[static_cast<std::size_t>(t)] = 0.5 * (b - a).cross(c - a).norm();
+  }
+  return areas;
+}
+
+/// The Table 2 measure with faces weighted by area: percent of the area whose labels differ
+/// after the one-to-one matching of labels that maximises the matched area.
+double PercentOfAreaDifferent(const std::vector<int>& first, const std::vector<int>& second, const std::vector<double>& areas)
+{
+  std::map<int, std::size_t> firstIndex, secondIndex;
+  for (std::size_t f = 0; f < first.size(); ++f)
+  {
+    firstIndex.emplace(first[f], firstIndex.size());
+    secondIndex.emplace(second[f], secondIndex.size());
+  }
+  const std::size_t size = std::max(firstIndex.size(), secondIndex.size());
+  std::vector<double> sharedArea(size * size, 0.0);
+  double total = 0.0;
+  for (std::size_t f = 0; f < first.size(); ++f)
+  {
+    sharedArea[firstIndex[first[f]] * size + secondIndex[second[f]]] += areas[f];
+    total += areas[f];
+  }
+  std::vector<double> cost(sharedArea.size());
+  std::transform(sharedArea.begin(), sharedArea.end(), cost.begin(), [](double area) { return -area; });
+  const std::vector<int> matching = shapediameter::SolveAssignment(cost, size);
+  double matched = 0.0;
+  for (std::size_t row = 0; row < size; ++row)
+  {
+    matched += sharedArea[row * size + static_cast<std::size_t>(matching[row])];
+  }
+  return 100.0 * (total - matched) / total;
+}
+
+std::vector<Eigen::Vector3d> FaceCenters(const figure::ArticulatedFigure& shape)
+{
+  std::vector<Eigen::Vector3d> centers(static_cast<std::size_t>(shape.Triangles.rows()));
+  for (Eigen::Index t = 0; t < shape.Triangles.rows(); ++t)
+  {
+    centers[static_cast<std::size_t>(t)] = (shape.Points.row(shape.Triangles(t, 0)) +
+      shape.Points.row(shape.Triangles(t, 1)) + shape.Points.row(shape.Triangles(t, 2))).transpose() / 3.0;
+  }
+  return centers;
+}
+
+/// Labels of `source`'s faces carried to `reference`'s: each reference face takes the label of
+/// the source face whose centre is nearest to its own.
+std::vector<int> TransferByNearestFaceCenter(
+  const figure::ArticulatedFigure& source, const std::vector<int>& sourceLabels, const figure::ArticulatedFigure& reference)
+{
+  vtkNew<vtkPoints> sourceCenters;
+  sourceCenters->SetDataTypeToDouble();
+  for (const Eigen::Vector3d& center : FaceCenters(source))
+  {
+    sourceCenters->InsertNextPoint(center.data());
+  }
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(sourceCenters);
+  vtkNew<vtkStaticPointLocator> locator;
+  locator->SetDataSet(cloud);
+  locator->BuildLocator();
+  std::vector<int> labels;
+  for (Eigen::Vector3d center : FaceCenters(reference))
+  {
+    labels.push_back(sourceLabels[static_cast<std::size_t>(locator->FindClosestPoint(center.data()))]);
+  }
+  return labels;
+}
+
+/// SDF -> smoothing -> partition, every filter at its defaults; SDFCluster per face.
+std::vector<int> ClustersAtDefaults(const figure::ArticulatedFigure& shape)
+{
+  vtkNew<vtkShapeDiameterFilter> sdf;
+  sdf->SetInputData(ToPolyData(shape.Points, shape.Triangles));
+  vtkNew<vtkSDFBilateralSmooth> smooth;
+  smooth->SetInputConnection(sdf->GetOutputPort());
+  vtkNew<vtkSDFGMMPartition> partition;
+  partition->SetInputConnection(smooth->GetOutputPort());
+  // The defaults this test is about (README "Defaults"): if one changes, the thresholds below
+  // were stated for other settings and must be looked at again.
+  EXPECT_EQ(sdf->GetHitRule(), 0);
+  EXPECT_EQ(sdf->GetNumberOfRays(), 30);
+  EXPECT_EQ(smooth->GetNumberOfIterations(), 3);
+  EXPECT_EQ(partition->GetClusterModel(), 1);
+  EXPECT_EQ(partition->GetNumberOfClusters(), 5);
+  EXPECT_EQ(partition->GetLambda(), 0.03);
+  partition->Update();
+  return IntValues(partition->GetOutput(), "SDFCluster");
+}
+
+class FigureConsistencyAtDefaults : public ::testing::Test
+{
+protected:
+  static void SetUpTestSuite()
+  {
+    const figure::ArticulatedFigureTemplate figureTemplate;
+    Rest = new figure::ArticulatedFigure(figureTemplate.Rest());
+    // Not the pose the other figure tests use, and bent over a joint four radii long with the
+    // joint stretched (ArticulatedFigure.h, step 5): no limb moves rigidly near the torso.
+    NonRigid = new figure::ArticulatedFigure(figureTemplate.NonRigidPose(figure::FigurePose{ 0.7, -0.5, 0.6, -0.3 }));
+    figure::FigureOptions otherTessellation;
+    otherTessellation.CellSize = 0.042;
+    otherTessellation.GridAngle = 0.6;
+    Retriangulated = new figure::ArticulatedFigure(figure::ArticulatedFigureTemplate(otherTessellation).Rest());
+    RestClusters = new std::vector<int>(ClustersAtDefaults(*Rest));
+  }
+  static void TearDownTestSuite()
+  {
+    delete Rest;
+    delete NonRigid;
+    delete Retriangulated;
+    delete RestClusters;
+  }
+  static figure::ArticulatedFigure* Rest;
+  static figure::ArticulatedFigure* NonRigid;
+  static figure::ArticulatedFigure* Retriangulated;
+  static std::vector<int>* RestClusters;
+};
+figure::ArticulatedFigure* FigureConsistencyAtDefaults::Rest = nullptr;
+figure::ArticulatedFigure* FigureConsistencyAtDefaults::NonRigid = nullptr;
+figure::ArticulatedFigure* FigureConsistencyAtDefaults::Retriangulated = nullptr;
+std::vector<int>* FigureConsistencyAtDefaults::RestClusters = nullptr;
+
+int ClustersCoveringOnePercent(const std::vector<int>& clusters, const std::vector<double>& areas)
+{
+  std::map<int, double> clusterArea;
+  double total = 0.0;
+  for (std::size_t f = 0; f < clusters.size(); ++f)
+  {
+    clusterArea[clusters[f]] += areas[f];
+    total += areas[f];
+  }
+  return static_cast<int>(std::count_if(clusterArea.begin(), clusterArea.end(),
+    [total](const auto& entry) { return entry.second >= 0.01 * total; }));
+}
+} // namespace
+
+TEST_F(FigureConsistencyAtDefaults, NonRigidPoseKeepsThePartsOfTheRestPose)
+{
+  // Threshold stated before measuring (commit message): at most 5.5 % of the area, the bound
+  // the elephant's real poses meet at these defaults (README "Consistency": 5.01 %).
+  // Measured 0.70 % of the area (0.70 % of the faces), 4 clusters in both. An SDF scaled by
+  // (1 + height) gives 8.2 % and fails; by (1 + height / 2) it gives 1.2 % and passes.
+  const std::vector<int> nonRigid = ClustersAtDefaults(*NonRigid);
+  ASSERT_EQ(nonRigid.size(), RestClusters->size());
+  const std::vector<double> areas = FaceAreas(*Rest);
+  const double areaPercent = PercentOfAreaDifferent(*RestClusters, nonRigid, areas);
+  const double facePercent = shapediameter::CompareLabelings(*RestClusters, nonRigid).percentDifferent;
+  std::printf("rest vs non-rigid pose at the defaults: %.3f %% of the area (%.3f %% of the faces) change cluster; "
+              "clusters >= 1 %% of the area: %d / %d\n",
+    areaPercent, facePercent, ClustersCoveringOnePercent(*RestClusters, areas), ClustersCoveringOnePercent(nonRigid, areas));
+  EXPECT_LE(areaPercent, 5.5);
+}
+
+TEST_F(FigureConsistencyAtDefaults, AnotherTessellationKeepsTheParts)
+{
+  // Threshold stated before measuring (commit message): at most 5.5 % of the reference's
+  // area after nearest-centre transfer, as for the poses (README "Resolution": a subdivision
+  // changes 0.6-4.7 % on six of seven meshes). Measured 0.92 %, 4 clusters in both; an SDF
+  // that depends on the face numbering (x 1.3 on alternate blocks of 500 faces) gives 49 %.
+  const std::vector<int> copyClusters = ClustersAtDefaults(*Retriangulated);
+  ASSERT_EQ(copyClusters.size(), static_cast<std::size_t>(Retriangulated->Triangles.rows()));
+  const std::vector<int> transferred = TransferByNearestFaceCenter(*Retriangulated, copyClusters, *Rest);
+  const std::vector<double> areas = FaceAreas(*Rest);
+  const double areaPercent = PercentOfAreaDifferent(*RestClusters, transferred, areas);
+  std::printf("figure (%td faces) vs another tessellation (%td faces) at the defaults: %.3f %% of the area changes "
+              "cluster; clusters >= 1 %% of the area: %d / %d\n",
+    Rest->Triangles.rows(), Retriangulated->Triangles.rows(), areaPercent, ClustersCoveringOnePercent(*RestClusters, areas),
+    ClustersCoveringOnePercent(copyClusters, FaceAreas(*Retriangulated)));
+  EXPECT_LE(areaPercent, 5.5);
 }
