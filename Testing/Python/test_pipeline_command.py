@@ -11,6 +11,8 @@ import subprocess
 import sys
 import tempfile
 
+import numpy
+
 source = os.environ["SHAPEDIAMETER_SOURCE_DIR"]
 command = os.path.join(source, "Plugin", "sdf-pipeline")
 environment = dict(os.environ)
@@ -122,6 +124,24 @@ with tempfile.TemporaryDirectory() as out:
             print("%s: cluster %d colour %r on %d pixels" % (picture, c, rgb, count))
             if count < 300:
                 fail("%s: cluster %d's colour %r covers only %d pixels" % (picture, c, rgb, count))
+        if picture == "camel_gmm.png":
+            # The x axis is nsdf's [0, 1]: the histogram (grey, 0.72) starts at the left axis and
+            # ends at the right of the plot. Near the x axis (where its ends run, the density
+            # being small there) its leftmost and rightmost pixels span the plot; on a
+            # [-0.3, 1.3] axis they would start ~19 % in and end ~81 % across.
+            height, width = png.GetOutput().GetDimensions()[1], png.GetOutput().GetDimensions()[0]
+            image = pixels.reshape(height, width, 3)[::-1]  # VTK rows start at the bottom
+            dark = image.sum(axis=2) < 150
+            axis_x = int(numpy.nonzero(dark.sum(axis=0) > 0.5 * height)[0][0])
+            axis_y = int(numpy.nonzero(dark.sum(axis=1) > 0.5 * width)[0][-1])
+            band = image[axis_y - 80:axis_y - 1, axis_x + 2:]
+            columns = numpy.nonzero((abs(band - 184).max(axis=2) <= 3).any(axis=0))[0]
+            plot_width = width - axis_x
+            print("%s: axes at x=%d, y=%d; histogram from %d to %d of %d px"
+                  % (picture, axis_x, axis_y, columns.min(), columns.max(), plot_width))
+            if columns.min() > 0.05 * plot_width or columns.max() < 0.9 * plot_width:
+                fail("%s: the histogram spans %d..%d of the %d px plot: the x axis is not [0, 1]"
+                     % (picture, columns.min(), columns.max(), plot_width))
 
     # --family: one normalisation range (the widest of the members' SDFSmoothed) and one model.
     family_dir = os.path.join(out, "family")
