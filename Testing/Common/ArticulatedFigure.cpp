@@ -66,6 +66,20 @@ double SmoothStep(double x)
   return x * x * (3.0 - 2.0 * x);
 }
 
+/// A point's coordinates in a limb's frame: along the axis from the pivot, and off it.
+struct LimbCoordinates
+{
+  double Along;
+  double Across;
+};
+
+LimbCoordinates InLimbFrame(const Vec3& p, const FigureLimb& limb)
+{
+  const Vec3 relative = p - limb.Pivot;
+  const double along = relative.dot(limb.Direction);
+  return { along, (relative - along * limb.Direction).norm() };
+}
+
 Vec3 FieldGradient(const Vec3& p)
 {
   constexpr double step = 1e-6;
@@ -375,9 +389,7 @@ ArticulatedFigureTemplate::ArticulatedFigureTemplate(const FigureOptions& option
     for (int limbIndex = 0; limbIndex < 4; ++limbIndex)
     {
       const FigureLimb limb = Limb(static_cast<FigurePart>(LeftArm + limbIndex));
-      const Vec3 relative = p - limb.Pivot;
-      const double along = relative.dot(limb.Direction);
-      const double across = (relative - along * limb.Direction).norm();
+      const auto [along, across] = InLimbFrame(p, limb);
       const double weight = SmoothStep((along + limb.Radius) / (2.0 * limb.Radius)) *
         (1.0 - SmoothStep((across - SkinInner * limb.Radius) / ((SkinOuter - SkinInner) * limb.Radius)));
       Weights(v, limbIndex) = weight;
@@ -453,8 +465,7 @@ ArticulatedFigure ArticulatedFigureTemplate::NonRigidPose(const FigurePose& pose
     {
       const FigureLimb limb = Limb(static_cast<FigurePart>(LeftArm + limbIndex));
       const Vec3 relative = rest - limb.Pivot;
-      const double along = relative.dot(limb.Direction);
-      const double across = (relative - along * limb.Direction).norm();
+      const auto [along, across] = InLimbFrame(rest, limb);
       // Across the axis the same fade into the torso as the rigid skinning, so the torso away
       // from the joints stays still; along it the weight is full a radius before the bend
       // starts, so the axis line beyond the pivot (through the torso and the opposite arm)
