@@ -128,6 +128,7 @@ public:
 
   /// Connects the optional family model (port 1): another vtkSDFGMMPartition's output.
   void SetModelConnection(vtkAlgorithmOutput* model) { this->SetInputConnection(1, model); }
+  /// Sets the optional family model (port 1) as data: another vtkSDFGMMPartition's output.
   void SetModelData(vtkDataObject* model) { this->SetInputData(1, model); }
 
   ///@{
