@@ -66,22 +66,52 @@ public:
   static constexpr const char* NORMALIZED_ARRAY_NAME = "SDFNormalized";
   static constexpr const char* NORMALIZATION_RANGE_ARRAY_NAME = "SDFNormalizationRange";
 
+  ///@{
+  /// Bilateral iterations (default 3, range [0, 100]; paper: "a small number"); 0 only
+  /// normalises.
   vtkSetClampMacro(NumberOfIterations, int, 0, 100);
   vtkGetMacro(NumberOfIterations, int);
+  ///@}
+
+  ///@{
+  /// Spatial Gaussian sigma σ in mean edge lengths of the mesh (default 1, range [0.01, 100]).
   vtkSetClampMacro(SpatialSigma, double, 0.01, 100.0);
   vtkGetMacro(SpatialSigma, double);
+  ///@}
+
+  ///@{
+  /// Geodesic neighbourhood radius in units of σ, at most 24 nearest faces (default 2, range
+  /// [0, 10]).
   vtkSetClampMacro(NeighborhoodRadius, double, 0.0, 10.0);
   vtkGetMacro(NeighborhoodRadius, double);
+  ///@}
+
+  ///@{
+  /// Range threshold t as a fraction of the field's robust spread Q(0.98) − Q(0.02): larger
+  /// differences stay sharp (default 0.1, range [0, 10]).
   vtkSetClampMacro(RangeThreshold, double, 0.0, 10.0);
   vtkGetMacro(RangeThreshold, double);
+  ///@}
+
+  ///@{
+  /// α of the log normalisation (default 4, range [0.001, 1000]; paper: 4).
   vtkSetClampMacro(Alpha, double, 0.001, 1000.0);
   vtkGetMacro(Alpha, double);
-  /// Shared [min, max] of SDFSmoothed for a family (default [0, 0]: automatic, this mesh's
-  /// own; see the class documentation).
+  ///@}
+
+  ///@{
+  /// Shared [min, max] of SDFSmoothed mapped to [0, 1] for a family (default [0, 0]; any
+  /// max <= min = automatic, this mesh's own range; see the class documentation).
   vtkSetVector2Macro(NormalizationRange, double);
   vtkGetVector2Macro(NormalizationRange, double);
+  ///@}
+
+  ///@{
+  /// Worker threads, 0 = all cores (default 0, range [0, 1024]); the output does not depend
+  /// on it.
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);
+  ///@}
 
 protected:
   vtkSDFBilateralSmooth();

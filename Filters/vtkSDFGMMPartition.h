@@ -14,8 +14,10 @@
  *    floored at 1e-3 of the value range (no collapse), fitted on a 512-bin histogram of
  *    exact per-bin moments (Filters/Core/GaussianMixture.h). Each face gets its posterior
  *    probability vector `SDFProbabilities`.
- * 2. A k-way graph cut by alpha-expansion (Boost.Graph's Boykov-Kolmogorov max-flow)
- *    minimises E = Σ_f w_f·(−log(P(f|x_f) + ε)) + λ Σ_{f~g, x_f≠x_g} w_fg·e2(f, g), where
+ * 2. A k-way graph cut by alpha-expansion (our Boykov-Kolmogorov max-flow,
+ *    Filters/Core/MaxFlow.h) minimises
+ *    E = Σ_f w_f·(−log(P(x_f|f) + ε)) + λ Σ_{f~g, x_f≠x_g} w_fg·e2(f, g), where P(x_f|f) is
+ *    the posterior of cluster x_f at face f (`SDFProbabilities`),
  *    e2 = −log(max(φ'/π, 1e-5)), φ the angle between the two face normals, taken as is on
  *    concave edges and times ConvexityFactor on convex ones: cutting along a concave
  *    crease is cheap, across a flat or convex region expensive. w_f = face area / mean
@@ -126,40 +128,93 @@ public:
 
   /// Connects the optional family model (port 1): another vtkSDFGMMPartition's output.
   void SetModelConnection(vtkAlgorithmOutput* model) { this->SetInputConnection(1, model); }
+  /// Sets the optional family model (port 1) as data: another vtkSDFGMMPartition's output.
   void SetModelData(vtkDataObject* model) { this->SetInputData(1, model); }
 
+  ///@{
+  /// Number of clusters k (default 5, range [0, 16]): with ClusterModel 1 the most clusters,
+  /// with 0 exactly k; 0 = automatic (up to MaximumClusters; with EM the k of lowest BIC).
   vtkSetClampMacro(NumberOfClusters, int, 0, 16);
   vtkGetMacro(NumberOfClusters, int);
-  vtkSetClampMacro(MaximumClusters, int, 2, 16);
-  vtkGetMacro(MaximumClusters, int);
-  vtkSetClampMacro(Lambda, double, 0.0, 1000.0);
-  vtkGetMacro(Lambda, double);
-  vtkSetClampMacro(Epsilon, double, 1e-300, 1.0);
-  vtkGetMacro(Epsilon, double);
-  vtkSetClampMacro(ConvexityFactor, double, 0.0, 1.0);
-  vtkGetMacro(ConvexityFactor, double);
-  vtkSetClampMacro(Restarts, int, 1, 100);
-  vtkGetMacro(Restarts, int);
-  vtkSetClampMacro(MaximumIterations, int, 1, 100000);
-  vtkGetMacro(MaximumIterations, int);
-  vtkSetMacro(Seed, int);
-  vtkGetMacro(Seed, int);
-  vtkSetClampMacro(HistogramBins, int, 4, 4096);
-  vtkGetMacro(HistogramBins, int);
-  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
-  vtkGetMacro(NumberOfThreads, int);
+  ///@}
 
   ///@{
-  /// How the clusters are found: 0 (default) EM fit of k Gaussians (the paper); 1 the modes of
-  /// the area-weighted SDF density, at most k of them (Filters/Core/DensityModes.h).
+  /// Upper end of the automatic range of k when NumberOfClusters is 0 (default 8, range
+  /// [2, 16]).
+  vtkSetClampMacro(MaximumClusters, int, 2, 16);
+  vtkGetMacro(MaximumClusters, int);
+  ///@}
+
+  ///@{
+  /// Smoothness weight λ of the graph cut, independent of resolution and units (default 0.03,
+  /// range [0, 1000]); larger = fewer, smoother parts, 0 = per-face most probable cluster.
+  vtkSetClampMacro(Lambda, double, 0.0, 1000.0);
+  vtkGetMacro(Lambda, double);
+  ///@}
+
+  ///@{
+  /// ε of the data term −log(P + ε) (default 1e-8, range [1e-300, 1]).
+  vtkSetClampMacro(Epsilon, double, 1e-300, 1.0);
+  vtkGetMacro(Epsilon, double);
+  ///@}
+
+  ///@{
+  /// Scale of the normal angle on convex edges, 1 = convex creases cost like concave ones
+  /// (default 0.08, range [0, 1]).
+  vtkSetClampMacro(ConvexityFactor, double, 0.0, 1.0);
+  vtkGetMacro(ConvexityFactor, double);
+  ///@}
+
+  ///@{
+  /// EM (ClusterModel 0): k-means++ restarts, the best likelihood kept (default 5, range
+  /// [1, 100]).
+  vtkSetClampMacro(Restarts, int, 1, 100);
+  vtkGetMacro(Restarts, int);
+  ///@}
+
+  ///@{
+  /// EM (ClusterModel 0): iterations at most (default 500, range [1, 100000]).
+  vtkSetClampMacro(MaximumIterations, int, 1, 100000);
+  vtkGetMacro(MaximumIterations, int);
+  ///@}
+
+  ///@{
+  /// EM (ClusterModel 0): seed of the initialisation (default 0x5DF2008 = 98508808; fixed, so
+  /// the same input gives the same parts).
+  vtkSetMacro(Seed, int);
+  vtkGetMacro(Seed, int);
+  ///@}
+
+  ///@{
+  /// Bins of the histogram table on output port 1 (default 64, range [4, 4096]).
+  vtkSetClampMacro(HistogramBins, int, 4, 4096);
+  vtkGetMacro(HistogramBins, int);
+  ///@}
+
+  ///@{
+  /// Worker threads, 0 = all cores (default 0, range [0, 1024]); the output does not depend
+  /// on it.
+  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
+  vtkGetMacro(NumberOfThreads, int);
+  ///@}
+
+  ///@{
+  /// How the clusters are found: 1 (default) the at most k modes of the area-weighted SDF
+  /// density (Filters/Core/DensityModes.h); 0 the paper's EM fit of k Gaussians (range [0, 1]).
   vtkSetClampMacro(ClusterModel, int, 0, 1);
   vtkGetMacro(ClusterModel, int);
   ///@}
+
   ///@{
-  /// ClusterModel 1: kernel bandwidth relative to the value range (default 0.02, [0.001, 0.5])
-  /// and the smallest prominence of a mode relative to the highest peak (default 0.05, [0, 1]).
+  /// ClusterModel 1: kernel bandwidth of the density estimate, relative to the value range
+  /// (default 0.02, range [0.001, 0.5]).
   vtkSetClampMacro(ModeBandwidth, double, 0.001, 0.5);
   vtkGetMacro(ModeBandwidth, double);
+  ///@}
+
+  ///@{
+  /// ClusterModel 1: smallest height of a mode above its saddle, relative to the highest peak
+  /// (default 0.05, range [0, 1]).
   vtkSetClampMacro(ModeProminence, double, 0.0, 1.0);
   vtkGetMacro(ModeProminence, double);
   ///@}

@@ -78,23 +78,59 @@ public:
   static constexpr const char* SOURCE_FACE_ARRAY_NAME = "SourceFaceId";
   ///@}
 
+  ///@{
+  /// Surface samples N, area-weighted (default 10000, range [1, 1000000]; paper: at most
+  /// 10000).
   vtkSetClampMacro(NumberOfSamples, int, 1, 1000000);
   vtkGetMacro(NumberOfSamples, int);
+  ///@}
+
+  ///@{
+  /// MLS projection iterations (default 3, range [1, 100]; paper: 2 to 4).
   vtkSetClampMacro(NumberOfIterations, int, 1, 100);
   vtkGetMacro(NumberOfIterations, int);
+  ///@}
+
+  ///@{
+  /// Points with MLS confidence at least this form the thinned set T (default 0.8, range
+  /// [0, 1]).
   vtkSetClampMacro(ConfidenceThreshold, double, 0.0, 1.0);
   vtkGetMacro(ConfidenceThreshold, double);
+  ///@}
+
+  ///@{
+  /// The confidence threshold is lowered where needed so that at least this share of the
+  /// projected points is eligible for T; 0 = the threshold alone (default 0.2, range [0, 1]).
   vtkSetClampMacro(MinimumConfidentShare, double, 0.0, 1.0);
   vtkGetMacro(MinimumConfidentShare, double);
+  ///@}
+
+  ///@{
+  /// Minimal spacing ε between thinned points, in units of the local radius SDF/2 (default
+  /// 0.25, range [0, 10]).
   vtkSetClampMacro(SpacingFactor, double, 0.0, 10.0);
   vtkGetMacro(SpacingFactor, double);
+  ///@}
+
+  ///@{
+  /// Seed of the surface sampling (default 0x5DF5EED = 98524909; fixed, so the same input
+  /// gives the same skeleton).
   vtkSetMacro(Seed, int);
   vtkGetMacro(Seed, int);
+  ///@}
+
+  ///@{
+  /// Worker threads, 0 = all cores (default 0, range [0, 1024]); the output does not depend
+  /// on it.
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);
+  ///@}
 
+  /// The skeleton (output port 0).
   vtkPolyData* GetSkeleton() { return this->GetOutput(0); }
+  /// The input surface with SkeletonNodeId and SkeletonBoneId (output port 1).
   vtkPolyData* GetSurface() { return this->GetOutput(1); }
+  /// The projected point cloud P (output port 2).
   vtkPolyData* GetProjectedPoints() { return this->GetOutput(2); }
 
 protected:

@@ -95,14 +95,15 @@ public:
   ///@}
 
   ///@{
-  /// Compute at points instead of faces (default off).
-  ///@{
-  /// Which hit a ray measures: 0 its first hit, dropped unless the ray leaves the volume
-  /// there; 1 (default) the first hit on a face turned against the origin's, skipping others.
+  /// Which hit a ray measures: 0 (default) its first hit, dropped unless the ray leaves the
+  /// volume there; 1 the first hit on a face turned against the origin's, skipping others
+  /// (range [0, 1]).
   vtkSetClampMacro(HitRule, int, 0, 1);
   vtkGetMacro(HitRule, int);
   ///@}
 
+  ///@{
+  /// Compute at points instead of faces (default off).
   vtkSetMacro(PerPoint, vtkTypeBool);
   vtkGetMacro(PerPoint, vtkTypeBool);
   vtkBooleanMacro(PerPoint, vtkTypeBool);

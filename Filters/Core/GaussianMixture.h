@@ -6,8 +6,8 @@
 //   skeletonisation using the shape diameter function", first step of the partitioning:
 //   "a Gaussian mixture model (GMM) fitting k Gaussians to the histogram of SDF values of the
 //   faces ... using the expectation-maximization (EM) algorithm". The result for each face is
-//   the vector of posterior probabilities P(f | cluster) (the paper's soft partitioning), used
-//   by the data term of the graph cut (PartitionEnergy.h).
+//   the vector of posterior probabilities P(cluster | f) of the clusters given the face's value
+//   (the paper's soft partitioning), used by the data term of the graph cut (PartitionEnergy.h).
 //   Components are sorted by mean DESCENDING: component 0 has the largest mean (interface.md,
 //   `SDFCluster` 0 = largest GMM mean), so hierarchy level L separates the L largest means.
 //

@@ -2,7 +2,7 @@
 // sdf-pose-consistency: Table 2 of Shapira, Shamir & Cohen-Or 2008 for N segmentations of meshes
 // with identical connectivity (e.g. poses): the percentage of faces with a different label
 // between every pair, after the best one-to-one matching of labels. See README.md here and
-// Filters/Core/LabelMatching.h.
+// Testing/Evaluation/LabelMatching.h.
 #include "LabelMatching.h"
 #include "SegmentationMetrics.h"
 

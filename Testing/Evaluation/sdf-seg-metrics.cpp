@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // sdf-seg-metrics: compares two segmentations of one mesh with the Princeton Segmentation
 // Benchmark metrics (Chen, Golovinskiy & Funkhouser 2009). See README.md in this directory
-// and Filters/Core/SegmentationMetrics.h for the definitions.
+// and Testing/Evaluation/SegmentationMetrics.h for the definitions.
 #include "OFFParser.h"
 #include "SegmentationMetrics.h"
 
