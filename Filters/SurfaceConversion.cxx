@@ -155,6 +155,17 @@ std::pair<vtkIdType, vtkIdType> PolygonCellRange(vtkPolyData* input)
   return { first, first + input->GetNumberOfPolys() };
 }
 
+std::pair<vtkIdType, vtkIdType> PolygonFaces(
+  vtkPolyData* input, std::vector<std::int64_t>& offsets, std::vector<std::int64_t>& connectivity)
+{
+  // Verts and lines come first and have empty entries: the polygons' offsets start at 0.
+  PolygonCells(input, offsets, connectivity);
+  const auto [first, last] = PolygonCellRange(input);
+  offsets.erase(offsets.begin() + last + 1, offsets.end());
+  offsets.erase(offsets.begin(), offsets.begin() + first);
+  return { first, last };
+}
+
 std::string ReadCellScalars(vtkAlgorithm* algorithm, vtkPolyData* input, const char* defaultName,
   std::vector<double>& values, std::string& arrayName)
 {

@@ -63,6 +63,13 @@ vtkIdType PolygonCells(
 std::pair<vtkIdType, vtkIdType> PolygonCellRange(vtkPolyData* input);
 
 /**
+ * The polygon cells alone in CSR form (the first offset 0): face i is cell first + i.
+ * Returns the id range [first, last) of the polygon cells (PolygonCellRange).
+ */
+std::pair<vtkIdType, vtkIdType> PolygonFaces(
+  vtkPolyData* input, std::vector<std::int64_t>& offsets, std::vector<std::int64_t>& connectivity);
+
+/**
  * Reads the cell array `algorithm` was told to process (SetInputArrayToProcess index 0;
  * `defaultName` when that selection is empty) into `values` and its name into
  * `arrayName`. Returns an empty string on success, otherwise the one-line reason: a

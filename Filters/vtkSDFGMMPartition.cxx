@@ -1,12 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFGMMPartition.h"
 
-#include "MultilevelCut.h"
-#include "FaceGraph.h"
-#include "DensityModes.h"
-#include "GaussianMixture.h"
-#include "PartitionEnergy.h"
 #include "DistributedSupport.h"
+#include "Partition.h"
 #include "SurfaceConversion.h"
 #include "vtkSDFBilateralSmooth.h"
 
@@ -49,46 +45,17 @@ vtkNew<vtkIntArray> CellIntArray(const std::string& name, vtkIdType cellCount, v
   return array;
 }
 
-/// The histogram of the values and the weighted Gaussian densities (see the header).
-void FillHistogram(const GaussianMixtureModel& model, const Eigen::Ref<const Eigen::VectorXd>& values, int bins,
-  vtkTable* table)
+/// Output port 1: the histogram and the fitted densities as table columns (see the header).
+void WriteHistogram(const PartitionHistogram& histogram, vtkTable* table)
 {
-  const double sigmaMax = *std::max_element(model.sigmas.begin(), model.sigmas.end());
-  const double low = values.minCoeff() - 4.0 * sigmaMax;
-  const double high = values.maxCoeff() + 4.0 * sigmaMax;
-  const double width = (high - low) / bins;
-  const auto count = static_cast<double>(values.size());
-  std::vector<double> centers(static_cast<std::size_t>(bins)), counts(static_cast<std::size_t>(bins), 0.0);
-  for (int b = 0; b < bins; ++b)
+  table->AddColumn(DoubleArray("BinCenter", histogram.BinCenters));
+  table->AddColumn(DoubleArray("Count", histogram.Counts));
+  table->AddColumn(DoubleArray("Density", histogram.Density));
+  for (std::size_t c = 0; c < histogram.Components.size(); ++c)
   {
-    centers[static_cast<std::size_t>(b)] = low + (b + 0.5) * width;
+    table->AddColumn(DoubleArray(("Component" + std::to_string(c)).c_str(), histogram.Components[c]));
   }
-  for (Eigen::Index i = 0; i < values.size(); ++i)
-  {
-    const int bin = std::min(bins - 1, std::max(0, static_cast<int>((values[i] - low) / width)));
-    counts[static_cast<std::size_t>(bin)] += 1.0;
-  }
-  std::vector<double> density(counts.size()), mixture(counts.size(), 0.0);
-  std::transform(counts.begin(), counts.end(), density.begin(), [&](double c) { return c / (count * width); });
-  table->AddColumn(DoubleArray("BinCenter", centers));
-  table->AddColumn(DoubleArray("Count", counts));
-  table->AddColumn(DoubleArray("Density", density));
-  for (int c = 0; c < model.ComponentCount(); ++c)
-  {
-    std::vector<double> curve(counts.size());
-    // The mean density over each bin (not its value at the centre): comparable with the
-    // histogram bar, and exact for Gaussians narrower than a bin.
-    const double scale = 1.0 / (model.sigmas[static_cast<std::size_t>(c)] * std::sqrt(2.0));
-    auto cumulative = [&](double x) { return 0.5 * std::erf((x - model.means[static_cast<std::size_t>(c)]) * scale); };
-    for (std::size_t b = 0; b < curve.size(); ++b)
-    {
-      const double left = centers[b] - 0.5 * width;
-      curve[b] = model.weights[static_cast<std::size_t>(c)] * (cumulative(left + width) - cumulative(left)) / width;
-      mixture[b] += curve[b];
-    }
-    table->AddColumn(DoubleArray(("Component" + std::to_string(c)).c_str(), curve));
-  }
-  table->AddColumn(DoubleArray("Mixture", mixture));
+  table->AddColumn(DoubleArray("Mixture", histogram.Mixture));
 }
 
 /// The mixture stored in a partition output's field data; empty reason on success.
@@ -209,86 +176,65 @@ int vtkSDFGMMPartition::RequestData(
 
   try
   {
-    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(this->NumberOfThreads);
-    // The polygon cells alone: verts and lines come first and have empty entries.
     std::vector<std::int64_t> offsets, connectivity;
-    adapter::PolygonCells(input, offsets, connectivity);
-    const auto [first, last] = adapter::PolygonCellRange(input);
-    offsets.erase(offsets.begin() + last + 1, offsets.end());
-    offsets.erase(offsets.begin(), offsets.begin() + first);
-    const FaceGraph graph = BuildFaceGraph(adapter::PointsOf(input), offsets, connectivity, parallelFor);
+    const auto [first, last] = adapter::PolygonFaces(input, offsets, connectivity);
+    const PointMatrix points = adapter::PointsOf(input);
     const Eigen::Map<const Eigen::VectorXd> faceValues(values.data() + first, last - first);
-    this->UpdateProgress(0.1);
-
-    if (!modelInput && this->ClusterModel == 1)
-    {
-      DensityModesOptions modes;
-      modes.Bandwidth = this->ModeBandwidth;
-      modes.MinimumProminence = this->ModeProminence;
-      modes.MaximumModes = this->NumberOfClusters > 0 ? this->NumberOfClusters : this->MaximumClusters;
-      const Eigen::Map<const Eigen::VectorXd> areas(graph.Areas.data(), static_cast<Eigen::Index>(graph.Areas.size()));
-      model = FitDensityModes(faceValues, areas, modes).Model;
-    }
-    else if (!modelInput)
-    {
-      GaussianMixtureOptions fit;
-      fit.restarts = this->Restarts;
-      fit.maxIterations = this->MaximumIterations;
-      fit.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
-      model = this->NumberOfClusters == 0
-        ? FitGaussianMixtureBic(faceValues, 2, this->MaximumClusters, fit).model
-        : FitGaussianMixture(faceValues, this->NumberOfClusters, fit);
-    }
-    const int clusterCount = model.ComponentCount();
-    const PosteriorMatrix posteriors = ComputePosteriors(model, faceValues, parallelFor);
-    this->UpdateProgress(0.2);
-
-    const DualGraphView view = MakeDualGraphView(graph);
-    PartitionEnergyOptions energyOptions;
-    energyOptions.lambda = this->Lambda;
-    energyOptions.probabilityEpsilon = this->Epsilon;
-    energyOptions.convexityFactor = this->ConvexityFactor;
-    const PartitionEnergy energy = BuildPartitionEnergy(posteriors, view, energyOptions, parallelFor);
-    const AlphaExpansionResult cut =
-      MinimizeMultilevel(energy, MultilevelOptions(), AlphaExpansionOptions(), adapter::MakeProgress(this, 0.2, 0.95), parallelFor);
-    if (cut.aborted)
+    PartitionOptions options;
+    options.ClusterModel = this->ClusterModel == 0 ? PartitionClusterModel::ExpectationMaximization
+                                                   : PartitionClusterModel::DensityModes;
+    options.NumberOfClusters = this->NumberOfClusters;
+    options.MaximumClusters = this->MaximumClusters;
+    options.Mixture.restarts = this->Restarts;
+    options.Mixture.maxIterations = this->MaximumIterations;
+    options.Mixture.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
+    options.Modes.Bandwidth = this->ModeBandwidth;
+    options.Modes.MinimumProminence = this->ModeProminence;
+    options.Energy.lambda = this->Lambda;
+    options.Energy.probabilityEpsilon = this->Epsilon;
+    options.Energy.convexityFactor = this->ConvexityFactor;
+    options.HistogramBins = this->HistogramBins;
+    const PartitionResult result =
+      PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues, modelInput ? &model : nullptr },
+        options, adapter::MakeSMPParallelFor(this->NumberOfThreads), adapter::MakeProgress(this, 0.0, 1.0));
+    if (result.Aborted)
     {
       output->ShallowCopy(input);
       return 1;
     }
-    const ConnectedSegments segments = FindConnectedSegments(view, cut.labels, graph.Areas, parallelFor);
 
+    const int clusterCount = result.Model.ComponentCount();
     const vtkIdType cellCount = input->GetNumberOfCells();
     vtkNew<vtkDoubleArray> probabilities;
     probabilities->SetName(PROBABILITIES_ARRAY_NAME);
     probabilities->SetNumberOfComponents(clusterCount);
     probabilities->SetNumberOfTuples(cellCount);
     probabilities->FillValue(0.0);
-    std::copy(posteriors.data(), posteriors.data() + posteriors.size(),
+    std::copy(result.Probabilities.data(), result.Probabilities.data() + result.Probabilities.size(),
       probabilities->GetPointer(first * clusterCount));
     vtkCellData* cellData = output->GetCellData();
     cellData->AddArray(probabilities);
-    cellData->AddArray(CellIntArray(CLUSTER_ARRAY_NAME, cellCount, first, cut.labels));
-    for (int level = 1; level < clusterCount; ++level)
+    cellData->AddArray(CellIntArray(CLUSTER_ARRAY_NAME, cellCount, first, result.Labels));
+    for (std::size_t level = 0; level < result.Levels.size(); ++level)
     {
-      cellData->AddArray(CellIntArray(LEVEL_ARRAY_PREFIX + std::to_string(level), cellCount, first,
-        HierarchyLevel(cut.labels, level)));
+      cellData->AddArray(
+        CellIntArray(LEVEL_ARRAY_PREFIX + std::to_string(level + 1), cellCount, first, result.Levels[level]));
     }
-    cellData->AddArray(CellIntArray(SEGMENT_ARRAY_NAME, cellCount, first, segments.segment));
+    cellData->AddArray(CellIntArray(SEGMENT_ARRAY_NAME, cellCount, first, result.Segments.segment));
     cellData->SetActiveScalars(CLUSTER_ARRAY_NAME);
 
     vtkNew<vtkFieldData> field;
     field->ShallowCopy(input->GetFieldData());
-    field->AddArray(DoubleArray(MEANS_ARRAY_NAME, model.means));
-    field->AddArray(DoubleArray(SIGMAS_ARRAY_NAME, model.sigmas));
-    field->AddArray(DoubleArray(WEIGHTS_ARRAY_NAME, model.weights));
+    field->AddArray(DoubleArray(MEANS_ARRAY_NAME, result.Model.means));
+    field->AddArray(DoubleArray(SIGMAS_ARRAY_NAME, result.Model.sigmas));
+    field->AddArray(DoubleArray(WEIGHTS_ARRAY_NAME, result.Model.weights));
     vtkNew<vtkIntArray> count;
     count->SetName(CLUSTER_COUNT_ARRAY_NAME);
     count->InsertNextValue(clusterCount);
     field->AddArray(count);
-    field->AddArray(DoubleArray(ENERGY_ARRAY_NAME, { cut.energy }));
+    field->AddArray(DoubleArray(ENERGY_ARRAY_NAME, { result.Energy }));
     output->SetFieldData(field);
-    FillHistogram(model, faceValues, this->HistogramBins, vtkTable::GetData(outputVector, 1));
+    WriteHistogram(result.Histogram, vtkTable::GetData(outputVector, 1));
   }
   catch (const std::exception& error)
   {
@@ -296,7 +242,6 @@ int vtkSDFGMMPartition::RequestData(
     output->ShallowCopy(input);
     return 1;
   }
-  this->UpdateProgress(1.0);
   return 1;
 }
 

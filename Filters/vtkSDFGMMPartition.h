@@ -4,7 +4,8 @@
  * @brief   Consistent partitioning by the SDF: a 1-D Gaussian mixture fitted by EM (soft
  *          clustering) followed by a k-way alpha-expansion graph cut.
  *
- * Shapira, Shamir, Cohen-Or 2008, section 4.
+ * Shapira, Shamir, Cohen-Or 2008, section 4. The steps below are one core call,
+ * PartitionBySDF (Filters/Core/Partition.h); this filter converts, calls it and writes.
  *
  * 1. A 1-D mixture of at most k Gaussians models the normalised SDF of the faces (input
  *    array, default `SDFNormalized`). By default (ClusterModel 1) its components are the

@@ -260,11 +260,12 @@ void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry, const P
   }
 }
 
-PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
+namespace
+{
+/// BuildPartitionEnergy after the checks of the options and of the graph.
+PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
   const DualGraphView& graph, const PartitionEnergyOptions& options, const ParallelFor& parallelFor)
 {
-  ValidateOptions(options);
-  ValidateDualGraph(graph, options.geometricWeights, parallelFor);
   const std::size_t n = graph.faceCount;
   if (static_cast<std::size_t>(posteriors.rows()) != n || posteriors.cols() < 1)
   {
@@ -335,6 +336,22 @@ PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posterior
   });
   return energy;
 }
+} // namespace
+
+PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
+  const DualGraphView& graph, const PartitionEnergyOptions& options, const ParallelFor& parallelFor)
+{
+  ValidateOptions(options);
+  ValidateDualGraph(graph, options.geometricWeights, parallelFor);
+  return BuildCheckedPartitionEnergy(posteriors, graph, options, parallelFor);
+}
+
+PartitionEnergy BuildPartitionEnergyOnValidGraph(Eigen::Ref<const PosteriorMatrix> posteriors,
+  const DualGraphView& graph, const PartitionEnergyOptions& options, const ParallelFor& parallelFor)
+{
+  ValidateOptions(options);
+  return BuildCheckedPartitionEnergy(posteriors, graph, options, parallelFor);
+}
 
 std::vector<int> MostProbableLabels(const PartitionEnergy& energy)
 {
@@ -374,6 +391,12 @@ ConnectedSegments FindConnectedSegments(const DualGraphView& graph, const std::v
   const std::vector<double>& faceAreas, const ParallelFor& parallelFor)
 {
   ValidateTopology(graph, parallelFor);
+  return FindConnectedSegmentsOnValidGraph(graph, labels, faceAreas);
+}
+
+ConnectedSegments FindConnectedSegmentsOnValidGraph(const DualGraphView& graph, const std::vector<int>& labels,
+  const std::vector<double>& faceAreas)
+{
   const std::size_t n = graph.faceCount;
   if (labels.size() != n || faceAreas.size() != n)
   {

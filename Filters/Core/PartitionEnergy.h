@@ -145,6 +145,12 @@ void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry, const P
 PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
   const DualGraphView& graph, const PartitionEnergyOptions& options = {}, const ParallelFor& parallelFor = SerialFor);
 
+/// BuildPartitionEnergy on a graph that has passed ValidateDualGraph(graph,
+/// options.geometricWeights): the same result without checking the graph again (PartitionBySDF
+/// validates it once for the energy and the segments).
+PartitionEnergy BuildPartitionEnergyOnValidGraph(Eigen::Ref<const PosteriorMatrix> posteriors,
+  const DualGraphView& graph, const PartitionEnergyOptions& options = {}, const ParallelFor& parallelFor = SerialFor);
+
 /// argmin_l e1(f, l) per face (= argmax posterior; lowest label on ties).
 std::vector<int> MostProbableLabels(const PartitionEnergy& energy);
 
@@ -164,5 +170,10 @@ struct ConnectedSegments
 /// (ties: the segment containing the lower face index first). faceAreas: finite, >= 0.
 ConnectedSegments FindConnectedSegments(const DualGraphView& graph, const std::vector<int>& labels,
   const std::vector<double>& faceAreas, const ParallelFor& parallelFor = SerialFor);
+
+/// FindConnectedSegments on a graph that has passed ValidateDualGraph: the same result without
+/// checking its topology again (labels and areas are still checked).
+ConnectedSegments FindConnectedSegmentsOnValidGraph(const DualGraphView& graph, const std::vector<int>& labels,
+  const std::vector<double>& faceAreas);
 
 } // namespace shapediameter

@@ -27,9 +27,11 @@
 //                 vtkShapeDiameterFilter::RequestData (triangulate, orient, BVH, origins,
 //                 cast + statistics, face graph, fill), next to the filter itself: where the
 //                 filter's time goes beyond the raw cast.
-//   SmoothBreakdown, PartitionBreakdown   the same for vtkSDFBilateralSmooth (face graph,
-//                 geodesic neighbourhoods, iterations, normalisation) and vtkSDFGMMPartition
-//                 (face graph, EM, posteriors, energy, alpha-expansion, segments).
+//   SmoothBreakdown the same for vtkSDFBilateralSmooth (face graph, geodesic
+//                 neighbourhoods, iterations, normalisation).
+//   PartitionBreakdown   vtkSDFGMMPartition's conversion and its one core call
+//                 (PartitionBySDF), whose per-step timings are the counters: face graph, cluster
+//                 model ("gmm"), posteriors, energy, alpha-expansion, segments, histogram.
 //   SDFAbort      abort requested from a ProgressEvent observer at progress 0.5: the time until
 //                 Update() returns (abort_latency_*), the largest gap between progress events.
 // Every *_min_ms / *_median_ms counter is also in --benchmark_out JSON; Paired and Chain add
@@ -43,15 +45,12 @@
 // surface exactly as the filters do.
 #include "RawEmbreeBaseline.h"
 
-#include "MultilevelCut.h"
 #include "BilateralSmoothing.h"
-#include "DensityModes.h"
 #include "EmbreeRayCaster.h"
 #include "FaceGraph.h"
-#include "GaussianMixture.h"
 #include "Normalization.h"
 #include "Orientation.h"
-#include "PartitionEnergy.h"
+#include "Partition.h"
 #include "ShapeDiameter.h"
 #include "SurfaceConversion.h"
 
@@ -632,6 +631,16 @@ public:
     this->Sum += ms;
     this->Last = now;
   }
+  /// Ends the next steps with times measured elsewhere (ms), e.g. a core result's timings.
+  void Record(const std::vector<double>& stepsMs)
+  {
+    for (const double ms : stepsMs)
+    {
+      this->Steps.at(this->Next++).Add(ms);
+      this->Sum += ms;
+    }
+    this->Last = Clock::now();
+  }
   /// Ends the iteration; returns the sum of its steps.
   double Finish()
   {
@@ -775,8 +784,9 @@ void BM_SmoothBreakdown(benchmark::State& state, const std::string& path)
   });
 }
 
-/// vtkSDFGMMPartition::RequestData's steps (default parameters, no model input), next to
-/// the filter.
+/// vtkSDFGMMPartition's steps (default parameters, no model input), next to the filter: the
+/// filter's conversion, then the core call it makes (PartitionBySDF), whose per-step timings
+/// are the other laps.
 void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
 {
   Guarded(state, [&] {
@@ -786,7 +796,8 @@ void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
     vtkNew<vtkSDFGMMPartition> partition;
     partition->SetInputData(input);
     partition->SetNumberOfThreads(Threads());
-    Laps laps({ "convert", "facegraph", "gmm", "posteriors", "energy", "alphaexpansion", "segments" });
+    Laps laps(
+      { "convert", "facegraph", "gmm", "posteriors", "energy", "alphaexpansion", "segments", "histogram" });
     Samples filterTimes;
     for (auto _ : state)
     {
@@ -799,48 +810,18 @@ void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
         throw std::runtime_error(reason);
       }
       std::vector<std::int64_t> offsets, connectivity;
-      adapter::PolygonCells(input, offsets, connectivity);
+      const auto [first, last] = adapter::PolygonFaces(input, offsets, connectivity);
       const PointMatrix points = adapter::PointsOf(input);
+      const Eigen::Map<const Eigen::VectorXd> faceValues(values.data() + first, last - first);
       laps.Lap();
-      const FaceGraph graph = BuildFaceGraph(points, offsets, connectivity, parallelFor);
-      const Eigen::Map<const Eigen::VectorXd> faceValues(values.data(), static_cast<Eigen::Index>(values.size()));
-      laps.Lap();
-      // The filter's default cluster model (density modes); EM when ClusterModel is 0.
-      GaussianMixtureModel model;
-      if (partition->GetClusterModel() == 1)
-      {
-        DensityModesOptions modes;
-        modes.Bandwidth = partition->GetModeBandwidth();
-        modes.MinimumProminence = partition->GetModeProminence();
-        modes.MaximumModes = partition->GetNumberOfClusters() > 0 ? partition->GetNumberOfClusters() : partition->GetMaximumClusters();
-        const Eigen::Map<const Eigen::VectorXd> areas(graph.Areas.data(), static_cast<Eigen::Index>(graph.Areas.size()));
-        model = FitDensityModes(faceValues, areas, modes).Model;
-      }
-      else
-      {
-        GaussianMixtureOptions fit;
-        fit.restarts = partition->GetRestarts();
-        fit.maxIterations = partition->GetMaximumIterations();
-        fit.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(partition->GetSeed()));
-        model = FitGaussianMixture(faceValues, partition->GetNumberOfClusters(), fit);
-      }
-      laps.Lap();
-      const PosteriorMatrix posteriors = ComputePosteriors(model, faceValues, parallelFor);
-      laps.Lap();
-      const DualGraphView view = MakeDualGraphView(graph);
-      PartitionEnergyOptions energyOptions;
-      energyOptions.lambda = partition->GetLambda();
-      energyOptions.probabilityEpsilon = partition->GetEpsilon();
-      energyOptions.convexityFactor = partition->GetConvexityFactor();
-      const PartitionEnergy energy = BuildPartitionEnergy(posteriors, view, energyOptions, parallelFor);
-      laps.Lap();
-      const AlphaExpansionResult cut = MinimizeMultilevel(energy, {}, {}, nullptr, parallelFor);
-      laps.Lap();
-      const ConnectedSegments segments = FindConnectedSegments(view, cut.labels, graph.Areas, parallelFor);
-      benchmark::DoNotOptimize(segments.segment.data());
-      laps.Lap();
+      // The filter's defaults are the core's (the density modes; see PartitionOptions).
+      const PartitionResult result =
+        PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues }, PartitionOptions(), parallelFor);
+      benchmark::DoNotOptimize(result.Segments.segment.data());
+      const PartitionTimings& t = result.Timings;
+      laps.Record({ t.FaceGraphMs, t.ClusterModelMs, t.PosteriorsMs, t.EnergyMs, t.CutMs, t.SegmentsMs, t.HistogramMs });
       laps.Finish();
-      state.counters["alphaexpansion_moves"] = static_cast<double>(cut.moves);
+      state.counters["alphaexpansion_moves"] = static_cast<double>(result.CutMoves);
 
       const double filterMs = TimeOnce(partition);
       filterTimes.Add(filterMs);

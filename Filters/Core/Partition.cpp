@@ -1,0 +1,210 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Partition.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+namespace shapediameter
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+/// Milliseconds since `start`, and restarts it.
+double Lap(Clock::time_point& start)
+{
+  const Clock::time_point now = Clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - start).count();
+  start = now;
+  return ms;
+}
+
+/// Maps a step's progress [0, 1] to [begin, end] of the whole computation.
+ProgressCallback SubProgress(const ProgressCallback& progress, double begin, double end)
+{
+  if (!progress)
+  {
+    return {};
+  }
+  return [&progress, begin, end](double fraction) { return progress(begin + (end - begin) * fraction); };
+}
+
+PartitionResult AbortedResult()
+{
+  PartitionResult result;
+  result.Aborted = true;
+  return result;
+}
+
+/// Step 2: the mixture of the clusters, fitted as the options say.
+GaussianMixtureModel FitClusterModel(ValuesView values, const FaceGraph& graph, const PartitionOptions& options)
+{
+  if (options.ClusterModel == PartitionClusterModel::DensityModes)
+  {
+    DensityModesOptions modes = options.Modes;
+    modes.MaximumModes = options.NumberOfClusters > 0 ? options.NumberOfClusters : options.MaximumClusters;
+    const Eigen::Map<const Eigen::VectorXd> areas(graph.Areas.data(), static_cast<Eigen::Index>(graph.Areas.size()));
+    return FitDensityModes(values, areas, modes).Model;
+  }
+  return options.NumberOfClusters == 0
+    ? FitGaussianMixtureBic(values, 2, options.MaximumClusters, options.Mixture).model
+    : FitGaussianMixture(values, options.NumberOfClusters, options.Mixture);
+}
+
+} // namespace
+
+void ValidatePartitionOptions(const PartitionOptions& options)
+{
+  if (options.NumberOfClusters < 0)
+  {
+    throw PartitionError("partition: NumberOfClusters must be >= 0");
+  }
+  if (options.MaximumClusters < 1)
+  {
+    throw PartitionError("partition: MaximumClusters must be >= 1");
+  }
+  if (options.HistogramBins < 1)
+  {
+    throw PartitionError("partition: HistogramBins must be >= 1");
+  }
+}
+
+PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptions& options,
+  const ParallelFor& parallelFor, const ProgressCallback& progress)
+{
+  ValidatePartitionOptions(options);
+  const std::size_t faceCount = input.FaceOffsets.empty() ? 0 : input.FaceOffsets.size() - 1;
+  if (faceCount == 0)
+  {
+    throw PartitionError("partition: no faces");
+  }
+  if (static_cast<std::size_t>(input.FaceValues.size()) != faceCount)
+  {
+    throw PartitionError("partition: " + std::to_string(input.FaceValues.size()) + " values for " +
+      std::to_string(faceCount) + " faces");
+  }
+  PartitionResult result;
+  Clock::time_point start = Clock::now();
+
+  // 1. The dual graph.
+  const FaceGraph graph = BuildFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
+  result.Timings.FaceGraphMs = Lap(start);
+  if (progress && !progress(0.1))
+  {
+    return AbortedResult();
+  }
+
+  // 2. The cluster model, 3. the soft partition.
+  result.Model = input.FamilyModel ? *input.FamilyModel : FitClusterModel(input.FaceValues, graph, options);
+  result.Timings.ClusterModelMs = Lap(start);
+  result.Probabilities = ComputePosteriors(result.Model, input.FaceValues, parallelFor);
+  result.Timings.PosteriorsMs = Lap(start);
+  if (progress && !progress(0.2))
+  {
+    return AbortedResult();
+  }
+
+  // 4. The energy; the graph is checked here once, for the energy and the segments.
+  const DualGraphView view = MakeDualGraphView(graph);
+  ValidateDualGraph(view, options.Energy.geometricWeights, parallelFor);
+  const PartitionEnergy energy =
+    BuildPartitionEnergyOnValidGraph(result.Probabilities, view, options.Energy, parallelFor);
+  result.Timings.EnergyMs = Lap(start);
+
+  // 5. The k-way graph cut.
+  AlphaExpansionResult cut = MinimizeMultilevel(
+    energy, options.Multilevel, options.AlphaExpansion, SubProgress(progress, 0.2, 0.95), parallelFor);
+  result.Timings.CutMs = Lap(start);
+  if (cut.aborted)
+  {
+    return AbortedResult();
+  }
+  result.Labels = std::move(cut.labels);
+  result.Energy = cut.energy;
+  result.CutMoves = cut.moves;
+
+  // 6. Segments and hierarchy.
+  result.Segments = FindConnectedSegmentsOnValidGraph(view, result.Labels, graph.Areas);
+  for (int level = 1; level < result.Model.ComponentCount(); ++level)
+  {
+    result.Levels.push_back(HierarchyLevel(result.Labels, level));
+  }
+  result.Timings.SegmentsMs = Lap(start);
+
+  // 7. The histogram with the fitted densities.
+  result.Histogram = MixtureHistogram(result.Model, input.FaceValues, options.HistogramBins);
+  result.Timings.HistogramMs = Lap(start);
+  if (progress)
+  {
+    progress(1.0); // the result is complete: an abort requested now has nothing left to stop
+  }
+  return result;
+}
+
+PartitionResult PartitionBySDF(PointsView points, TrianglesView triangles, ValuesView faceValues,
+  const PartitionOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress)
+{
+  const auto faces = static_cast<std::size_t>(triangles.rows());
+  std::vector<std::int64_t> offsets(faces == 0 ? 0 : faces + 1), connectivity(3 * faces);
+  for (std::size_t f = 0; f < faces; ++f)
+  {
+    offsets[f + 1] = static_cast<std::int64_t>(3 * (f + 1));
+    for (Eigen::Index corner = 0; corner < 3; ++corner)
+    {
+      connectivity[3 * f + static_cast<std::size_t>(corner)] = triangles(static_cast<Eigen::Index>(f), corner);
+    }
+  }
+  return PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues }, options, parallelFor, progress);
+}
+
+PartitionHistogram MixtureHistogram(const GaussianMixtureModel& model, ValuesView values, int bins)
+{
+  if (values.size() == 0 || bins < 1 || model.ComponentCount() == 0 ||
+    model.sigmas.size() != model.means.size() || model.weights.size() != model.means.size())
+  {
+    throw PartitionError("histogram: needs values, bins >= 1 and a model with components");
+  }
+  const double sigmaMax = *std::max_element(model.sigmas.begin(), model.sigmas.end());
+  const double low = values.minCoeff() - 4.0 * sigmaMax;
+  const double high = values.maxCoeff() + 4.0 * sigmaMax;
+  const double width = (high - low) / bins;
+  const auto count = static_cast<double>(values.size());
+  const auto binCount = static_cast<std::size_t>(bins);
+  PartitionHistogram histogram;
+  histogram.BinCenters.resize(binCount);
+  histogram.Counts.assign(binCount, 0.0);
+  histogram.Mixture.assign(binCount, 0.0);
+  for (int b = 0; b < bins; ++b)
+  {
+    histogram.BinCenters[static_cast<std::size_t>(b)] = low + (b + 0.5) * width;
+  }
+  for (Eigen::Index i = 0; i < values.size(); ++i)
+  {
+    const int bin = std::min(bins - 1, std::max(0, static_cast<int>((values[i] - low) / width)));
+    histogram.Counts[static_cast<std::size_t>(bin)] += 1.0;
+  }
+  histogram.Density.resize(binCount);
+  std::transform(histogram.Counts.begin(), histogram.Counts.end(), histogram.Density.begin(),
+    [&](double c) { return c / (count * width); });
+  for (int c = 0; c < model.ComponentCount(); ++c)
+  {
+    const auto component = static_cast<std::size_t>(c);
+    std::vector<double> curve(binCount);
+    // The mean density over each bin (not its value at the centre): comparable with the
+    // histogram bar, and exact for Gaussians narrower than a bin.
+    const double scale = 1.0 / (model.sigmas[component] * std::sqrt(2.0));
+    auto cumulative = [&](double x) { return 0.5 * std::erf((x - model.means[component]) * scale); };
+    for (std::size_t b = 0; b < binCount; ++b)
+    {
+      const double left = histogram.BinCenters[b] - 0.5 * width;
+      curve[b] = model.weights[component] * (cumulative(left + width) - cumulative(left)) / width;
+      histogram.Mixture[b] += curve[b];
+    }
+    histogram.Components.push_back(std::move(curve));
+  }
+  return histogram;
+}
+
+} // namespace shapediameter
