@@ -66,7 +66,11 @@ if [[ $(id -u) -ne 0 ]]; then
   fi
 fi
 export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -qq
+# A mirror caught mid-sync fails some index files (seen: "File has unexpected size ... Mirror
+# sync in progress?"); the lists already present usually still name the missing packages, and
+# the install below fails clearly if they do not.
+"${sudo_cmd[@]}" apt-get update -qq \
+  || echo "warning: apt-get update failed (above); installing from the package lists already present" >&2
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 expat_version=$(dpkg-query -W -f='${Version}' libexpat1 2>/dev/null || true)
 if [[ -n "$expat_minimum" && -n "$expat_version" ]] && dpkg --compare-versions "$expat_version" lt "$expat_minimum"; then
