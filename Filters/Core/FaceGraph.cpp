@@ -411,26 +411,29 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
   return graph;
 }
 
-FaceGraph BuildFaceGraph(const PointsView& points, const TrianglesView& triangles, const ParallelFor& parallelFor)
+void TriangleFaces(
+  const TrianglesView& triangles, std::vector<std::int64_t>& faceOffsets, std::vector<std::int64_t>& faceConnectivity)
 {
   const auto triangleCount = static_cast<std::size_t>(triangles.rows());
-  std::vector<std::int64_t> offsets(triangleCount + 1);
-  std::vector<std::int64_t> connectivity(3 * triangleCount);
-  for (std::size_t t = 0; t <= triangleCount; ++t)
+  faceOffsets.assign(triangleCount == 0 ? 0 : triangleCount + 1, 0);
+  faceConnectivity.resize(3 * triangleCount);
+  for (std::size_t t = 0; t < faceOffsets.size(); ++t)
   {
-    offsets[t] = static_cast<std::int64_t>(3 * t);
+    faceOffsets[t] = static_cast<std::int64_t>(3 * t);
   }
   for (std::size_t t = 0; t < triangleCount; ++t)
   {
     for (int c = 0; c < 3; ++c)
     {
-      connectivity[3 * t + static_cast<std::size_t>(c)] = triangles(static_cast<Eigen::Index>(t), c);
+      faceConnectivity[3 * t + static_cast<std::size_t>(c)] = triangles(static_cast<Eigen::Index>(t), c);
     }
   }
-  if (triangleCount == 0)
-  {
-    offsets.clear();
-  }
+}
+
+FaceGraph BuildFaceGraph(const PointsView& points, const TrianglesView& triangles, const ParallelFor& parallelFor)
+{
+  std::vector<std::int64_t> offsets, connectivity;
+  TriangleFaces(triangles, offsets, connectivity);
   return BuildFaceGraph(points, offsets, connectivity, parallelFor);
 }
 

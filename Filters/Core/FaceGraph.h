@@ -117,6 +117,10 @@ struct FaceGraph
 FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_t>& faceOffsets,
   const std::vector<std::int64_t>& faceConnectivity, const ParallelFor& parallelFor = SerialFor);
 
+/// A triangle mesh's faces in that CSR form (3 corners per face; both empty without triangles).
+void TriangleFaces(
+  const TrianglesView& triangles, std::vector<std::int64_t>& faceOffsets, std::vector<std::int64_t>& faceConnectivity);
+
 /// Same for a triangle mesh.
 FaceGraph BuildFaceGraph(
   const PointsView& points, const TrianglesView& triangles, const ParallelFor& parallelFor = SerialFor);

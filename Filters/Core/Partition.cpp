@@ -146,16 +146,8 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
 PartitionResult PartitionBySDF(PointsView points, TrianglesView triangles, ValuesView faceValues,
   const PartitionOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress)
 {
-  const auto faces = static_cast<std::size_t>(triangles.rows());
-  std::vector<std::int64_t> offsets(faces == 0 ? 0 : faces + 1), connectivity(3 * faces);
-  for (std::size_t f = 0; f < faces; ++f)
-  {
-    offsets[f + 1] = static_cast<std::int64_t>(3 * (f + 1));
-    for (Eigen::Index corner = 0; corner < 3; ++corner)
-    {
-      connectivity[3 * f + static_cast<std::size_t>(corner)] = triangles(static_cast<Eigen::Index>(f), corner);
-    }
-  }
+  std::vector<std::int64_t> offsets, connectivity;
+  TriangleFaces(triangles, offsets, connectivity);
   return PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues }, options, parallelFor, progress);
 }
 

@@ -117,15 +117,8 @@ TEST(Partition, AFamilyModelIsUsedAsIs)
   family.weights = { 0.3, 0.4, 0.3 };
   PartitionOptions options;
   options.NumberOfClusters = 2; // not read with a family model
-  std::vector<std::int64_t> offsets(1, 0), connectivity;
-  for (Eigen::Index f = 0; f < shape.Mesh.Triangles.rows(); ++f)
-  {
-    for (int corner = 0; corner < 3; ++corner)
-    {
-      connectivity.push_back(shape.Mesh.Triangles(f, corner));
-    }
-    offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
-  }
+  std::vector<std::int64_t> offsets, connectivity;
+  TriangleFaces(shape.Mesh.Triangles, offsets, connectivity);
   const PartitionResult result =
     PartitionBySDF(PartitionInput{ shape.Mesh.Points, offsets, connectivity, shape.Values, &family }, options);
   EXPECT_EQ(result.Model.means, family.means);
