@@ -37,13 +37,12 @@ def build_chain():
     return parts
 
 
-def save_unlit_view(view, display, parts, screenshot):
+def save_unlit_view(view, display, cluster_count, screenshot):
     lut = simple.GetColorTransferFunction("SDFCluster")
-    means, _ = sdf_pipeline.cluster_model(servermanager.Fetch(parts))
     palette = simple.GetSettingsProxy("ColorPalette")
     background = palette.BackgroundColor if hasattr(palette, "BackgroundColor") else palette.Background
     with open(screenshot + ".json", "w") as stream:
-        json.dump({"ClusterCount": len(means), "Background": list(background),
+        json.dump({"ClusterCount": cluster_count, "Background": list(background),
                    "ColorArrayName": list(display.ColorArrayName),
                    "InterpretValuesAsCategories": lut.InterpretValuesAsCategories,
                    "ActiveAnnotatedValues": list(lut.ActiveAnnotatedValues),
@@ -61,13 +60,12 @@ def save_unlit_view(view, display, parts, screenshot):
     view.UseColorPaletteForBackground = 1
 
 
-def arrange_window(view, parts, display):
+def arrange_window(view, parts, display, means, weights):
     display.SetScalarBarVisibility(view, True)
     layout = simple.GetLayout(view)
     layout.SplitHorizontal(0, 0.55)
     chart = simple.CreateView("XYChartView")
     simple.AssignViewToLayout(view=chart, layout=layout, hint=2)
-    means, weights = sdf_pipeline.cluster_model(servermanager.Fetch(parts))
     sdf_pipeline.show_cluster_chart(simple, parts, chart, means, weights)
     simple.Render(chart)
     simple.SetActiveView(view)
@@ -80,8 +78,9 @@ def main():
     view = simple.GetActiveViewOrCreate("RenderView")
     display = simple.Show(parts, view)  # no ColorBy / LUT call: the default colouring is checked
     sdf_pipeline.frame_camera(view, parts)
-    save_unlit_view(view, display, parts, os.environ["SHAPEDIAMETER_GUI_SCREENSHOT"])
-    arrange_window(view, parts, display)
+    means, weights = sdf_pipeline.cluster_model(servermanager.Fetch(parts))  # the mesh, once
+    save_unlit_view(view, display, len(means), os.environ["SHAPEDIAMETER_GUI_SCREENSHOT"])
+    arrange_window(view, parts, display, means, weights)
     # /usr/bin/python3: Debian's, with python3-pil (ImageGrab over XCB).
     subprocess.Popen(["/usr/bin/python3", os.path.join(source_dir, "Testing", "GUI", "grab_window.py"),
                       os.environ["SHAPEDIAMETER_GUI_WINDOW"], "4", "40"])
