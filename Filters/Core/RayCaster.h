@@ -111,6 +111,37 @@ protected:
   RayCaster& operator=(const RayCaster&) = delete;
 };
 
+/// True when the straight segment from a to b meets the surface of the mesh anywhere
+/// between its ends. Used by the skeleton to keep its paths inside one part of the volume:
+/// two parts that touch (a trunk resting on a foot) are close in space but not through the
+/// volume. Any surface counts, entered or left: posed characters often interpenetrate (a trunk
+/// pushed into a foot), and the union of their volumes must not join the two parts either.
+/// Two rays from a: FirstHitLeaving returns the closest hit when it is a leaving one;
+/// otherwise the closest hit is an entering one, which SkipSameFacing with the origin normal
+/// along the ray finds (it skips the leaving hits).
+inline bool SegmentCrossesSurface(const RayCaster& caster, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+{
+  const double length = (b - a).norm();
+  if (!(length > 0) || !std::isfinite(length))
+  {
+    return false;
+  }
+  const Eigen::Vector3d direction = (b - a) / length;
+  RayOrigin origin;
+  for (int c = 0; c < 3; ++c)
+  {
+    origin.Point[c] = a(c);
+    origin.Normal[c] = direction(c);
+  }
+  origin.Rule = HitRule::FirstHitLeaving;
+  if (caster.ClosestValidHit(origin, direction.data()) < length)
+  {
+    return true;
+  }
+  origin.Rule = HitRule::SkipSameFacing;
+  return caster.ClosestValidHit(origin, direction.data()) < length;
+}
+
 namespace raycasterdetail
 {
 inline bool IsFinite3(const double v[3])

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "Skeleton.h"
 
+#include "EmbreeRayCaster.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -92,18 +94,19 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     return AbortedResult();
   }
 
-  // 3. Poly-segments.
+  // 3. Poly-segments, through the volume only.
+  const EmbreeRayCaster volume(points, triangles);
   const std::vector<PolySegment> segments =
-    GrowPolySegments(cloud, thinned, pointComponent, options.Segments);
+    GrowPolySegments(cloud, thinned, pointComponent, options.Segments, &volume);
   if (progress && !progress(0.7))
   {
     return AbortedResult();
   }
 
-  // 4. Connection.
+  // 4. Connection, through the volume only.
   bool aborted = false;
   SkeletonGraph graph = ConnectPolySegments(cloud, thinned, segments, pointComponent,
-    options.Connection, parallelFor, SubProgress(progress, 0.7, 0.9), aborted);
+    options.Connection, parallelFor, SubProgress(progress, 0.7, 0.9), aborted, &volume);
   if (aborted)
   {
     return AbortedResult();

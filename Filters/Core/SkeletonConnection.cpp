@@ -395,7 +395,7 @@ void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
 SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
   const std::vector<PolySegment>& segments, const std::vector<std::int64_t>& pointComponent,
   const SkeletonConnectionOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress, bool& aborted)
+  const ProgressCallback& progress, bool& aborted, const RayCaster* volume)
 {
   ValidateConnectionOptions(options);
   aborted = false;
@@ -432,6 +432,12 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
       {
         if (slot < k && j != static_cast<std::int64_t>(i) && component[j] == component[i])
         {
+          if (volume &&
+            SegmentCrossesSurface(*volume, positions.row(static_cast<Eigen::Index>(i)).transpose(),
+              positions.row(j).transpose()))
+          {
+            continue;
+          }
           nearest[i * k + slot++] = j;
         }
       }

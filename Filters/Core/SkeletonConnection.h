@@ -5,7 +5,11 @@
 //   The poly-segments S of step 3 are joined by shortest paths through the projected cloud P
 //   (whose points lie near the medial axis, hence good candidates for connecting paths):
 //   1. Neighbour graph on P: each point linked to its NumberOfNeighbours nearest points of the
-//      same surface component, edge weight = Euclidean length. If this graph splits a surface
+//      same surface component, edge weight = Euclidean length; when a volume is given (as
+//      ComputeSkeleton does), an edge whose straight segment meets the surface is left out
+//      (SegmentCrossesSurface, RayCaster.h), so that paths run through one part of the volume,
+//      never from a trunk into the foot it touches or is pushed into. Deviation: the paper has
+//      no such test (see SkeletonSegments.h for the measurement). If this graph splits a surface
 //      component into several pieces, the pieces are linked by their shortest gaps
 //      (Boruvka rounds), so that every surface component is one graph component.
 //   2. k-terminal growth: the points of P within SeedRadiusFactor * radius(node) of a segment
@@ -66,6 +70,7 @@
 #pragma once
 
 #include "Parallel.h"
+#include "RayCaster.h"
 #include "SkeletonSampling.h"
 #include "SkeletonSegments.h"
 #include "SkeletonThinning.h"
@@ -157,12 +162,13 @@ void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
 void AssignBranchBones(SkeletonGraph& graph);
 
 /// Step 4: joins the poly-segments through P into one tree per surface component.
+/// volume: the mesh's ray caster for the inside test of step 1, or null for none.
 /// pointComponent: surface component of each cloud point, or empty for a single component.
 /// progress receives fractions in [0, 1] of this step; returning false aborts (the returned
 /// graph is then empty and `aborted` is set).
 SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
   const std::vector<PolySegment>& segments, const std::vector<std::int64_t>& pointComponent,
   const SkeletonConnectionOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress, bool& aborted);
+  const ProgressCallback& progress, bool& aborted, const RayCaster* volume = nullptr);
 
 } // namespace shapediameter

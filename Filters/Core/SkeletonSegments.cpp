@@ -33,11 +33,13 @@ class SegmentGrower
 {
 public:
   SegmentGrower(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
-    const std::vector<std::int64_t>& pointComponent, const SkeletonSegmentOptions& options)
+    const std::vector<std::int64_t>& pointComponent, const SkeletonSegmentOptions& options,
+    const RayCaster* volume)
     : Cloud(cloud)
     , Thinned(thinned)
     , PointComponent(pointComponent)
     , Options(options)
+    , Volume(volume)
     , CosTolerance(std::cos(options.AngularToleranceDegrees * 3.14159265358979323846 / 180.0))
     , Positions(static_cast<Eigen::Index>(thinned.Thinned.size()), 3)
     , Clustered(thinned.Thinned.size(), 0)
@@ -113,6 +115,10 @@ private:
         {
           continue;
         }
+        if (Volume && SegmentCrossesSurface(*Volume, origin, PositionOf(q)))
+        {
+          continue; // close in space, but another part
+        }
         cone.emplace_back(q, along);
         // nearby is in ascending index order, so strict '<' breaks ties by lower index.
         if (distance < nextDistance)
@@ -144,6 +150,7 @@ private:
   const ThinnedCloud& Thinned;
   const std::vector<std::int64_t>& PointComponent;
   const SkeletonSegmentOptions& Options;
+  const RayCaster* Volume;
   const double CosTolerance;
   PointMatrix Positions;
   std::vector<char> Clustered;
@@ -154,7 +161,7 @@ private:
 
 std::vector<PolySegment> GrowPolySegments(const ProjectedCloud& cloud,
   const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
-  const SkeletonSegmentOptions& options)
+  const SkeletonSegmentOptions& options, const RayCaster* volume)
 {
   ValidateSegmentOptions(options);
   std::vector<PolySegment> result;
@@ -162,7 +169,7 @@ std::vector<PolySegment> GrowPolySegments(const ProjectedCloud& cloud,
   {
     return result;
   }
-  SegmentGrower grower(cloud, thinned, pointComponent, options);
+  SegmentGrower grower(cloud, thinned, pointComponent, options, volume);
   const std::vector<std::vector<std::int64_t>> segments = grower.GrowAll();
 
   // Keep segments with enough nodes; a component whose segments are all short keeps its

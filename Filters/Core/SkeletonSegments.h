@@ -8,7 +8,13 @@
 //   StepFactor * radius(e) of e that lie
 //     - inside the cone of half-angle AngularToleranceDegrees around d, and
 //     - whose own regression line is within the same angle of d (no sharp turn: two branches
-//       meeting at a junction become two segments, joined later by step 4).
+//       meeting at a junction become two segments, joined later by step 4), and
+//     - (when a volume is given, as ComputeSkeleton does) whose straight step from e meets no
+//       surface (SegmentCrossesSurface, RayCaster.h): a segment does not jump between two
+//       parts that touch or interpenetrate (a trunk resting on a foot). Deviation: the paper
+//       has no such test; on the elephant poses, segments and connecting paths through
+//       touching parts merged a foot with the trunk in 2 of 10 poses (README, "Skeleton
+//       against a rig").
 //   The nearest such q becomes the new end; the other cone points that q has passed (their
 //   projection on d is not beyond q's) are clustered into the segment without becoming nodes.
 //   The direction becomes q's regression line, oriented along d. A side stops when the cone is
@@ -35,6 +41,7 @@
 //   segment: the skeleton is a tree, its loop stays open by less than one step.
 #pragma once
 
+#include "RayCaster.h"
 #include "SkeletonSampling.h"
 #include "SkeletonThinning.h"
 
@@ -63,8 +70,9 @@ void ValidateSegmentOptions(const SkeletonSegmentOptions& options);
 
 /// Step 3: grows poly-segments through T, most confident seeds first.
 /// pointComponent: surface component of each cloud point, or empty for a single component.
+/// volume: the mesh's ray caster for the inside test of a growth step, or null for none.
 std::vector<PolySegment> GrowPolySegments(const ProjectedCloud& cloud,
   const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
-  const SkeletonSegmentOptions& options);
+  const SkeletonSegmentOptions& options, const RayCaster* volume = nullptr);
 
 } // namespace shapediameter
