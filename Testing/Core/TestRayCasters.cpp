@@ -241,6 +241,36 @@ TEST_P(RayCasterContract, CastConeMatchesSingleRays)
   }
 }
 
+TEST_P(RayCasterContract, SegmentCrossesSurfaceSeesEverySurfaceBetweenTheEnds)
+{
+  // Stacked triangles: z = 1 faces +z, z = 2 and z = 3 face -z.
+  const auto stacked = MakeCaster(GetParam(), StackedTriangles());
+  const auto crosses = [](const RayCaster& caster, double z0, double z1) {
+    return SegmentCrossesSurface(caster, Eigen::Vector3d(0, 0, z0), Eigen::Vector3d(0, 0, z1));
+  };
+  EXPECT_TRUE(crosses(*stacked, 0.5, 1.5));  // left through z = 1
+  EXPECT_TRUE(crosses(*stacked, 1.5, 2.5));  // entered through z = 2 (the closest hit enters)
+  EXPECT_TRUE(crosses(*stacked, 2.5, 1.5));  // the same segment from the other end
+  EXPECT_TRUE(crosses(*stacked, 0.5, 3.5));  // three surfaces
+  EXPECT_FALSE(crosses(*stacked, 1.2, 1.8)); // between two surfaces
+  EXPECT_FALSE(crosses(*stacked, 3.5, 4.5)); // beyond all of them
+  EXPECT_FALSE(crosses(*stacked, 1.5, 1.5)); // zero length
+
+  // Two unit spheres whose volumes overlap (centres 1.5 apart), as posed characters'
+  // parts interpenetrate: the union of the volumes does not join them.
+  const TriangleMesh first = testshapes::MakeIcosphere(8, 1.0);
+  const TriangleMesh second = testshapes::Transformed(
+    testshapes::MakeIcosphere(8, 1.0), Eigen::Matrix3d::Identity(), Eigen::Vector3d(1.5, 0, 0));
+  const auto spheres = MakeCaster(GetParam(), testshapes::Concatenate(first, second));
+  EXPECT_FALSE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(-0.5, 0, 0), Eigen::Vector3d(0.3, 0.2, 0)));
+  // From the first centre into the overlap: the second sphere's surface lies in between.
+  EXPECT_TRUE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.75, 0, 0)));
+  EXPECT_TRUE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.5, 0, 0)));
+  // Both ends outside, the segment through the first sphere.
+  EXPECT_TRUE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(0, -2, 0), Eigen::Vector3d(0, 2, 0)));
+  EXPECT_FALSE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(0, -2, 0), Eigen::Vector3d(0, -3, 0)));
+}
+
 INSTANTIATE_TEST_SUITE_P(BothCasters, RayCasterContract,
   ::testing::Values(CasterKind::Embree, CasterKind::BruteForce),
   [](const ::testing::TestParamInfo<CasterKind>& info) {
