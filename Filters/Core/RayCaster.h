@@ -116,9 +116,9 @@ protected:
 /// two parts that touch (a trunk resting on a foot) are close in space but not through the
 /// volume. Any surface counts, entered or left: posed characters often interpenetrate (a trunk
 /// pushed into a foot), and the union of their volumes must not join the two parts either.
-/// Two rays from a: FirstHitLeaving returns the closest hit when it is a leaving one;
-/// otherwise the closest hit is an entering one, which SkipSameFacing with the origin normal
-/// along the ray finds (it skips the leaving hits).
+/// One or two rays from a: FirstHitLeaving returns the closest hit when it is a leaving one
+/// (the usual case from inside); otherwise the closest hit, if any, is an entering one, which
+/// SkipSameFacing with the origin normal along the ray finds (it skips the leaving hits).
 inline bool SegmentCrossesSurface(const RayCaster& caster, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
 {
   const double length = (b - a).norm();
@@ -134,9 +134,10 @@ inline bool SegmentCrossesSurface(const RayCaster& caster, const Eigen::Vector3d
     origin.Normal[c] = direction(c);
   }
   origin.Rule = HitRule::FirstHitLeaving;
-  if (caster.ClosestValidHit(origin, direction.data()) < length)
+  const double closestLeaving = caster.ClosestValidHit(origin, direction.data());
+  if (std::isfinite(closestLeaving))
   {
-    return true;
+    return closestLeaving < length; // the closest hit is this one
   }
   origin.Rule = HitRule::SkipSameFacing;
   return caster.ClosestValidHit(origin, direction.data()) < length;

@@ -432,12 +432,6 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
       {
         if (slot < k && j != static_cast<std::int64_t>(i) && component[j] == component[i])
         {
-          if (volume &&
-            SegmentCrossesSurface(*volume, positions.row(static_cast<Eigen::Index>(i)).transpose(),
-              positions.row(j).transpose()))
-          {
-            continue;
-          }
           nearest[i * k + slot++] = j;
         }
       }
@@ -456,6 +450,29 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
           std::max<std::int64_t>(static_cast<std::int64_t>(i), j));
       }
     }
+  }
+  if (volume)
+  {
+    // Each edge once (most are in both end points' lists), tested in parallel.
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    std::vector<char> crossing(edges.size(), 0);
+    parallelFor(edges.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e)
+      {
+        crossing[e] = SegmentCrossesSurface(*volume, positions.row(edges[e].first).transpose(),
+          positions.row(edges[e].second).transpose());
+      }
+    });
+    std::size_t kept = 0;
+    for (std::size_t e = 0; e < edges.size(); ++e)
+    {
+      if (!crossing[e])
+      {
+        edges[kept++] = edges[e];
+      }
+    }
+    edges.resize(kept);
   }
   if (!report(0.3))
   {
