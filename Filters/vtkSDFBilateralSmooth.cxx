@@ -26,6 +26,14 @@ vtkStandardNewMacro(vtkSDFBilateralSmooth);
 vtkSDFBilateralSmooth::vtkSDFBilateralSmooth()
   : vtkSDFSurfaceAlgorithm("smooth the SDF", "nothing to smooth", 0, false)
 {
+  // The defaults live in the core's options (BilateralSmoothing.h, Normalization.h); the XML
+  // mirrors them. NormalizationRange [0, 0] is the filter's own "automatic".
+  const shapediameter::BilateralSmoothingOptions smoothing;
+  this->NumberOfIterations = smoothing.NumberOfIterations;
+  this->SpatialSigma = smoothing.SpatialSigma;
+  this->NeighborhoodRadius = smoothing.NeighborhoodRadius;
+  this->RangeThreshold = smoothing.RangeThreshold;
+  this->Alpha = shapediameter::NormalizationOptions{}.Alpha;
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
     vtkShapeDiameterFilter::SDF_ARRAY_NAME);
 }

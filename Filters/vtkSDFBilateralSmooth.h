@@ -112,11 +112,11 @@ protected:
 
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
 
-  int NumberOfIterations = 3;
-  double SpatialSigma = 1.0;
-  double NeighborhoodRadius = 2.0;
-  double RangeThreshold = 0.1;
-  double Alpha = 4.0;
+  int NumberOfIterations;
+  double SpatialSigma;
+  double NeighborhoodRadius;
+  double RangeThreshold;
+  double Alpha;
   double NormalizationRange[2] = { 0.0, 0.0 };
 
 private:

@@ -74,20 +74,20 @@ std::string ReadModel(vtkDataObject* modelData, GaussianMixtureModel& model)
     }
     return !values.empty();
   };
-  if (!read(vtkSDFGMMPartition::MEANS_ARRAY_NAME, model.means) ||
-    !read(vtkSDFGMMPartition::SIGMAS_ARRAY_NAME, model.sigmas) ||
-    !read(vtkSDFGMMPartition::WEIGHTS_ARRAY_NAME, model.weights))
+  if (!read(vtkSDFGMMPartition::MEANS_ARRAY_NAME, model.Means) ||
+    !read(vtkSDFGMMPartition::SIGMAS_ARRAY_NAME, model.Sigmas) ||
+    !read(vtkSDFGMMPartition::WEIGHTS_ARRAY_NAME, model.Weights))
   {
     return "the Model input has no SDFGMMMeans/SDFGMMSigmas/SDFGMMWeights field arrays";
   }
-  if (model.sigmas.size() != model.means.size() || model.weights.size() != model.means.size())
+  if (model.Sigmas.size() != model.Means.size() || model.Weights.size() != model.Means.size())
   {
     return "the Model's mixture arrays differ in length";
   }
-  for (std::size_t c = 0; c < model.means.size(); ++c)
+  for (std::size_t c = 0; c < model.Means.size(); ++c)
   {
-    if (!std::isfinite(model.means[c]) || !(model.sigmas[c] > 0) || !std::isfinite(model.sigmas[c]) ||
-      !(model.weights[c] > 0) || !std::isfinite(model.weights[c]))
+    if (!std::isfinite(model.Means[c]) || !(model.Sigmas[c] > 0) || !std::isfinite(model.Sigmas[c]) ||
+      !(model.Weights[c] > 0) || !std::isfinite(model.Weights[c]))
     {
       return "the Model's mixture has a non-finite mean or a non-positive sigma or weight";
     }
@@ -99,6 +99,20 @@ std::string ReadModel(vtkDataObject* modelData, GaussianMixtureModel& model)
 vtkSDFGMMPartition::vtkSDFGMMPartition()
   : vtkSDFSurfaceAlgorithm("partition", "nothing to partition", 0, false)
 {
+  // The defaults live in the core's options (Filters/Core/Partition.h); the XML mirrors them.
+  const shapediameter::PartitionOptions defaults;
+  this->NumberOfClusters = defaults.NumberOfClusters;
+  this->MaximumClusters = defaults.MaximumClusters;
+  this->Lambda = defaults.Energy.Lambda;
+  this->Epsilon = defaults.Energy.ProbabilityEpsilon;
+  this->ConvexityFactor = defaults.Energy.ConvexityFactor;
+  this->Restarts = defaults.Mixture.Restarts;
+  this->MaximumIterations = defaults.Mixture.MaxIterations;
+  this->Seed = static_cast<int>(defaults.Mixture.Seed);
+  this->HistogramBins = defaults.HistogramBins;
+  this->ClusterModel = defaults.ClusterModel == shapediameter::PartitionClusterModel::ExpectationMaximization ? 0 : 1;
+  this->ModeBandwidth = defaults.Modes.Bandwidth;
+  this->ModeProminence = defaults.Modes.MinimumProminence;
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(2);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
@@ -164,14 +178,14 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
                                                  : PartitionClusterModel::DensityModes;
   options.NumberOfClusters = this->NumberOfClusters;
   options.MaximumClusters = this->MaximumClusters;
-  options.Mixture.restarts = this->Restarts;
-  options.Mixture.maxIterations = this->MaximumIterations;
-  options.Mixture.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
+  options.Mixture.Restarts = this->Restarts;
+  options.Mixture.MaxIterations = this->MaximumIterations;
+  options.Mixture.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
   options.Modes.Bandwidth = this->ModeBandwidth;
   options.Modes.MinimumProminence = this->ModeProminence;
-  options.Energy.lambda = this->Lambda;
-  options.Energy.probabilityEpsilon = this->Epsilon;
-  options.Energy.convexityFactor = this->ConvexityFactor;
+  options.Energy.Lambda = this->Lambda;
+  options.Energy.ProbabilityEpsilon = this->Epsilon;
+  options.Energy.ConvexityFactor = this->ConvexityFactor;
   options.HistogramBins = this->HistogramBins;
   const PartitionResult result =
     PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues, modelInput ? &model : nullptr },
@@ -198,14 +212,14 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
     cellData->AddArray(
       CellIntArray(LEVEL_ARRAY_PREFIX + std::to_string(level + 1), cellCount, first, result.Levels[level]));
   }
-  cellData->AddArray(CellIntArray(SEGMENT_ARRAY_NAME, cellCount, first, result.Segments.segment));
+  cellData->AddArray(CellIntArray(SEGMENT_ARRAY_NAME, cellCount, first, result.Segments.Segment));
   cellData->SetActiveScalars(CLUSTER_ARRAY_NAME);
 
   vtkNew<vtkFieldData> field;
   field->ShallowCopy(input->GetFieldData());
-  field->AddArray(DoubleArray(MEANS_ARRAY_NAME, result.Model.means));
-  field->AddArray(DoubleArray(SIGMAS_ARRAY_NAME, result.Model.sigmas));
-  field->AddArray(DoubleArray(WEIGHTS_ARRAY_NAME, result.Model.weights));
+  field->AddArray(DoubleArray(MEANS_ARRAY_NAME, result.Model.Means));
+  field->AddArray(DoubleArray(SIGMAS_ARRAY_NAME, result.Model.Sigmas));
+  field->AddArray(DoubleArray(WEIGHTS_ARRAY_NAME, result.Model.Weights));
   vtkNew<vtkIntArray> count;
   count->SetName(CLUSTER_COUNT_ARRAY_NAME);
   count->InsertNextValue(clusterCount);

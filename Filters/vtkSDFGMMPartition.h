@@ -224,18 +224,18 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
 
-  int NumberOfClusters = 5;
-  int MaximumClusters = 8;
-  double Lambda = 0.03;
-  double Epsilon = 1e-8;
-  double ConvexityFactor = 0.08;
-  int Restarts = 5;
-  int MaximumIterations = 500;
-  int Seed = 0x5DF2008;
-  int HistogramBins = 64;
-  int ClusterModel = 1;
-  double ModeBandwidth = 0.02;
-  double ModeProminence = 0.05;
+  int NumberOfClusters;
+  int MaximumClusters;
+  double Lambda;
+  double Epsilon;
+  double ConvexityFactor;
+  int Restarts;
+  int MaximumIterations;
+  int Seed;
+  int HistogramBins;
+  int ClusterModel;
+  double ModeBandwidth;
+  double ModeProminence;
 
 private:
   vtkSDFGMMPartition(const vtkSDFGMMPartition&) = delete;

@@ -91,6 +91,14 @@ void WriteSkeleton(const SkeletonResult& skeleton, vtkPolyData* output)
 vtkSDFSkeleton::vtkSDFSkeleton()
   : vtkSDFSurfaceAlgorithm("compute the skeleton", "no skeleton", 1, true)
 {
+  // The defaults live in the core's options (Filters/Core/Skeleton*.h); the XML mirrors them.
+  const shapediameter::SkeletonOptions defaults;
+  this->NumberOfSamples = static_cast<int>(defaults.Sampling.NumberOfSamples);
+  this->Seed = static_cast<int>(defaults.Sampling.Seed);
+  this->NumberOfIterations = defaults.Thinning.NumberOfIterations;
+  this->ConfidenceThreshold = defaults.Thinning.ConfidenceThreshold;
+  this->MinimumConfidentShare = defaults.Thinning.MinimumConfidentShare;
+  this->SpacingFactor = defaults.Thinning.SpacingFactor;
   this->SetNumberOfOutputPorts(3);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
     vtkSDFBilateralSmooth::SMOOTHED_ARRAY_NAME);

@@ -133,12 +133,12 @@ protected:
 
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
 
-  int NumberOfSamples = 10000;
-  int NumberOfIterations = 3;
-  double ConfidenceThreshold = 0.8;
-  double MinimumConfidentShare = 0.2;
-  double SpacingFactor = 0.25;
-  int Seed = 0x5DF5EED;
+  int NumberOfSamples;
+  int NumberOfIterations;
+  double ConfidenceThreshold;
+  double MinimumConfidentShare;
+  double SpacingFactor;
+  int Seed;
 
 private:
   vtkSDFSkeleton(const vtkSDFSkeleton&) = delete;

@@ -122,6 +122,11 @@ void PointAdjacency(const TriangulatedSurface& surface, std::vector<std::int64_t
 vtkShapeDiameterFilter::vtkShapeDiameterFilter()
   : vtkSDFSurfaceAlgorithm("compute the SDF", "no SDF to compute", 0, true)
 {
+  // The defaults live in the core's options (Filters/Core/ShapeDiameter.h); the XML mirrors them.
+  const ShapeDiameterOptions defaults;
+  this->NumberOfRays = defaults.NumberOfRays;
+  this->ConeAngle = defaults.ConeAngleDegrees;
+  this->HitRule = defaults.Rule == shapediameter::HitRule::SkipSameFacing ? 1 : 0;
 }
 
 vtkShapeDiameterFilter::~vtkShapeDiameterFilter() = default;
@@ -218,7 +223,7 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
     if (std::find(result.validRays.begin(), result.validRays.end(), 0) != result.validRays.end())
     {
       FillFromNeighbours(
-        result.values, result.validRays, triangleAdjacency().Offsets, triangleAdjacency().Neighbours);
+        result.values, result.validRays, triangleAdjacency().Offsets, triangleAdjacency().Neighbors);
     }
     auto triangleArea = [&surface](std::size_t t) {
       const Eigen::RowVector3d a = surface.Points.row(surface.Triangles(t, 0));

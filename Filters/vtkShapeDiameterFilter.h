@@ -122,10 +122,10 @@ protected:
 
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
 
-  int NumberOfRays = 30;
-  double ConeAngle = 120.0;
+  int NumberOfRays;
+  double ConeAngle;
   vtkTypeBool PerPoint = false;
-  int HitRule = 0;
+  int HitRule;
   vtkTypeBool AutoOrient = true;
 
 private:

@@ -146,11 +146,11 @@ int Run(const Arguments& arguments)
   const std::vector<int> labelsB = ReadLabels(arguments.files[2], mesh.FaceCount());
 
   const Eigen::Map<const PointMatrix> points(
-    mesh.points.data(), static_cast<Eigen::Index>(mesh.VertexCount()), 3);
+    mesh.Points.data(), static_cast<Eigen::Index>(mesh.VertexCount()), 3);
   SegmentationMetricsOptions options;
   options.weighting = arguments.uniform ? SegmentationWeighting::Uniform : SegmentationWeighting::FaceArea;
   const SegmentationComparison result =
-    CompareSegmentations(points, mesh.faceOffsets, mesh.faceConnectivity, labelsA, labelsB, options);
+    CompareSegmentations(points, mesh.FaceOffsets, mesh.FaceConnectivity, labelsA, labelsB, options);
   const PartitionComparison& p = result.partition;
   const CutDiscrepancyResult& c = result.cut;
 
