@@ -38,32 +38,10 @@ inline bool IsSpace(char c)
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 
-/// The token as it can be shown in a one-line message: bytes outside printable ASCII as \xNN,
-/// long tokens cut, so that binary input cannot garble a terminal or a log.
+/// The token as it can be shown in a one-line message (TextFiles.h).
 std::string Printable(const Token& token)
 {
-  constexpr std::size_t limit = 32;
-  std::string out;
-  const std::size_t shown = std::min(token.Size(), limit);
-  for (std::size_t i = 0; i < shown; ++i)
-  {
-    const auto c = static_cast<unsigned char>(token.begin[i]);
-    if (c >= 0x20 && c < 0x7f)
-    {
-      out += static_cast<char>(c);
-    }
-    else
-    {
-      char escaped[8];
-      std::snprintf(escaped, sizeof(escaped), "\\x%02x", c);
-      out += escaped;
-    }
-  }
-  if (token.Size() > limit)
-  {
-    out += "...";
-  }
-  return out;
+  return PrintableText(token.begin, token.begin + token.Size());
 }
 
 std::string Quoted(const Token& token)

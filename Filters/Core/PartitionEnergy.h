@@ -4,7 +4,7 @@
 // What it computes
 //   Section 4 of Shapira, Shamir & Cohen-Or 2008: the energy minimised by the k-way graph cut
 //     E(x) = sum_f w_f e1(f, x_f) + lambda sum_{f,g adjacent} w_fg e2(x_f, x_g)
-//     e1(f, l)   = -log(P(f | l) + epsilon)                     (data term, GMM posteriors)
+//     e1(f, l)   = -log(P(l | f) + epsilon)                     (data term: the posterior of label l given face f)
 //     e2(f, g)   = -log(max(phi'/pi, MinAngleRatio)) if x_f != x_g, 0 otherwise
 //   with phi in [0, pi] the angle between the two face normals (0 = flat, pi = folded back),
 //   phi' = phi on concave edges and phi' = ConvexityFactor * phi on convex edges. Cutting along

@@ -767,33 +767,6 @@ inline bool IsBlank(char c)
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 
-/// A line's content as it can be shown in a one-line message (non-printable bytes as \xNN).
-std::string Printable(const char* begin, const char* end)
-{
-  constexpr std::size_t limit = 32;
-  std::string out;
-  const std::size_t size = static_cast<std::size_t>(end - begin);
-  for (std::size_t i = 0; i < std::min(size, limit); ++i)
-  {
-    const auto c = static_cast<unsigned char>(begin[i]);
-    if (c >= 0x20 && c < 0x7f)
-    {
-      out += static_cast<char>(c);
-    }
-    else
-    {
-      char escaped[8];
-      std::snprintf(escaped, sizeof(escaped), "\\x%02x", c);
-      out += escaped;
-    }
-  }
-  if (size > limit)
-  {
-    out += "...";
-  }
-  return out;
-}
-
 } // namespace
 
 std::vector<int> ParseSeg(const char* data, std::size_t size, const std::string& source)
@@ -853,11 +826,11 @@ std::vector<int> ParseSeg(const char* data, std::size_t size, const std::string&
     const std::from_chars_result parsed = std::from_chars(number, end, value);
     if (parsed.ec == std::errc::result_out_of_range)
     {
-      throw SegFileError(line, "label '" + Printable(begin, end) + "' is outside the int range", source);
+      throw SegFileError(line, "label '" + PrintableText(begin, end) + "' is outside the int range", source);
     }
     if (parsed.ec != std::errc() || parsed.ptr != end)
     {
-      throw SegFileError(line, "expected one integer label, found '" + Printable(begin, end) + "'", source);
+      throw SegFileError(line, "expected one integer label, found '" + PrintableText(begin, end) + "'", source);
     }
     labels.push_back(value);
   }
