@@ -120,15 +120,7 @@ struct SyntheticPartitionProblem
 
   DualGraphView View() const
   {
-    DualGraphView view;
-    view.Offsets = offsets.data();
-    view.Neighbors = neighbours.data();
-    view.NormalAngle = angle.data();
-    view.Concave = concave.data();
-    view.EdgeLength = length.data();
-    view.FaceArea = area.data();
-    view.FaceCount = faceCount;
-    return view;
+    return { offsets.data(), neighbours.data(), angle.data(), concave.data(), length.data(), area.data(), faceCount };
   }
 };
 

@@ -26,6 +26,15 @@ using namespace shapediameter::distributed;
 
 namespace
 {
+/// The point ids of one cell.
+std::vector<vtkIdType> CellPoints(vtkPolyData* mesh, vtkIdType cell)
+{
+  vtkIdType count;
+  const vtkIdType* ids;
+  mesh->GetCellPoints(cell, count, ids);
+  return std::vector<vtkIdType>(ids, ids + count);
+}
+
 /// Points 0..6 in the plane; cells: vertex 0, line 1-2, then four triangles (ids 2..5).
 vtkSmartPointer<vtkPolyData> Mesh()
 {
@@ -71,12 +80,9 @@ vtkSmartPointer<vtkPolyData> Piece(vtkPolyData* mesh, const std::vector<vtkIdTyp
     std::map<vtkIdType, bool> used;
     for (const vtkIdType c : cells)
     {
-      vtkIdType count;
-      const vtkIdType* cellPoints;
-      mesh->GetCellPoints(c, count, cellPoints);
-      for (vtkIdType k = 0; k < count; ++k)
+      for (const vtkIdType p : CellPoints(mesh, c))
       {
-        used[cellPoints[k]] = true;
+        used[p] = true;
       }
     }
     for (const auto& entry : used)
@@ -102,16 +108,13 @@ vtkSmartPointer<vtkPolyData> Piece(vtkPolyData* mesh, const std::vector<vtkIdTyp
   value->SetName("Value");
   for (const vtkIdType c : cells)
   {
-    vtkIdType count;
-    const vtkIdType* cellPoints;
-    mesh->GetCellPoints(c, count, cellPoints);
-    std::vector<vtkIdType> mapped;
-    for (vtkIdType k = 0; k < count; ++k)
+    std::vector<vtkIdType> mapped = CellPoints(mesh, c);
+    for (vtkIdType& p : mapped)
     {
-      mapped.push_back(local.at(cellPoints[k]));
+      p = local.at(p);
     }
     const int group = static_cast<int>(CellGroupOf(mesh->GetCellType(c)));
-    (group == 0 ? verts : group == 1 ? lines : polys)->InsertNextCell(count, mapped.data());
+    (group == 0 ? verts : group == 1 ? lines : polys)->InsertNextCell(static_cast<vtkIdType>(mapped.size()), mapped.data());
     cellIds->InsertNextValue(c);
     value->InsertNextValue(mesh->GetCellData()->GetArray("Value")->GetComponent(c, 0));
   }
@@ -143,16 +146,7 @@ void ExpectSameGeometry(vtkPolyData* expected, vtkPolyData* actual)
   for (vtkIdType c = 0; c < expected->GetNumberOfCells(); ++c)
   {
     EXPECT_EQ(actual->GetCellType(c), expected->GetCellType(c)) << "cell " << c;
-    vtkIdType countA, countB;
-    const vtkIdType* a;
-    const vtkIdType* b;
-    expected->GetCellPoints(c, countA, a);
-    actual->GetCellPoints(c, countB, b);
-    ASSERT_EQ(countA, countB);
-    for (vtkIdType k = 0; k < countA; ++k)
-    {
-      EXPECT_EQ(a[k], b[k]) << "cell " << c;
-    }
+    EXPECT_EQ(CellPoints(actual, c), CellPoints(expected, c)) << "cell " << c;
   }
 }
 } // namespace
@@ -352,16 +346,12 @@ TEST(WholeSurface, ScatterGivesEachPieceItsNewArraysAndWinding)
     for (vtkIdType c = 0; c < local->GetNumberOfCells(); ++c)
     {
       const vtkIdType wholeCell = static_cast<vtkIdType>(globalCells->GetComponent(c, 0));
-      vtkIdType count, wholeCount;
-      const vtkIdType* ids;
-      const vtkIdType* wholeIds;
-      local->GetCellPoints(c, count, ids);
-      output->GetCellPoints(wholeCell, wholeCount, wholeIds);
-      ASSERT_EQ(count, wholeCount);
-      for (vtkIdType k = 0; k < count; ++k)
+      std::vector<vtkIdType> ids = CellPoints(local, c);
+      for (vtkIdType& p : ids)
       {
-        EXPECT_EQ(static_cast<vtkIdType>(globalPoints->GetComponent(ids[k], 0)), wholeIds[k]) << "cell " << wholeCell;
+        p = static_cast<vtkIdType>(globalPoints->GetComponent(p, 0));
       }
+      EXPECT_EQ(ids, CellPoints(output, wholeCell)) << "cell " << wholeCell;
     }
   }
 }
