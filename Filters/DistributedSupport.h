@@ -7,6 +7,9 @@
 // ids on the input (vtkSDFOFFReader adds them under MPI) results are bit-identical to a serial
 // run whatever the number of processes (Testing/Python/mpi_compare.py checks it).
 //
+// The MPI transport lives here; the whole-surface assembly and the scatter mapping are pure
+// functions of VTK data in WholeSurface.h (unit-tested without MPI).
+//
 // Private to the module: not installed, not wrapped.
 #pragma once
 

@@ -4,6 +4,7 @@
 set(_filters_dir "${CMAKE_CURRENT_LIST_DIR}")
 set(_classes
   vtkSDFOFFReader
+  vtkSDFSurfaceAlgorithm
   vtkShapeDiameterFilter
   vtkSDFBilateralSmooth
   vtkSDFGMMPartition
@@ -17,8 +18,10 @@ endforeach ()
 vtk_module_add_module(ShapeDiameter::Filters
   CLASSES ${_classes_abs}
   SOURCES "${_filters_dir}/SurfaceConversion.cxx" "${_filters_dir}/DistributedSupport.cxx"
+    "${_filters_dir}/WholeSurface.cxx"
     $<TARGET_OBJECTS:ShapeDiameterCore>
-  PRIVATE_HEADERS "${_filters_dir}/SurfaceConversion.h" "${_filters_dir}/DistributedSupport.h")
+  PRIVATE_HEADERS "${_filters_dir}/SurfaceConversion.h" "${_filters_dir}/SurfaceRequest.h"
+    "${_filters_dir}/DistributedSupport.h" "${_filters_dir}/WholeSurface.h")
 vtk_module_include(ShapeDiameter::Filters
   PUBLIC "$<BUILD_INTERFACE:${_filters_dir}>"
   PRIVATE "${_filters_dir}/Core")

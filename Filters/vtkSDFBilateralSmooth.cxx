@@ -4,8 +4,8 @@
 #include "BilateralSmoothing.h"
 #include "FaceGraph.h"
 #include "Normalization.h"
-#include "DistributedSupport.h"
 #include "SurfaceConversion.h"
+#include "SurfaceRequest.h"
 #include "vtkShapeDiameterFilter.h"
 
 #include "vtkCellData.h"
@@ -24,101 +24,78 @@
 vtkStandardNewMacro(vtkSDFBilateralSmooth);
 
 vtkSDFBilateralSmooth::vtkSDFBilateralSmooth()
+  : vtkSDFSurfaceAlgorithm("smooth the SDF", "nothing to smooth", 0, false)
 {
+  // The defaults live in the core's options (BilateralSmoothing.h, Normalization.h); the XML
+  // mirrors them. NormalizationRange [0, 0] is the filter's own "automatic".
+  const shapediameter::BilateralSmoothingOptions smoothing;
+  this->NumberOfIterations = smoothing.NumberOfIterations;
+  this->SpatialSigma = smoothing.SpatialSigma;
+  this->NeighborhoodRadius = smoothing.NeighborhoodRadius;
+  this->RangeThreshold = smoothing.RangeThreshold;
+  this->Alpha = shapediameter::NormalizationOptions{}.Alpha;
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
     vtkShapeDiameterFilter::SDF_ARRAY_NAME);
 }
 
 vtkSDFBilateralSmooth::~vtkSDFBilateralSmooth() = default;
 
-int vtkSDFBilateralSmooth::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+bool vtkSDFBilateralSmooth::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)
 {
-  // ---- Distributed runs (Filters/DistributedSupport.h): under MPI this serial body runs
-  // once, on process 0, on the whole surface gathered in its original order; every process
-  // gets its own cells back with the new arrays.
-  if (shapediameter::distributed::IsDistributedRequest(inputVector, outputVector))
-  {
-    return shapediameter::distributed::RunOnWholeSurface(this, inputVector, outputVector, { 0 },
-      [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); });
-  }
-  // ---- end of distributed runs
   using namespace shapediameter;
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  output->ShallowCopy(input);
-  if (input->GetNumberOfCells() == 0)
-  {
-    vtkWarningMacro("The input is empty: nothing to smooth.");
-    return 1;
-  }
-  if (input->GetNumberOfPolys() == 0)
-  {
-    vtkErrorMacro("Cannot smooth the SDF: the input has no polygons.");
-    return 1;
-  }
+  vtkPolyData* input = request.Input;
+  vtkPolyData* output = request.Output;
   std::vector<double> values;
   std::string arrayName;
   const std::string reason = adapter::ReadCellScalars(this, input, vtkShapeDiameterFilter::SDF_ARRAY_NAME, values, arrayName);
   if (!reason.empty())
   {
-    vtkErrorMacro("Cannot smooth the SDF: " << reason << ".");
-    return 1;
+    throw adapter::SurfaceInputError(reason);
   }
 
-  try
+  std::vector<std::int64_t> offsets, connectivity;
+  adapter::PolygonCells(input, offsets, connectivity);
+  const ParallelFor& parallelFor = request.Parallel;
+  const FaceGraph graph = BuildFaceGraph(adapter::PointsOf(input), offsets, connectivity, parallelFor);
+  this->UpdateProgress(0.1);
+
+  BilateralSmoothingOptions options;
+  options.NumberOfIterations = this->NumberOfIterations;
+  options.SpatialSigma = this->SpatialSigma;
+  options.NeighborhoodRadius = this->NeighborhoodRadius;
+  options.RangeThreshold = this->RangeThreshold;
+  const BilateralSmoothingResult smoothed =
+    SmoothBilateral(graph, values, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.95));
+  if (smoothed.Aborted)
   {
-    std::vector<std::int64_t> offsets, connectivity;
-    adapter::PolygonCells(input, offsets, connectivity);
-    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(this->NumberOfThreads);
-    const FaceGraph graph = BuildFaceGraph(adapter::PointsOf(input), offsets, connectivity, parallelFor);
-    this->UpdateProgress(0.1);
-
-    BilateralSmoothingOptions options;
-    options.NumberOfIterations = this->NumberOfIterations;
-    options.SpatialSigma = this->SpatialSigma;
-    options.NeighborhoodRadius = this->NeighborhoodRadius;
-    options.RangeThreshold = this->RangeThreshold;
-    const BilateralSmoothingResult smoothed =
-      SmoothBilateral(graph, values, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.95));
-    if (smoothed.Aborted)
-    {
-      return 1;
-    }
-
-    // Normalise over the polygons only: other cells would drag min/max to their fill value.
-    const auto [first, last] = adapter::PolygonCellRange(input);
-    const std::vector<double> polygonValues(smoothed.Values.begin() + first, smoothed.Values.begin() + last);
-    NormalizationOptions normalization;
-    normalization.Alpha = this->Alpha;
-    // max <= min means automatic; anything else, a non-finite bound included, is a given range
-    // (the core rejects a non-finite one).
-    normalization.UseGivenRange = !(this->NormalizationRange[1] <= this->NormalizationRange[0]);
-    normalization.RangeMinimum = this->NormalizationRange[0];
-    normalization.RangeMaximum = this->NormalizationRange[1];
-    const std::vector<double> normalized = NormalizeLogarithmic(polygonValues, normalization);
-    const auto [rangeMinimum, rangeMaximum] = shapediameter::NormalizationRange(polygonValues, normalization);
-    output->GetFieldData()->AddArray(
-      adapter::MakeArray<vtkDoubleArray>(NORMALIZATION_RANGE_ARRAY_NAME, std::vector<double>{ rangeMinimum, rangeMaximum }));
-
-    output->GetCellData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SMOOTHED_ARRAY_NAME, smoothed.Values));
-    vtkNew<vtkDoubleArray> normalizedArray;
-    normalizedArray->SetName(NORMALIZED_ARRAY_NAME);
-    normalizedArray->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
-    normalizedArray->FillValue(0.0);
-    std::copy(normalized.begin(), normalized.end(), normalizedArray->GetPointer(first));
-    output->GetCellData()->AddArray(normalizedArray);
-    // Active, so ParaView's array selection of the next stage (the partition) defaults to it.
-    output->GetCellData()->SetActiveScalars(NORMALIZED_ARRAY_NAME);
+    return false;
   }
-  catch (const std::exception& error)
-  {
-    vtkErrorMacro("Cannot smooth the SDF: " << error.what());
-    output->ShallowCopy(input);
-    return 1;
-  }
-  this->UpdateProgress(1.0);
-  return 1;
+
+  // Normalise over the polygons only: other cells would drag min/max to their fill value.
+  const auto [first, last] = adapter::PolygonCellRange(input);
+  const std::vector<double> polygonValues(smoothed.Values.begin() + first, smoothed.Values.begin() + last);
+  NormalizationOptions normalization;
+  normalization.Alpha = this->Alpha;
+  // max <= min means automatic; anything else, a non-finite bound included, is a given range
+  // (the core rejects a non-finite one).
+  normalization.UseGivenRange = !(this->NormalizationRange[1] <= this->NormalizationRange[0]);
+  normalization.RangeMinimum = this->NormalizationRange[0];
+  normalization.RangeMaximum = this->NormalizationRange[1];
+  const std::vector<double> normalized = NormalizeLogarithmic(polygonValues, normalization);
+  const auto [rangeMinimum, rangeMaximum] = shapediameter::NormalizationRange(polygonValues, normalization);
+  output->GetFieldData()->AddArray(
+    adapter::MakeArray<vtkDoubleArray>(NORMALIZATION_RANGE_ARRAY_NAME, std::vector<double>{ rangeMinimum, rangeMaximum }));
+
+  output->GetCellData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SMOOTHED_ARRAY_NAME, smoothed.Values));
+  vtkNew<vtkDoubleArray> normalizedArray;
+  normalizedArray->SetName(NORMALIZED_ARRAY_NAME);
+  normalizedArray->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+  normalizedArray->FillValue(0.0);
+  std::copy(normalized.begin(), normalized.end(), normalizedArray->GetPointer(first));
+  output->GetCellData()->AddArray(normalizedArray);
+  // Active, so ParaView's array selection of the next stage (the partition) defaults to it.
+  output->GetCellData()->SetActiveScalars(NORMALIZED_ARRAY_NAME);
+  return true;
 }
 
 void vtkSDFBilateralSmooth::PrintSelf(ostream& os, vtkIndent indent)
@@ -130,5 +107,4 @@ void vtkSDFBilateralSmooth::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RangeThreshold: " << this->RangeThreshold << "\n";
   os << indent << "Alpha: " << this->Alpha << "\n";
   os << indent << "NormalizationRange: " << this->NormalizationRange[0] << " " << this->NormalizationRange[1] << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

@@ -32,7 +32,7 @@
  *   smallest minimum and the largest maximum of the members' `SDFNormalizationRange` (what
  *   the pipeline command's `--family` does). Values outside a given range map to 0 or 1.
  *   Any range with max <= min means automatic; a NaN or infinite bound is an error.
- * - NumberOfThreads 0 = all cores; the output does not depend on it.
+ * - NumberOfThreads 0 = all cores; the output does not depend on it (vtkSDFSurfaceAlgorithm).
  *
  * Output: the input with all its cells and arrays plus cell arrays `SDFSmoothed` (length
  * units) and `SDFNormalized` ([0, 1]), and the field array `SDFNormalizationRange` (double,
@@ -52,13 +52,13 @@
 #define vtkSDFBilateralSmooth_h
 
 #include "ShapeDiameterFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkSDFSurfaceAlgorithm.h"
 
-class SHAPEDIAMETERFILTERS_EXPORT vtkSDFBilateralSmooth : public vtkPolyDataAlgorithm
+class SHAPEDIAMETERFILTERS_EXPORT vtkSDFBilateralSmooth : public vtkSDFSurfaceAlgorithm
 {
 public:
   static vtkSDFBilateralSmooth* New();
-  vtkTypeMacro(vtkSDFBilateralSmooth, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkSDFBilateralSmooth, vtkSDFSurfaceAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// Output array names.
@@ -106,26 +106,18 @@ public:
   vtkGetVector2Macro(NormalizationRange, double);
   ///@}
 
-  ///@{
-  /// Worker threads, 0 = all cores (default 0, range [0, 1024]); the output does not depend
-  /// on it.
-  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
-  vtkGetMacro(NumberOfThreads, int);
-  ///@}
-
 protected:
   vtkSDFBilateralSmooth();
   ~vtkSDFBilateralSmooth() override;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
 
-  int NumberOfIterations = 3;
-  double SpatialSigma = 1.0;
-  double NeighborhoodRadius = 2.0;
-  double RangeThreshold = 0.1;
-  double Alpha = 4.0;
+  int NumberOfIterations;
+  double SpatialSigma;
+  double NeighborhoodRadius;
+  double RangeThreshold;
+  double Alpha;
   double NormalizationRange[2] = { 0.0, 0.0 };
-  int NumberOfThreads = 0;
 
 private:
   vtkSDFBilateralSmooth(const vtkSDFBilateralSmooth&) = delete;

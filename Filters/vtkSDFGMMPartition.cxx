@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFGMMPartition.h"
 
-#include "DistributedSupport.h"
 #include "Partition.h"
 #include "SurfaceConversion.h"
+#include "SurfaceRequest.h"
 #include "vtkSDFBilateralSmooth.h"
 
 #include "vtkCellData.h"
@@ -74,20 +74,20 @@ std::string ReadModel(vtkDataObject* modelData, GaussianMixtureModel& model)
     }
     return !values.empty();
   };
-  if (!read(vtkSDFGMMPartition::MEANS_ARRAY_NAME, model.means) ||
-    !read(vtkSDFGMMPartition::SIGMAS_ARRAY_NAME, model.sigmas) ||
-    !read(vtkSDFGMMPartition::WEIGHTS_ARRAY_NAME, model.weights))
+  if (!read(vtkSDFGMMPartition::MEANS_ARRAY_NAME, model.Means) ||
+    !read(vtkSDFGMMPartition::SIGMAS_ARRAY_NAME, model.Sigmas) ||
+    !read(vtkSDFGMMPartition::WEIGHTS_ARRAY_NAME, model.Weights))
   {
     return "the Model input has no SDFGMMMeans/SDFGMMSigmas/SDFGMMWeights field arrays";
   }
-  if (model.sigmas.size() != model.means.size() || model.weights.size() != model.means.size())
+  if (model.Sigmas.size() != model.Means.size() || model.Weights.size() != model.Means.size())
   {
     return "the Model's mixture arrays differ in length";
   }
-  for (std::size_t c = 0; c < model.means.size(); ++c)
+  for (std::size_t c = 0; c < model.Means.size(); ++c)
   {
-    if (!std::isfinite(model.means[c]) || !(model.sigmas[c] > 0) || !std::isfinite(model.sigmas[c]) ||
-      !(model.weights[c] > 0) || !std::isfinite(model.weights[c]))
+    if (!std::isfinite(model.Means[c]) || !(model.Sigmas[c] > 0) || !std::isfinite(model.Sigmas[c]) ||
+      !(model.Weights[c] > 0) || !std::isfinite(model.Weights[c]))
     {
       return "the Model's mixture has a non-finite mean or a non-positive sigma or weight";
     }
@@ -97,7 +97,22 @@ std::string ReadModel(vtkDataObject* modelData, GaussianMixtureModel& model)
 } // namespace
 
 vtkSDFGMMPartition::vtkSDFGMMPartition()
+  : vtkSDFSurfaceAlgorithm("partition", "nothing to partition", 0, false)
 {
+  // The defaults live in the core's options (Filters/Core/Partition.h); the XML mirrors them.
+  const shapediameter::PartitionOptions defaults;
+  this->NumberOfClusters = defaults.NumberOfClusters;
+  this->MaximumClusters = defaults.MaximumClusters;
+  this->Lambda = defaults.Energy.Lambda;
+  this->Epsilon = defaults.Energy.ProbabilityEpsilon;
+  this->ConvexityFactor = defaults.Energy.ConvexityFactor;
+  this->Restarts = defaults.Mixture.Restarts;
+  this->MaximumIterations = defaults.Mixture.MaxIterations;
+  this->Seed = static_cast<int>(defaults.Mixture.Seed);
+  this->HistogramBins = defaults.HistogramBins;
+  this->ClusterModel = defaults.ClusterModel == shapediameter::PartitionClusterModel::ExpectationMaximization ? 0 : 1;
+  this->ModeBandwidth = defaults.Modes.Bandwidth;
+  this->ModeProminence = defaults.Modes.MinimumProminence;
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(2);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
@@ -132,31 +147,12 @@ vtkTable* vtkSDFGMMPartition::GetHistogram()
   return vtkTable::SafeDownCast(this->GetOutputDataObject(1));
 }
 
-int vtkSDFGMMPartition::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)
 {
-  // ---- Distributed runs (Filters/DistributedSupport.h): under MPI this serial body runs
-  // once, on process 0, on the whole surface gathered in its original order; every process
-  // gets its own cells back with the new arrays.
-  if (shapediameter::distributed::IsDistributedRequest(inputVector, outputVector))
-  {
-    return shapediameter::distributed::RunOnWholeSurface(this, inputVector, outputVector, { 0 },
-      [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); });
-  }
-  // ---- end of distributed runs
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  output->ShallowCopy(input);
-  if (input->GetNumberOfCells() == 0)
-  {
-    vtkWarningMacro("The input is empty: nothing to partition.");
-    return 1;
-  }
-  if (input->GetNumberOfPolys() == 0)
-  {
-    vtkErrorMacro("Cannot partition: the input has no polygons.");
-    return 1;
-  }
+  using namespace shapediameter;
+  vtkPolyData* input = request.Input;
+  vtkPolyData* output = request.Output;
+  vtkInformationVector** inputVector = request.InputVector;
   std::vector<double> values;
   std::string arrayName;
   std::string reason = adapter::ReadCellScalars(this, input, vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME, values, arrayName);
@@ -170,79 +166,68 @@ int vtkSDFGMMPartition::RequestData(
   }
   if (!reason.empty())
   {
-    vtkErrorMacro("Cannot partition: " << reason << ".");
-    return 1;
+    throw adapter::SurfaceInputError(reason);
   }
 
-  try
+  std::vector<std::int64_t> offsets, connectivity;
+  const auto [first, last] = adapter::PolygonFaces(input, offsets, connectivity);
+  const PointMatrix points = adapter::PointsOf(input);
+  const Eigen::Map<const Eigen::VectorXd> faceValues(values.data() + first, last - first);
+  PartitionOptions options;
+  options.ClusterModel = this->ClusterModel == 0 ? PartitionClusterModel::ExpectationMaximization
+                                                 : PartitionClusterModel::DensityModes;
+  options.NumberOfClusters = this->NumberOfClusters;
+  options.MaximumClusters = this->MaximumClusters;
+  options.Mixture.Restarts = this->Restarts;
+  options.Mixture.MaxIterations = this->MaximumIterations;
+  options.Mixture.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
+  options.Modes.Bandwidth = this->ModeBandwidth;
+  options.Modes.MinimumProminence = this->ModeProminence;
+  options.Energy.Lambda = this->Lambda;
+  options.Energy.ProbabilityEpsilon = this->Epsilon;
+  options.Energy.ConvexityFactor = this->ConvexityFactor;
+  options.HistogramBins = this->HistogramBins;
+  const PartitionResult result =
+    PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues, modelInput ? &model : nullptr },
+      options, request.Parallel, adapter::MakeProgress(this, 0.0, 1.0));
+  if (result.Aborted)
   {
-    std::vector<std::int64_t> offsets, connectivity;
-    const auto [first, last] = adapter::PolygonFaces(input, offsets, connectivity);
-    const PointMatrix points = adapter::PointsOf(input);
-    const Eigen::Map<const Eigen::VectorXd> faceValues(values.data() + first, last - first);
-    PartitionOptions options;
-    options.ClusterModel = this->ClusterModel == 0 ? PartitionClusterModel::ExpectationMaximization
-                                                   : PartitionClusterModel::DensityModes;
-    options.NumberOfClusters = this->NumberOfClusters;
-    options.MaximumClusters = this->MaximumClusters;
-    options.Mixture.restarts = this->Restarts;
-    options.Mixture.maxIterations = this->MaximumIterations;
-    options.Mixture.seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
-    options.Modes.Bandwidth = this->ModeBandwidth;
-    options.Modes.MinimumProminence = this->ModeProminence;
-    options.Energy.lambda = this->Lambda;
-    options.Energy.probabilityEpsilon = this->Epsilon;
-    options.Energy.convexityFactor = this->ConvexityFactor;
-    options.HistogramBins = this->HistogramBins;
-    const PartitionResult result =
-      PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues, modelInput ? &model : nullptr },
-        options, adapter::MakeSMPParallelFor(this->NumberOfThreads), adapter::MakeProgress(this, 0.0, 1.0));
-    if (result.Aborted)
-    {
-      output->ShallowCopy(input);
-      return 1;
-    }
-
-    const int clusterCount = result.Model.ComponentCount();
-    const vtkIdType cellCount = input->GetNumberOfCells();
-    vtkNew<vtkDoubleArray> probabilities;
-    probabilities->SetName(PROBABILITIES_ARRAY_NAME);
-    probabilities->SetNumberOfComponents(clusterCount);
-    probabilities->SetNumberOfTuples(cellCount);
-    probabilities->FillValue(0.0);
-    std::copy(result.Probabilities.data(), result.Probabilities.data() + result.Probabilities.size(),
-      probabilities->GetPointer(first * clusterCount));
-    vtkCellData* cellData = output->GetCellData();
-    cellData->AddArray(probabilities);
-    cellData->AddArray(CellIntArray(CLUSTER_ARRAY_NAME, cellCount, first, result.Labels));
-    for (std::size_t level = 0; level < result.Levels.size(); ++level)
-    {
-      cellData->AddArray(
-        CellIntArray(LEVEL_ARRAY_PREFIX + std::to_string(level + 1), cellCount, first, result.Levels[level]));
-    }
-    cellData->AddArray(CellIntArray(SEGMENT_ARRAY_NAME, cellCount, first, result.Segments.segment));
-    cellData->SetActiveScalars(CLUSTER_ARRAY_NAME);
-
-    vtkNew<vtkFieldData> field;
-    field->ShallowCopy(input->GetFieldData());
-    field->AddArray(DoubleArray(MEANS_ARRAY_NAME, result.Model.means));
-    field->AddArray(DoubleArray(SIGMAS_ARRAY_NAME, result.Model.sigmas));
-    field->AddArray(DoubleArray(WEIGHTS_ARRAY_NAME, result.Model.weights));
-    vtkNew<vtkIntArray> count;
-    count->SetName(CLUSTER_COUNT_ARRAY_NAME);
-    count->InsertNextValue(clusterCount);
-    field->AddArray(count);
-    field->AddArray(DoubleArray(ENERGY_ARRAY_NAME, { result.Energy }));
-    output->SetFieldData(field);
-    WriteHistogram(result.Histogram, vtkTable::GetData(outputVector, 1));
+    return false;
   }
-  catch (const std::exception& error)
+
+  const int clusterCount = result.Model.ComponentCount();
+  const vtkIdType cellCount = input->GetNumberOfCells();
+  vtkNew<vtkDoubleArray> probabilities;
+  probabilities->SetName(PROBABILITIES_ARRAY_NAME);
+  probabilities->SetNumberOfComponents(clusterCount);
+  probabilities->SetNumberOfTuples(cellCount);
+  probabilities->FillValue(0.0);
+  std::copy(result.Probabilities.data(), result.Probabilities.data() + result.Probabilities.size(),
+    probabilities->GetPointer(first * clusterCount));
+  vtkCellData* cellData = output->GetCellData();
+  cellData->AddArray(probabilities);
+  cellData->AddArray(CellIntArray(CLUSTER_ARRAY_NAME, cellCount, first, result.Labels));
+  for (std::size_t level = 0; level < result.Levels.size(); ++level)
   {
-    vtkErrorMacro("Cannot partition: " << error.what());
-    output->ShallowCopy(input);
-    return 1;
+    cellData->AddArray(
+      CellIntArray(LEVEL_ARRAY_PREFIX + std::to_string(level + 1), cellCount, first, result.Levels[level]));
   }
-  return 1;
+  cellData->AddArray(CellIntArray(SEGMENT_ARRAY_NAME, cellCount, first, result.Segments.Segment));
+  cellData->SetActiveScalars(CLUSTER_ARRAY_NAME);
+
+  vtkNew<vtkFieldData> field;
+  field->ShallowCopy(input->GetFieldData());
+  field->AddArray(DoubleArray(MEANS_ARRAY_NAME, result.Model.Means));
+  field->AddArray(DoubleArray(SIGMAS_ARRAY_NAME, result.Model.Sigmas));
+  field->AddArray(DoubleArray(WEIGHTS_ARRAY_NAME, result.Model.Weights));
+  vtkNew<vtkIntArray> count;
+  count->SetName(CLUSTER_COUNT_ARRAY_NAME);
+  count->InsertNextValue(clusterCount);
+  field->AddArray(count);
+  field->AddArray(DoubleArray(ENERGY_ARRAY_NAME, { result.Energy }));
+  output->SetFieldData(field);
+  WriteHistogram(result.Histogram, vtkTable::GetData(request.OutputVector, 1));
+  return true;
 }
 
 void vtkSDFGMMPartition::PrintSelf(ostream& os, vtkIndent indent)
@@ -260,5 +245,4 @@ void vtkSDFGMMPartition::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ClusterModel: " << this->ClusterModel << "\n";
   os << indent << "ModeBandwidth: " << this->ModeBandwidth << "\n";
   os << indent << "ModeProminence: " << this->ModeProminence << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

@@ -59,7 +59,7 @@
  * - Epsilon ε 1e-8, [1e-300, 1].
  * - ConvexityFactor 0.08, [0, 1]: 1 treats convex creases like concave ones.
  * - Restarts 5, [1, 100]; MaximumIterations 500, [1, 100000] (EM); Seed 0x5DF2008.
- * - NumberOfThreads 0 = all cores.
+ * - NumberOfThreads 0 = all cores (vtkSDFSurfaceAlgorithm).
  * - ClusterModel 1 (default) = clusters from the modes of the area-weighted density of the
  *   input values (Filters/Core/DensityModes.h): the at most k modes rising ModeProminence
  *   (default 0.05, [0, 1]) of the highest peak above their saddle, in a Gaussian kernel
@@ -103,15 +103,15 @@
 #define vtkSDFGMMPartition_h
 
 #include "ShapeDiameterFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkSDFSurfaceAlgorithm.h"
 
 class vtkTable;
 
-class SHAPEDIAMETERFILTERS_EXPORT vtkSDFGMMPartition : public vtkPolyDataAlgorithm
+class SHAPEDIAMETERFILTERS_EXPORT vtkSDFGMMPartition : public vtkSDFSurfaceAlgorithm
 {
 public:
   static vtkSDFGMMPartition* New();
-  vtkTypeMacro(vtkSDFGMMPartition, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkSDFGMMPartition, vtkSDFSurfaceAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -193,13 +193,6 @@ public:
   ///@}
 
   ///@{
-  /// Worker threads, 0 = all cores (default 0, range [0, 1024]); the output does not depend
-  /// on it.
-  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
-  vtkGetMacro(NumberOfThreads, int);
-  ///@}
-
-  ///@{
   /// How the clusters are found: 1 (default) the at most k modes of the area-weighted SDF
   /// density (Filters/Core/DensityModes.h); 0 the paper's EM fit of k Gaussians (range [0, 1]).
   vtkSetClampMacro(ClusterModel, int, 0, 1);
@@ -229,21 +222,20 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
 
-  int NumberOfClusters = 5;
-  int MaximumClusters = 8;
-  double Lambda = 0.03;
-  double Epsilon = 1e-8;
-  double ConvexityFactor = 0.08;
-  int Restarts = 5;
-  int MaximumIterations = 500;
-  int Seed = 0x5DF2008;
-  int HistogramBins = 64;
-  int NumberOfThreads = 0;
-  int ClusterModel = 1;
-  double ModeBandwidth = 0.02;
-  double ModeProminence = 0.05;
+  int NumberOfClusters;
+  int MaximumClusters;
+  double Lambda;
+  double Epsilon;
+  double ConvexityFactor;
+  int Restarts;
+  int MaximumIterations;
+  int Seed;
+  int HistogramBins;
+  int ClusterModel;
+  double ModeBandwidth;
+  double ModeProminence;
 
 private:
   vtkSDFGMMPartition(const vtkSDFGMMPartition&) = delete;

@@ -93,9 +93,9 @@ int vtkSDFOFFReader::RequestData(
     {
       shapediameter::MeshPiece share = shapediameter::ExtractFacePiece(mesh, piece, pieces,
         this->SpatialPieces ? shapediameter::PieceOrder::Spatial : shapediameter::PieceOrder::FileOrder);
-      mesh = std::move(share.mesh);
-      globalPointIds = std::move(share.globalPointIds);
-      globalCellIds = std::move(share.globalFaceIds);
+      mesh = std::move(share.Mesh);
+      globalPointIds = std::move(share.GlobalPointIds);
+      globalCellIds = std::move(share.GlobalFaceIds);
     }
   }
   catch (const std::exception& error)
@@ -106,28 +106,28 @@ int vtkSDFOFFReader::RequestData(
   this->UpdateProgress(0.5);
 
   vtkNew<vtkPoints> points;
-  points->SetData(MakeArray<vtkDoubleArray>("Points", mesh.points, 3));
+  points->SetData(MakeArray<vtkDoubleArray>("Points", mesh.Points, 3));
   output->SetPoints(points);
 
   vtkNew<vtkCellArray> polygons;
-  polygons->SetData(MakeArray<vtkIdTypeArray>(nullptr, mesh.faceOffsets),
-    MakeArray<vtkIdTypeArray>(nullptr, mesh.faceConnectivity));
+  polygons->SetData(MakeArray<vtkIdTypeArray>(nullptr, mesh.FaceOffsets),
+    MakeArray<vtkIdTypeArray>(nullptr, mesh.FaceConnectivity));
   output->SetPolys(polygons);
 
-  if (!mesh.vertexColors.empty())
+  if (!mesh.VertexColors.empty())
   {
     output->GetPointData()->SetScalars(
-      MakeArray<vtkUnsignedCharArray>("Colors", mesh.vertexColors, 4));
+      MakeArray<vtkUnsignedCharArray>("Colors", mesh.VertexColors, 4));
   }
-  if (!mesh.vertexNormals.empty())
+  if (!mesh.VertexNormals.empty())
   {
     output->GetPointData()->SetNormals(
-      MakeArray<vtkDoubleArray>("Normals", mesh.vertexNormals, 3));
+      MakeArray<vtkDoubleArray>("Normals", mesh.VertexNormals, 3));
   }
-  if (!mesh.faceColors.empty())
+  if (!mesh.FaceColors.empty())
   {
     output->GetCellData()->SetScalars(
-      MakeArray<vtkUnsignedCharArray>("Colors", mesh.faceColors, 4));
+      MakeArray<vtkUnsignedCharArray>("Colors", mesh.FaceColors, 4));
   }
 
   if (pieces > 1)

@@ -3,8 +3,8 @@
 
 #include "Orientation.h"
 #include "Skeleton.h"
-#include "DistributedSupport.h"
 #include "SurfaceConversion.h"
+#include "SurfaceRequest.h"
 #include "vtkSDFBilateralSmooth.h"
 #include "vtkSDFGMMPartition.h"
 #include "vtkShapeDiameterFilter.h"
@@ -89,7 +89,16 @@ void WriteSkeleton(const SkeletonResult& skeleton, vtkPolyData* output)
 } // namespace
 
 vtkSDFSkeleton::vtkSDFSkeleton()
+  : vtkSDFSurfaceAlgorithm("compute the skeleton", "no skeleton", 1, true)
 {
+  // The defaults live in the core's options (Filters/Core/Skeleton*.h); the XML mirrors them.
+  const shapediameter::SkeletonOptions defaults;
+  this->NumberOfSamples = static_cast<int>(defaults.Sampling.NumberOfSamples);
+  this->Seed = static_cast<int>(defaults.Sampling.Seed);
+  this->NumberOfIterations = defaults.Thinning.NumberOfIterations;
+  this->ConfidenceThreshold = defaults.Thinning.ConfidenceThreshold;
+  this->MinimumConfidentShare = defaults.Thinning.MinimumConfidentShare;
+  this->SpacingFactor = defaults.Thinning.SpacingFactor;
   this->SetNumberOfOutputPorts(3);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
     vtkSDFBilateralSmooth::SMOOTHED_ARRAY_NAME);
@@ -97,29 +106,13 @@ vtkSDFSkeleton::vtkSDFSkeleton()
 
 vtkSDFSkeleton::~vtkSDFSkeleton() = default;
 
-int vtkSDFSkeleton::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)
 {
-  // ---- Distributed runs (Filters/DistributedSupport.h): under MPI this serial body runs
-  // once, on process 0, on the whole surface gathered in its original order; every process
-  // gets its own cells back with the new arrays.
-  if (shapediameter::distributed::IsDistributedRequest(inputVector, outputVector))
-  {
-    return shapediameter::distributed::RunOnWholeSurface(this, inputVector, outputVector, { 1 },
-      [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); });
-  }
-  // ---- end of distributed runs
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkPolyData* skeletonOutput = vtkPolyData::GetData(outputVector, 0);
-  vtkPolyData* surfaceOutput = vtkPolyData::GetData(outputVector, 1);
-  vtkPolyData* cloudOutput = vtkPolyData::GetData(outputVector, 2);
-  surfaceOutput->ShallowCopy(input);
-  if (input->GetNumberOfCells() == 0)
-  {
-    vtkWarningMacro("The input is empty: no skeleton.");
-    return 1;
-  }
-
+  using namespace shapediameter;
+  vtkPolyData* input = request.Input;
+  vtkPolyData* skeletonOutput = vtkPolyData::GetData(request.OutputVector, 0);
+  vtkPolyData* surfaceOutput = request.Output;
+  vtkPolyData* cloudOutput = vtkPolyData::GetData(request.OutputVector, 2);
   adapter::TriangulatedSurface surface;
   std::string reason = adapter::Triangulate(input, surface);
   if (reason.empty() && surface.Triangles.rows() == 0)
@@ -146,102 +139,89 @@ int vtkSDFSkeleton::RequestData(
   }
   if (!reason.empty())
   {
-    vtkErrorMacro("Cannot compute the skeleton: " << reason << ".");
-    return 1;
+    throw adapter::SurfaceInputError(reason);
   }
 
-  try
+  ApplyFlips(surface.Triangles, OrientOutward(surface.Points, surface.Triangles).Flip);
+  std::vector<double> triangleSdf(surface.TriangleCell.size());
+  for (std::size_t t = 0; t < triangleSdf.size(); ++t)
   {
-    ApplyFlips(surface.Triangles, OrientOutward(surface.Points, surface.Triangles).Flip);
-    std::vector<double> triangleSdf(surface.TriangleCell.size());
-    for (std::size_t t = 0; t < triangleSdf.size(); ++t)
-    {
-      triangleSdf[t] = cellSdf[static_cast<std::size_t>(surface.TriangleCell[t])];
-    }
-    SkeletonOptions options;
-    options.Sampling.NumberOfSamples = static_cast<std::size_t>(this->NumberOfSamples);
-    options.Sampling.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
-    options.Thinning.NumberOfIterations = this->NumberOfIterations;
-    options.Thinning.ConfidenceThreshold = this->ConfidenceThreshold;
-    options.Thinning.MinimumConfidentShare = this->MinimumConfidentShare;
-    options.Thinning.SpacingFactor = this->SpacingFactor;
-    const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
-      PointMatrix(0, 3), {}, options, adapter::MakeSMPParallelFor(this->NumberOfThreads),
-      adapter::MakeProgress(this, 0.0, 0.95));
-    if (skeleton.Aborted)
-    {
-      return 1;
-    }
+    triangleSdf[t] = cellSdf[static_cast<std::size_t>(surface.TriangleCell[t])];
+  }
+  SkeletonOptions options;
+  options.Sampling.NumberOfSamples = static_cast<std::size_t>(this->NumberOfSamples);
+  options.Sampling.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
+  options.Thinning.NumberOfIterations = this->NumberOfIterations;
+  options.Thinning.ConfidenceThreshold = this->ConfidenceThreshold;
+  options.Thinning.MinimumConfidentShare = this->MinimumConfidentShare;
+  options.Thinning.SpacingFactor = this->SpacingFactor;
+  const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
+    PointMatrix(0, 3), {}, options, request.Parallel,
+    adapter::MakeProgress(this, 0.0, 0.95));
+  if (skeleton.Aborted)
+  {
+    return false;
+  }
 
-    WriteSkeleton(skeleton, skeletonOutput);
-    if (skeleton.CloudPositions.rows() == 0)
-    {
-      // Samples are placed in proportion to area: a surface whose triangles all have zero
-      // area at double precision (coincident points, or lengths whose squares underflow)
-      // gets none, and only the documented placeholder node per component.
-      vtkWarningMacro("The surface has no area: no sample could be placed, the skeleton is one node per component.");
-    }
+  WriteSkeleton(skeleton, skeletonOutput);
+  if (skeleton.CloudPositions.rows() == 0)
+  {
+    // Samples are placed in proportion to area: a surface whose triangles all have zero
+    // area at double precision (coincident points, or lengths whose squares underflow)
+    // gets none, and only the documented placeholder node per component.
+    vtkWarningMacro("The surface has no area: no sample could be placed, the skeleton is one node per component.");
+  }
 
-    // Port 1: each cell takes the link of its first triangle (-1 for cells without one).
-    const vtkIdType cellCount = input->GetNumberOfCells();
-    std::vector<std::int64_t> nodeIds(static_cast<std::size_t>(cellCount), -1);
-    std::vector<std::int64_t> boneIds(static_cast<std::size_t>(cellCount), -1);
-    for (vtkIdType cell = 0; cell < cellCount; ++cell)
+  // Port 1: each cell takes the link of its first triangle (-1 for cells without one).
+  const vtkIdType cellCount = input->GetNumberOfCells();
+  std::vector<std::int64_t> nodeIds(static_cast<std::size_t>(cellCount), -1);
+  std::vector<std::int64_t> boneIds(static_cast<std::size_t>(cellCount), -1);
+  for (vtkIdType cell = 0; cell < cellCount; ++cell)
+  {
+    const auto first = surface.CellFirstTriangle[static_cast<std::size_t>(cell)];
+    if (first < surface.CellFirstTriangle[static_cast<std::size_t>(cell) + 1])
     {
-      const auto first = surface.CellFirstTriangle[static_cast<std::size_t>(cell)];
-      if (first < surface.CellFirstTriangle[static_cast<std::size_t>(cell) + 1])
-      {
-        nodeIds[static_cast<std::size_t>(cell)] = skeleton.FaceNodeId[static_cast<std::size_t>(first)];
-        boneIds[static_cast<std::size_t>(cell)] = skeleton.FaceBoneId[static_cast<std::size_t>(first)];
-      }
+      nodeIds[static_cast<std::size_t>(cell)] = skeleton.FaceNodeId[static_cast<std::size_t>(first)];
+      boneIds[static_cast<std::size_t>(cell)] = skeleton.FaceBoneId[static_cast<std::size_t>(first)];
     }
-    surfaceOutput->GetCellData()->AddArray(IdArray(NODE_ID_ARRAY_NAME, nodeIds));
-    surfaceOutput->GetCellData()->AddArray(IdArray(SURFACE_BONE_ID_ARRAY_NAME, boneIds));
-    surfaceOutput->GetCellData()->SetActiveScalars(SURFACE_BONE_ID_ARRAY_NAME);
+  }
+  surfaceOutput->GetCellData()->AddArray(IdArray(NODE_ID_ARRAY_NAME, nodeIds));
+  surfaceOutput->GetCellData()->AddArray(IdArray(SURFACE_BONE_ID_ARRAY_NAME, boneIds));
+  surfaceOutput->GetCellData()->SetActiveScalars(SURFACE_BONE_ID_ARRAY_NAME);
 
-    // Port 2: the projected cloud, with the input cell of every point.
-    cloudOutput->SetPoints(ToPoints(skeleton.CloudPositions));
-    const auto pointCount = static_cast<vtkIdType>(skeleton.CloudSourceFace.size());
-    std::vector<vtkIdType> sourceCells(static_cast<std::size_t>(pointCount));
+  // Port 2: the projected cloud, with the input cell of every point.
+  cloudOutput->SetPoints(ToPoints(skeleton.CloudPositions));
+  const auto pointCount = static_cast<vtkIdType>(skeleton.CloudSourceFace.size());
+  std::vector<vtkIdType> sourceCells(static_cast<std::size_t>(pointCount));
+  for (vtkIdType p = 0; p < pointCount; ++p)
+  {
+    sourceCells[static_cast<std::size_t>(p)] =
+      surface.TriangleCell[static_cast<std::size_t>(skeleton.CloudSourceFace[static_cast<std::size_t>(p)])];
+  }
+  vtkNew<vtkCellArray> vertices;
+  vertices->AllocateExact(pointCount, pointCount);
+  for (vtkIdType p = 0; p < pointCount; ++p)
+  {
+    vertices->InsertNextCell(1, &p);
+  }
+  cloudOutput->SetVerts(vertices);
+  vtkPointData* cloudData = cloudOutput->GetPointData();
+  cloudData->AddArray(IdArray(SOURCE_FACE_ARRAY_NAME, sourceCells));
+  cloudData->AddArray(DoubleArray(RADIUS_ARRAY_NAME, skeleton.CloudRadius));
+  cloudData->AddArray(DoubleArray(CONFIDENCE_ARRAY_NAME, skeleton.CloudConfidence));
+  cloudData->SetActiveScalars(CONFIDENCE_ARRAY_NAME); // default colouring: how line-like each point's neighbourhood is
+  if (vtkDataArray* clusters = input->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME))
+  {
+    vtkNew<vtkIntArray> pointClusters;
+    pointClusters->SetName(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME);
+    pointClusters->SetNumberOfTuples(pointCount);
     for (vtkIdType p = 0; p < pointCount; ++p)
     {
-      sourceCells[static_cast<std::size_t>(p)] =
-        surface.TriangleCell[static_cast<std::size_t>(skeleton.CloudSourceFace[static_cast<std::size_t>(p)])];
+      pointClusters->SetValue(p, static_cast<int>(clusters->GetComponent(sourceCells[static_cast<std::size_t>(p)], 0)));
     }
-    vtkNew<vtkCellArray> vertices;
-    vertices->AllocateExact(pointCount, pointCount);
-    for (vtkIdType p = 0; p < pointCount; ++p)
-    {
-      vertices->InsertNextCell(1, &p);
-    }
-    cloudOutput->SetVerts(vertices);
-    vtkPointData* cloudData = cloudOutput->GetPointData();
-    cloudData->AddArray(IdArray(SOURCE_FACE_ARRAY_NAME, sourceCells));
-    cloudData->AddArray(DoubleArray(RADIUS_ARRAY_NAME, skeleton.CloudRadius));
-    cloudData->AddArray(DoubleArray(CONFIDENCE_ARRAY_NAME, skeleton.CloudConfidence));
-    cloudData->SetActiveScalars(CONFIDENCE_ARRAY_NAME); // default colouring: how line-like each point's neighbourhood is
-    if (vtkDataArray* clusters = input->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME))
-    {
-      vtkNew<vtkIntArray> pointClusters;
-      pointClusters->SetName(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME);
-      pointClusters->SetNumberOfTuples(pointCount);
-      for (vtkIdType p = 0; p < pointCount; ++p)
-      {
-        pointClusters->SetValue(p, static_cast<int>(clusters->GetComponent(sourceCells[static_cast<std::size_t>(p)], 0)));
-      }
-      cloudData->AddArray(pointClusters);
-    }
+    cloudData->AddArray(pointClusters);
   }
-  catch (const std::exception& error)
-  {
-    vtkErrorMacro("Cannot compute the skeleton: " << error.what());
-    skeletonOutput->Initialize();
-    cloudOutput->Initialize();
-    surfaceOutput->ShallowCopy(input);
-    return 1;
-  }
-  this->UpdateProgress(1.0);
-  return 1;
+  return true;
 }
 
 void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
@@ -253,5 +233,4 @@ void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MinimumConfidentShare: " << this->MinimumConfidentShare << "\n";
   os << indent << "SpacingFactor: " << this->SpacingFactor << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

@@ -33,7 +33,8 @@
  *   its points and only its longest limbs get a branch; 0 = the threshold alone; see
  *   Filters/Core/SkeletonThinning.h for the measurements).
  * - SpacingFactor ε 0.25, [0, 10], in units of the local radius SDF/2.
- * - Seed 0x5DF5EED; NumberOfThreads 0 = all cores (the output does not depend on it).
+ * - Seed 0x5DF5EED; NumberOfThreads 0 = all cores (the output does not depend on it;
+ *   vtkSDFSurfaceAlgorithm).
  *
  * Outputs:
  * - port 0 "Skeleton": nodes as points with point arrays `Radius`, `Confidence`; polylines
@@ -58,13 +59,13 @@
 #define vtkSDFSkeleton_h
 
 #include "ShapeDiameterFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkSDFSurfaceAlgorithm.h"
 
-class SHAPEDIAMETERFILTERS_EXPORT vtkSDFSkeleton : public vtkPolyDataAlgorithm
+class SHAPEDIAMETERFILTERS_EXPORT vtkSDFSkeleton : public vtkSDFSurfaceAlgorithm
 {
 public:
   static vtkSDFSkeleton* New();
-  vtkTypeMacro(vtkSDFSkeleton, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkSDFSkeleton, vtkSDFSurfaceAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -119,13 +120,6 @@ public:
   vtkGetMacro(Seed, int);
   ///@}
 
-  ///@{
-  /// Worker threads, 0 = all cores (default 0, range [0, 1024]); the output does not depend
-  /// on it.
-  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
-  vtkGetMacro(NumberOfThreads, int);
-  ///@}
-
   /// The skeleton (output port 0).
   vtkPolyData* GetSkeleton() { return this->GetOutput(0); }
   /// The input surface with SkeletonNodeId and SkeletonBoneId (output port 1).
@@ -137,15 +131,14 @@ protected:
   vtkSDFSkeleton();
   ~vtkSDFSkeleton() override;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
 
-  int NumberOfSamples = 10000;
-  int NumberOfIterations = 3;
-  double ConfidenceThreshold = 0.8;
-  double MinimumConfidentShare = 0.2;
-  double SpacingFactor = 0.25;
-  int Seed = 0x5DF5EED;
-  int NumberOfThreads = 0;
+  int NumberOfSamples;
+  int NumberOfIterations;
+  double ConfidenceThreshold;
+  double MinimumConfidentShare;
+  double SpacingFactor;
+  int Seed;
 
 private:
   vtkSDFSkeleton(const vtkSDFSkeleton&) = delete;

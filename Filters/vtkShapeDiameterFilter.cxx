@@ -4,8 +4,8 @@
 #include "EmbreeRayCaster.h"
 #include "Orientation.h"
 #include "ShapeDiameter.h"
-#include "DistributedSupport.h"
 #include "SurfaceConversion.h"
+#include "SurfaceRequest.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -119,170 +119,145 @@ void PointAdjacency(const TriangulatedSurface& surface, std::vector<std::int64_t
 }
 } // namespace
 
-vtkShapeDiameterFilter::vtkShapeDiameterFilter() = default;
+vtkShapeDiameterFilter::vtkShapeDiameterFilter()
+  : vtkSDFSurfaceAlgorithm("compute the SDF", "no SDF to compute", 0, true)
+{
+  // The defaults live in the core's options (Filters/Core/ShapeDiameter.h); the XML mirrors them.
+  const ShapeDiameterOptions defaults;
+  this->NumberOfRays = defaults.NumberOfRays;
+  this->ConeAngle = defaults.ConeAngleDegrees;
+  this->HitRule = defaults.Rule == shapediameter::HitRule::SkipSameFacing ? 1 : 0;
+}
+
 vtkShapeDiameterFilter::~vtkShapeDiameterFilter() = default;
 
-int vtkShapeDiameterFilter::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)
 {
-  // ---- Distributed runs (Filters/DistributedSupport.h): under MPI this serial body runs
-  // once, on process 0, on the whole surface gathered in its original order; every process
-  // gets its own cells back with the new arrays.
-  if (shapediameter::distributed::IsDistributedRequest(inputVector, outputVector))
-  {
-    return shapediameter::distributed::RunOnWholeSurface(this, inputVector, outputVector, { 0 },
-      [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); });
-  }
-  // ---- end of distributed runs
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  output->ShallowCopy(input);
-  if (input->GetNumberOfCells() == 0)
-  {
-    vtkWarningMacro("The input is empty: no SDF to compute.");
-    return 1;
-  }
-
+  vtkPolyData* input = request.Input;
+  vtkPolyData* output = request.Output;
   TriangulatedSurface surface;
   const std::string reason = adapter::Triangulate(input, surface);
   if (!reason.empty())
   {
-    vtkErrorMacro("Cannot compute the SDF: " << reason << ".");
-    return 1;
+    throw adapter::SurfaceInputError(reason);
   }
 
   // Progress and abort between the serial steps before the ray loop as well: at 832k faces
   // the adjacency and orientation take ~1.2 s and the BVH 0.3 s (BenchPipeline's SDFAbort).
-  // An abort leaves the documented pass-through copy.
-  auto abortedAt = [this, input, output](double progress) {
+  // An abort leaves the documented pass-through copy (vtkSDFSurfaceAlgorithm).
+  auto abortedAt = [this](double progress) {
     this->UpdateProgress(progress);
-    if (!this->GetAbortExecute())
-    {
-      return false;
-    }
-    output->ShallowCopy(input);
-    return true;
+    return this->GetAbortExecute() != 0;
   };
   if (abortedAt(0.01))
   {
-    return 1;
+    return false;
   }
 
-  try
+  // Triangle adjacency over manifold edges: orientation walks it, the neighbour fill of
+  // faces without a valid ray uses it (one edge sort for both).
+  std::optional<TriangleAdjacency> adjacency;
+  auto triangleAdjacency = [&]() -> const TriangleAdjacency& {
+    if (!adjacency)
+    {
+      adjacency = BuildTriangleAdjacency(surface.Triangles);
+    }
+    return *adjacency;
+  };
+  if (this->AutoOrient)
   {
-    // Triangle adjacency over manifold edges: orientation walks it, the neighbour fill of
-    // faces without a valid ray uses it (one edge sort for both).
-    std::optional<TriangleAdjacency> adjacency;
-    auto triangleAdjacency = [&]() -> const TriangleAdjacency& {
-      if (!adjacency)
-      {
-        adjacency = BuildTriangleAdjacency(surface.Triangles);
-      }
-      return *adjacency;
+    triangleAdjacency(); // built first, so that an abort can land between it and the walk
+    if (abortedAt(0.03))
+    {
+      return false;
+    }
+    const OrientationResult orientation = OrientOutward(surface.Points, surface.Triangles, triangleAdjacency());
+    if (orientation.FlippedTriangles > 0)
+    {
+      ApplyFlips(surface.Triangles, orientation.Flip);
+      output->SetPolys(ReorientedPolygons(input, surface, orientation.Flip));
+      vtkWarningMacro("AutoOrient reversed " << orientation.FlippedTriangles << " of "
+                                             << surface.Triangles.rows() << " triangles ("
+                                             << orientation.InconsistentComponents
+                                             << " inconsistently wound and "
+                                             << orientation.InwardComponents
+                                             << " inward-facing components).");
+    }
+  }
+  if (abortedAt(0.05))
+  {
+    return false;
+  }
+
+  const ParallelFor& parallelFor = request.Parallel;
+  const EmbreeRayCaster caster(surface.Points, surface.Triangles);
+  if (abortedAt(0.1))
+  {
+    return false;
+  }
+  ShapeDiameterOptions options;
+  options.NumberOfRays = this->NumberOfRays;
+  options.ConeAngleDegrees = this->ConeAngle;
+  options.Rule = this->HitRule == 1 ? shapediameter::HitRule::SkipSameFacing : shapediameter::HitRule::FirstHitLeaving;
+  const RayOrigins origins = this->PerPoint
+    ? MakeVertexOrigins(surface.Points, VertexNormals(surface))
+    : MakeFaceOrigins(surface.Points, surface.Triangles);
+  ShapeDiameterResult result = ComputeShapeDiameter(
+    caster, origins, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.9));
+  if (result.aborted)
+  {
+    return false;
+  }
+
+  if (this->PerPoint)
+  {
+    std::vector<std::int64_t> offsets, neighbours;
+    PointAdjacency(surface, offsets, neighbours);
+    FillFromNeighbours(result.values, result.validRays, offsets, neighbours);
+    output->GetPointData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SDF_ARRAY_NAME, result.values));
+    output->GetPointData()->AddArray(adapter::MakeArray<vtkIntArray>(VALID_RAYS_ARRAY_NAME, result.validRays));
+    output->GetPointData()->SetActiveScalars(SDF_ARRAY_NAME);
+  }
+  else
+  {
+    if (std::find(result.validRays.begin(), result.validRays.end(), 0) != result.validRays.end())
+    {
+      FillFromNeighbours(
+        result.values, result.validRays, triangleAdjacency().Offsets, triangleAdjacency().Neighbors);
+    }
+    auto triangleArea = [&surface](std::size_t t) {
+      const Eigen::RowVector3d a = surface.Points.row(surface.Triangles(t, 0));
+      return 0.5 *
+        (surface.Points.row(surface.Triangles(t, 1)) - a).cross(surface.Points.row(surface.Triangles(t, 2)) - a).norm();
     };
-    if (this->AutoOrient)
+    const vtkIdType cellCount = surface.NumberOfCells();
+    auto sdf = MakeDoubleArray(SDF_ARRAY_NAME, cellCount);
+    auto rays = MakeIntArray(VALID_RAYS_ARRAY_NAME, cellCount);
+    for (vtkIdType cell = 0; cell < cellCount; ++cell)
     {
-      triangleAdjacency(); // built first, so that an abort can land between it and the walk
-      if (abortedAt(0.03))
+      const auto begin = surface.CellFirstTriangle[static_cast<std::size_t>(cell)];
+      const auto end = surface.CellFirstTriangle[static_cast<std::size_t>(cell) + 1];
+      double weighted = 0.0, area = 0.0, plain = 0.0;
+      int rayCount = 0;
+      for (auto t = static_cast<std::size_t>(begin); t < static_cast<std::size_t>(end); ++t)
       {
-        return 1;
+        // A cell of one triangle (the common case) needs no area.
+        const double triangleWeight = end - begin > 1 ? triangleArea(t) : 1.0;
+        weighted += triangleWeight * result.values[t];
+        area += triangleWeight;
+        plain += result.values[t];
+        rayCount += result.validRays[t];
       }
-      const OrientationResult orientation = OrientOutward(surface.Points, surface.Triangles, triangleAdjacency());
-      if (orientation.FlippedTriangles > 0)
-      {
-        ApplyFlips(surface.Triangles, orientation.Flip);
-        output->SetPolys(ReorientedPolygons(input, surface, orientation.Flip));
-        vtkWarningMacro("AutoOrient reversed " << orientation.FlippedTriangles << " of "
-                                               << surface.Triangles.rows() << " triangles ("
-                                               << orientation.InconsistentComponents
-                                               << " inconsistently wound and "
-                                               << orientation.InwardComponents
-                                               << " inward-facing components).");
-      }
+      // Vertices and lines own no triangle: 0 (documented); zero-area cells: plain mean.
+      const double value = end == begin ? 0.0 : area > 0.0 ? weighted / area : plain / double(end - begin);
+      sdf->SetValue(cell, value);
+      rays->SetValue(cell, rayCount);
     }
-    if (abortedAt(0.05))
-    {
-      return 1;
-    }
-
-    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(this->NumberOfThreads);
-    const EmbreeRayCaster caster(surface.Points, surface.Triangles);
-    if (abortedAt(0.1))
-    {
-      return 1;
-    }
-    ShapeDiameterOptions options;
-    options.NumberOfRays = this->NumberOfRays;
-    options.ConeAngleDegrees = this->ConeAngle;
-    options.Rule = this->HitRule == 1 ? shapediameter::HitRule::SkipSameFacing : shapediameter::HitRule::FirstHitLeaving;
-    const RayOrigins origins = this->PerPoint
-      ? MakeVertexOrigins(surface.Points, VertexNormals(surface))
-      : MakeFaceOrigins(surface.Points, surface.Triangles);
-    ShapeDiameterResult result = ComputeShapeDiameter(
-      caster, origins, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.9));
-    if (result.aborted)
-    {
-      output->ShallowCopy(input);
-      return 1;
-    }
-
-    if (this->PerPoint)
-    {
-      std::vector<std::int64_t> offsets, neighbours;
-      PointAdjacency(surface, offsets, neighbours);
-      FillFromNeighbours(result.values, result.validRays, offsets, neighbours);
-      output->GetPointData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SDF_ARRAY_NAME, result.values));
-      output->GetPointData()->AddArray(adapter::MakeArray<vtkIntArray>(VALID_RAYS_ARRAY_NAME, result.validRays));
-      output->GetPointData()->SetActiveScalars(SDF_ARRAY_NAME);
-    }
-    else
-    {
-      if (std::find(result.validRays.begin(), result.validRays.end(), 0) != result.validRays.end())
-      {
-        FillFromNeighbours(
-          result.values, result.validRays, triangleAdjacency().Offsets, triangleAdjacency().Neighbours);
-      }
-      auto triangleArea = [&surface](std::size_t t) {
-        const Eigen::RowVector3d a = surface.Points.row(surface.Triangles(t, 0));
-        return 0.5 *
-          (surface.Points.row(surface.Triangles(t, 1)) - a).cross(surface.Points.row(surface.Triangles(t, 2)) - a).norm();
-      };
-      const vtkIdType cellCount = surface.NumberOfCells();
-      auto sdf = MakeDoubleArray(SDF_ARRAY_NAME, cellCount);
-      auto rays = MakeIntArray(VALID_RAYS_ARRAY_NAME, cellCount);
-      for (vtkIdType cell = 0; cell < cellCount; ++cell)
-      {
-        const auto begin = surface.CellFirstTriangle[static_cast<std::size_t>(cell)];
-        const auto end = surface.CellFirstTriangle[static_cast<std::size_t>(cell) + 1];
-        double weighted = 0.0, area = 0.0, plain = 0.0;
-        int rayCount = 0;
-        for (auto t = static_cast<std::size_t>(begin); t < static_cast<std::size_t>(end); ++t)
-        {
-          // A cell of one triangle (the common case) needs no area.
-          const double triangleWeight = end - begin > 1 ? triangleArea(t) : 1.0;
-          weighted += triangleWeight * result.values[t];
-          area += triangleWeight;
-          plain += result.values[t];
-          rayCount += result.validRays[t];
-        }
-        // Vertices and lines own no triangle: 0 (documented); zero-area cells: plain mean.
-        const double value = end == begin ? 0.0 : area > 0.0 ? weighted / area : plain / double(end - begin);
-        sdf->SetValue(cell, value);
-        rays->SetValue(cell, rayCount);
-      }
-      output->GetCellData()->AddArray(sdf);
-      output->GetCellData()->AddArray(rays);
-      output->GetCellData()->SetActiveScalars(SDF_ARRAY_NAME);
-    }
+    output->GetCellData()->AddArray(sdf);
+    output->GetCellData()->AddArray(rays);
+    output->GetCellData()->SetActiveScalars(SDF_ARRAY_NAME);
   }
-  catch (const std::exception& error)
-  {
-    vtkErrorMacro("Cannot compute the SDF: " << error.what());
-    output->ShallowCopy(input);
-    return 1;
-  }
-  this->UpdateProgress(1.0);
-  return 1;
+  return true;
 }
 
 void vtkShapeDiameterFilter::PrintSelf(ostream& os, vtkIndent indent)
@@ -293,5 +268,4 @@ void vtkShapeDiameterFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PerPoint: " << this->PerPoint << "\n";
   os << indent << "HitRule: " << this->HitRule << "\n";
   os << indent << "AutoOrient: " << this->AutoOrient << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }

@@ -69,13 +69,13 @@
 #define vtkShapeDiameterFilter_h
 
 #include "ShapeDiameterFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkSDFSurfaceAlgorithm.h"
 
-class SHAPEDIAMETERFILTERS_EXPORT vtkShapeDiameterFilter : public vtkPolyDataAlgorithm
+class SHAPEDIAMETERFILTERS_EXPORT vtkShapeDiameterFilter : public vtkSDFSurfaceAlgorithm
 {
 public:
   static vtkShapeDiameterFilter* New();
-  vtkTypeMacro(vtkShapeDiameterFilter, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkShapeDiameterFilter, vtkSDFSurfaceAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// Output array names.
@@ -116,24 +116,17 @@ public:
   vtkBooleanMacro(AutoOrient, vtkTypeBool);
   ///@}
 
-  ///@{
-  /// Worker threads, 0 = all cores (default 0, range [0, 1024]).
-  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
-  vtkGetMacro(NumberOfThreads, int);
-  ///@}
-
 protected:
   vtkShapeDiameterFilter();
   ~vtkShapeDiameterFilter() override;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
 
-  int NumberOfRays = 30;
-  double ConeAngle = 120.0;
+  int NumberOfRays;
+  double ConeAngle;
   vtkTypeBool PerPoint = false;
-  int HitRule = 0;
+  int HitRule;
   vtkTypeBool AutoOrient = true;
-  int NumberOfThreads = 0;
 
 private:
   vtkShapeDiameterFilter(const vtkShapeDiameterFilter&) = delete;

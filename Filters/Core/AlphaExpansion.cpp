@@ -22,14 +22,14 @@ bool InRange(double value, double low, double high)
 
 void ValidateLabels(const PartitionEnergy& energy, const std::vector<int>& labels)
 {
-  if (labels.size() != energy.faceCount)
+  if (labels.size() != energy.FaceCount)
   {
     throw PartitionEnergyError("alpha expansion: " + std::to_string(labels.size()) +
-      " labels for " + std::to_string(energy.faceCount) + " faces");
+      " labels for " + std::to_string(energy.FaceCount) + " faces");
   }
   for (std::size_t f = 0; f < labels.size(); ++f)
   {
-    if (labels[f] < 0 || labels[f] >= energy.labelCount)
+    if (labels[f] < 0 || labels[f] >= energy.LabelCount)
     {
       throw PartitionEnergyError("alpha expansion: label out of range at face " + std::to_string(f));
     }
@@ -40,29 +40,29 @@ void ValidateLabels(const PartitionEnergy& energy, const std::vector<int>& label
 
 void ValidateEnergyForCut(const PartitionEnergy& energy)
 {
-  if (energy.labelCount < 1 ||
-    energy.dataCost.size() != energy.faceCount * static_cast<std::size_t>(energy.labelCount) ||
-    energy.pairFirst.size() != energy.pairWeight.size() ||
-    energy.pairSecond.size() != energy.pairWeight.size())
+  if (energy.LabelCount < 1 ||
+    energy.DataCosts.size() != energy.FaceCount * static_cast<std::size_t>(energy.LabelCount) ||
+    energy.PairFirst.size() != energy.PairWeight.size() ||
+    energy.PairSecond.size() != energy.PairWeight.size())
   {
     throw PartitionEnergyError("alpha expansion: the energy has inconsistent sizes");
   }
-  for (double cost : energy.dataCost)
+  for (double cost : energy.DataCosts)
   {
     if (!std::isfinite(cost))
     {
       throw PartitionEnergyError("alpha expansion: a data cost is NaN or infinite");
     }
   }
-  const auto n = static_cast<std::int64_t>(energy.faceCount);
-  for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+  const auto n = static_cast<std::int64_t>(energy.FaceCount);
+  for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
   {
-    const std::int64_t a = energy.pairFirst[p], b = energy.pairSecond[p];
+    const std::int64_t a = energy.PairFirst[p], b = energy.PairSecond[p];
     if (a < 0 || b < 0 || a >= n || b >= n || a == b)
     {
       throw PartitionEnergyError("alpha expansion: pair " + std::to_string(p) + " has invalid faces");
     }
-    if (!InRange(energy.pairWeight[p], 0.0, std::numeric_limits<double>::max()))
+    if (!InRange(energy.PairWeight[p], 0.0, std::numeric_limits<double>::max()))
     {
       throw PartitionEnergyError("alpha expansion: pair weight " + std::to_string(p) + " is negative, NaN or infinite");
     }
@@ -76,17 +76,17 @@ namespace
 double EnergyOf(const PartitionEnergy& energy, const std::vector<int>& labels)
 {
   double data = 0.0;
-  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
     data += energy.DataCost(f, labels[f]);
   }
   double smoothness = 0.0;
-  for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+  for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
   {
-    if (labels[static_cast<std::size_t>(energy.pairFirst[p])] !=
-      labels[static_cast<std::size_t>(energy.pairSecond[p])])
+    if (labels[static_cast<std::size_t>(energy.PairFirst[p])] !=
+      labels[static_cast<std::size_t>(energy.PairSecond[p])])
     {
-      smoothness += energy.pairWeight[p];
+      smoothness += energy.PairWeight[p];
     }
   }
   return data + smoothness;
@@ -102,13 +102,13 @@ public:
   ExpansionGraph(const PartitionEnergy& energy, const std::function<void(const MaxFlowGraph&)>& beforeEachCut)
     : Energy(energy)
     , BeforeEachCut(beforeEachCut)
-    , Graph(energy.faceCount, energy.pairFirst, energy.pairSecond)
+    , Graph(energy.FaceCount, energy.PairFirst, energy.PairSecond)
   {
-    const std::size_t arcCount = 2 * energy.pairWeight.size();
+    const std::size_t arcCount = 2 * energy.PairWeight.size();
     ArcWeight.resize(arcCount);
     for (std::size_t arc = 0; arc < arcCount; ++arc)
     {
-      ArcWeight[arc] = energy.pairWeight[static_cast<std::size_t>(Graph.ArcPair(static_cast<std::int32_t>(arc)))];
+      ArcWeight[arc] = energy.PairWeight[static_cast<std::size_t>(Graph.ArcPair(static_cast<std::int32_t>(arc)))];
     }
   }
 
@@ -127,7 +127,7 @@ public:
     // across the whole surface, several times slower). Each face fills its own arcs and
     // terminal capacities, in arc order. The constant A is dropped (E is evaluated directly
     // afterwards).
-    const std::size_t n = Energy.faceCount;
+    const std::size_t n = Energy.FaceCount;
     for (std::size_t f = 0; f < n; ++f)
     {
       const int label = labels[f];
@@ -193,25 +193,25 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
   const std::vector<int>& initialLabels, const AlphaExpansionOptions& options,
   const ProgressCallback& progress)
 {
-  if (options.maxCycles < 1 || options.maxCycles > 1000000)
+  if (options.MaxCycles < 1 || options.MaxCycles > 1000000)
   {
-    throw PartitionEnergyError("alpha expansion: maxCycles must be in [1, 1e6]");
+    throw PartitionEnergyError("alpha expansion: MaxCycles must be in [1, 1e6]");
   }
-  if (!InRange(options.relativeTolerance, 0.0, 1.0))
+  if (!InRange(options.RelativeTolerance, 0.0, 1.0))
   {
-    throw PartitionEnergyError("alpha expansion: relativeTolerance must be in [0, 1]");
+    throw PartitionEnergyError("alpha expansion: RelativeTolerance must be in [0, 1]");
   }
   ValidateEnergyForCut(energy);
   ValidateLabels(energy, initialLabels);
 
   AlphaExpansionResult result;
-  result.labels = initialLabels;
-  result.initialEnergy = EnergyOf(energy, result.labels);
-  result.energy = result.initialEnergy;
-  const int k = energy.labelCount;
-  if (energy.faceCount == 0 || k == 1)
+  result.Labels = initialLabels;
+  result.InitialEnergy = EnergyOf(energy, result.Labels);
+  result.Energy = result.InitialEnergy;
+  const int k = energy.LabelCount;
+  if (energy.FaceCount == 0 || k == 1)
   {
-    result.converged = true;
+    result.Converged = true;
     if (progress)
     {
       progress(1.0);
@@ -221,7 +221,7 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
 
   ExpansionGraph graph(energy, options.beforeEachCut);
   std::vector<int> candidate;
-  const long totalMoves = static_cast<long>(options.maxCycles) * k;
+  const long totalMoves = static_cast<long>(options.MaxCycles) * k;
   int movesWithoutDecrease = 0;
   // An alpha-move from labels that no other move has changed since the last alpha-move cannot
   // lower E (an expansion of an expansion of x is an expansion of x): it is counted as tried
@@ -237,19 +237,19 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
     bool applied = false;
     if (!known)
     {
-      graph.Move(result.labels, alpha, candidate);
+      graph.Move(result.Labels, alpha, candidate);
       const double candidateEnergy = EnergyOf(energy, candidate);
-      const double margin = options.relativeTolerance * std::max(1.0, std::abs(result.energy));
-      if (candidateEnergy < result.energy - margin)
+      const double margin = options.RelativeTolerance * std::max(1.0, std::abs(result.Energy));
+      if (candidateEnergy < result.Energy - margin)
       {
-        result.labels.swap(candidate);
-        result.energy = candidateEnergy;
+        result.Labels.swap(candidate);
+        result.Energy = candidateEnergy;
         applied = true;
       }
     }
     if (applied)
     {
-      ++result.appliedMoves;
+      ++result.AppliedMoves;
       lastApplied = move;
       movesWithoutDecrease = 0;
     }
@@ -257,16 +257,16 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
     {
       ++movesWithoutDecrease;
     }
-    ++result.moves;
-    result.energyTrace.push_back(result.energy);
+    ++result.Moves;
+    result.EnergyTrace.push_back(result.Energy);
     if (movesWithoutDecrease >= k)
     {
-      result.converged = true;
+      result.Converged = true;
       break;
     }
     if (progress && !progress(static_cast<double>(move + 1) / static_cast<double>(totalMoves)))
     {
-      result.aborted = true;
+      result.Aborted = true;
       return result;
     }
   }
@@ -281,11 +281,11 @@ std::vector<int> OptimalExpansionMove(const PartitionEnergy& energy, const std::
 {
   ValidateEnergyForCut(energy);
   ValidateLabels(energy, labels);
-  if (alpha < 0 || alpha >= energy.labelCount)
+  if (alpha < 0 || alpha >= energy.LabelCount)
   {
     throw PartitionEnergyError("alpha expansion: alpha out of range");
   }
-  if (energy.faceCount == 0)
+  if (energy.FaceCount == 0)
   {
     return {};
   }

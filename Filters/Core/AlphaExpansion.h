@@ -10,9 +10,9 @@
 //   the lowest energy exactly by a minimum s-t cut (Kolmogorov & Zabih 2004 construction: the
 //   Potts pair term with one weight per edge is submodular for an expansion, so no auxiliary
 //   nodes are needed). Labels are tried in cycles 0, 1, ..., k-1, 0, ... until k consecutive
-//   moves bring no decrease, or `maxCycles` cycles have run.
+//   moves bring no decrease, or `MaxCycles` cycles have run.
 //   Guarantees: E never increases (a move is applied only if the directly evaluated E
-//   decreases by more than `relativeTolerance` max(1, |E|)); for k = 2 the result is a global
+//   decreases by more than `RelativeTolerance` max(1, |E|)); for k = 2 the result is a global
 //   minimum; for k > 2 it is within E_data(x*) + 2 E_smooth(x*) of the optimum x*.
 //
 // Backend
@@ -27,16 +27,16 @@
 //   the same alpha) is counted as tried without solving it.
 //
 // Parameters (AlphaExpansionOptions)
-//   maxCycles          20     [1, 1e6]   full passes over the labels (typically 2-4 are used).
-//   relativeTolerance  1e-12  [0, 1]     minimum relative decrease for a move to be applied.
+//   MaxCycles          20     [1, 1e6]   full passes over the labels (typically 2-4 are used).
+//   RelativeTolerance  1e-12  [0, 1]     minimum relative decrease for a move to be applied.
 //
 // Progress and abort
-//   progress(fraction) is called after every move with (moves done) / (maxCycles k), and 1 at
+//   progress(fraction) is called after every move with (moves done) / (MaxCycles k), and 1 at
 //   the end; returning false stops after the current move: the result holds the best labelling
 //   so far, with aborted = true.
 //
 // Degenerate cases
-//   faceCount 0: empty result, energy 0, converged. k = 1: all zeros. Initial labels of the
+//   FaceCount 0: empty result, energy 0, converged. k = 1: all zeros. Initial labels of the
 //   wrong size or out of range: PartitionEnergyError.
 #pragma once
 
@@ -53,8 +53,8 @@ class MaxFlowGraph;
 
 struct AlphaExpansionOptions
 {
-  int maxCycles = 20;
-  double relativeTolerance = 1e-12;
+  int MaxCycles = 20;
+  double RelativeTolerance = 1e-12;
   /// Not a parameter of the method: called with the s-t graph of every move just before it is
   /// solved (capacities set), so a benchmark can record the graphs of a real run and time
   /// max-flow implementations on them alone. Called on the thread that solves the move.
@@ -63,15 +63,15 @@ struct AlphaExpansionOptions
 
 struct AlphaExpansionResult
 {
-  std::vector<int> labels;
-  double initialEnergy = 0.0;
-  double energy = 0.0; ///< E(labels), the paper's final graph-cut energy (`SDFEnergy`)
+  std::vector<int> Labels;
+  double InitialEnergy = 0.0;
+  double Energy = 0.0; ///< E(labels), the paper's final graph-cut energy (`SDFEnergy`)
   /// E after every move tried, applied or not (non-increasing, for tests and diagnostics).
-  std::vector<double> energyTrace;
-  int moves = 0;        ///< moves tried
-  int appliedMoves = 0; ///< moves that lowered E
-  bool converged = false;
-  bool aborted = false;
+  std::vector<double> EnergyTrace;
+  int Moves = 0;        ///< moves tried
+  int AppliedMoves = 0; ///< moves that lowered E
+  bool Converged = false;
+  bool Aborted = false;
 };
 
 /// Alpha-expansion from the most probable labels (MostProbableLabels).

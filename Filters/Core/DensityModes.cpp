@@ -86,12 +86,12 @@ DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const 
 
   DensityModesResult result;
   GaussianMixtureModel& model = result.Model;
-  model.sampleCount = static_cast<std::size_t>(count);
+  model.SampleCount = static_cast<std::size_t>(count);
   if (!(span > 0))
   {
-    model.means = { low };
-    model.sigmas = { options.MinSigmaRelative * std::max(std::abs(low), 1.0) };
-    model.weights = { 1.0 };
+    model.Means = { low };
+    model.Sigmas = { options.MinSigmaRelative * std::max(std::abs(low), 1.0) };
+    model.Weights = { 1.0 };
     result.Modes = { low };
     result.Prominences = { 1.0 };
     return result;
@@ -198,24 +198,24 @@ DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const 
     {
       continue; // a basin without weight (all its values weigh 0): no cluster
     }
-    model.means.push_back(means[c]);
-    model.sigmas.push_back(std::max(sigmaFloor, std::sqrt(sumSquares[c] / sumWeights[c])));
-    model.weights.push_back(sumWeights[c] / totalWeight);
+    model.Means.push_back(means[c]);
+    model.Sigmas.push_back(std::max(sigmaFloor, std::sqrt(sumSquares[c] / sumWeights[c])));
+    model.Weights.push_back(sumWeights[c] / totalWeight);
   }
   // Largest mean first: the basins are in increasing order and their means increase with them.
   double logLikelihood = 0.0;
   for (Eigen::Index i = 0; i < count; ++i)
   {
     double likelihood = 0.0;
-    for (std::size_t c = 0; c < model.means.size(); ++c)
+    for (std::size_t c = 0; c < model.Means.size(); ++c)
     {
-      const double z = (values[i] - model.means[c]) / model.sigmas[c];
-      likelihood += model.weights[c] * std::exp(-0.5 * z * z) / (model.sigmas[c] * std::sqrt(2 * M_PI));
+      const double z = (values[i] - model.Means[c]) / model.Sigmas[c];
+      likelihood += model.Weights[c] * std::exp(-0.5 * z * z) / (model.Sigmas[c] * std::sqrt(2 * M_PI));
     }
     logLikelihood += std::log(std::max(likelihood, 1e-300));
   }
-  model.logLikelihood = logLikelihood;
-  model.converged = true;
+  model.LogLikelihood = logLikelihood;
+  model.Converged = true;
   return result;
 }
 

@@ -48,29 +48,29 @@ double UniformUnit(std::mt19937_64& generator)
 
 void ValidateOptions(const GaussianMixtureOptions& options)
 {
-  if (options.restarts < 1 || options.restarts > 1000)
+  if (options.Restarts < 1 || options.Restarts > 1000)
   {
-    throw GaussianMixtureError("GMM: restarts must be in [1, 1000]");
+    throw GaussianMixtureError("GMM: Restarts must be in [1, 1000]");
   }
-  if (options.maxIterations < 1 || options.maxIterations > 1000000)
+  if (options.MaxIterations < 1 || options.MaxIterations > 1000000)
   {
-    throw GaussianMixtureError("GMM: maxIterations must be in [1, 1e6]");
+    throw GaussianMixtureError("GMM: MaxIterations must be in [1, 1e6]");
   }
-  if (!InRange(options.tolerance, 0.0, 1.0))
+  if (!InRange(options.Tolerance, 0.0, 1.0))
   {
-    throw GaussianMixtureError("GMM: tolerance must be in [0, 1]");
+    throw GaussianMixtureError("GMM: Tolerance must be in [0, 1]");
   }
-  if (options.screeningIterations < 1 || options.screeningIterations > 1000000)
+  if (options.ScreeningIterations < 1 || options.ScreeningIterations > 1000000)
   {
-    throw GaussianMixtureError("GMM: screeningIterations must be in [1, 1e6]");
+    throw GaussianMixtureError("GMM: ScreeningIterations must be in [1, 1e6]");
   }
-  if (options.binCount < 0 || options.binCount > 10000000)
+  if (options.BinCount < 0 || options.BinCount > 10000000)
   {
-    throw GaussianMixtureError("GMM: binCount must be in [0, 1e7]");
+    throw GaussianMixtureError("GMM: BinCount must be in [0, 1e7]");
   }
-  if (!InRange(options.minSigmaRelative, 1e-12, 1.0))
+  if (!InRange(options.MinSigmaRelative, 1e-12, 1.0))
   {
-    throw GaussianMixtureError("GMM: minSigmaRelative must be in [1e-12, 1]");
+    throw GaussianMixtureError("GMM: MinSigmaRelative must be in [1e-12, 1]");
   }
 }
 
@@ -324,9 +324,9 @@ GaussianMixtureModel ToSortedModel(const Parameters& parameters, double origin)
   GaussianMixtureModel model;
   for (std::size_t m : order)
   {
-    model.means.push_back(parameters.mean[m] + origin);
-    model.sigmas.push_back(parameters.sigma[m]);
-    model.weights.push_back(parameters.weight[m]);
+    model.Means.push_back(parameters.mean[m] + origin);
+    model.Sigmas.push_back(parameters.sigma[m]);
+    model.Weights.push_back(parameters.weight[m]);
   }
   return model;
 }
@@ -336,8 +336,8 @@ GaussianMixtureModel ToSortedModel(const Parameters& parameters, double origin)
 double GaussianMixtureModel::Bic() const
 {
   const double parameterCount = 3.0 * static_cast<double>(ComponentCount()) - 1.0;
-  return -2.0 * logLikelihood +
-    parameterCount * std::log(static_cast<double>(std::max<std::size_t>(sampleCount, 1)));
+  return -2.0 * LogLikelihood +
+    parameterCount * std::log(static_cast<double>(std::max<std::size_t>(SampleCount, 1)));
 }
 
 GaussianMixtureModel FitGaussianMixture(
@@ -358,24 +358,24 @@ GaussianMixtureModel FitGaussianMixture(
   if (range <= 0.0)
   {
     GaussianMixtureModel model;
-    model.means = { minValue };
-    model.sigmas = { options.minSigmaRelative * std::max(std::abs(minValue), 1.0) };
-    model.weights = { 1.0 };
-    model.sampleCount = static_cast<std::size_t>(values.size());
+    model.Means = { minValue };
+    model.Sigmas = { options.MinSigmaRelative * std::max(std::abs(minValue), 1.0) };
+    model.Weights = { 1.0 };
+    model.SampleCount = static_cast<std::size_t>(values.size());
     const double n = static_cast<double>(values.size());
-    model.logLikelihood = -n * (kHalfLogTwoPi + std::log(model.sigmas[0]));
-    model.converged = true;
+    model.LogLikelihood = -n * (kHalfLogTwoPi + std::log(model.Sigmas[0]));
+    model.Converged = true;
     return model;
   }
-  const WeightedPoints points = options.binCount > 0
-    ? BinValues(values, minValue, maxValue, options.binCount)
+  const WeightedPoints points = options.BinCount > 0
+    ? BinValues(values, minValue, maxValue, options.BinCount)
     : DistinctValues(values, minValue);
   const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(componentCount), points.Size());
-  const double sigmaFloor = options.minSigmaRelative * range;
+  const double sigmaFloor = options.MinSigmaRelative * range;
 
   // Screen every seeding with a few iterations, then run only the most likely to convergence:
   // the seedings differ in which basin they fall into, which a few iterations reveal.
-  std::mt19937_64 generator(options.seed);
+  std::mt19937_64 generator(options.Seed);
   Eigen::ArrayXXd responsibility(static_cast<Eigen::Index>(points.Size()), static_cast<Eigen::Index>(k));
   const auto runEm = [&](Parameters& parameters, double& logLikelihood, int& iterations, int limit) {
     while (iterations < limit)
@@ -385,7 +385,7 @@ GaussianMixtureModel FitGaussianMixture(
       ++iterations;
       const double gain = next - logLikelihood;
       logLikelihood = next;
-      if (gain < options.tolerance * points.total)
+      if (gain < options.Tolerance * points.total)
       {
         return true;
       }
@@ -396,8 +396,8 @@ GaussianMixtureModel FitGaussianMixture(
   double bestLogLikelihood = -std::numeric_limits<double>::infinity();
   int bestIterations = 0;
   bool bestConverged = false;
-  const int screening = std::min(options.screeningIterations, options.maxIterations);
-  for (int restart = 0; restart < options.restarts; ++restart)
+  const int screening = std::min(options.ScreeningIterations, options.MaxIterations);
+  for (int restart = 0; restart < options.Restarts; ++restart)
   {
     Parameters parameters = Seed(points, k, sigmaFloor, generator);
     double logLikelihood = ExpectationStep(points, parameters, responsibility);
@@ -414,13 +414,13 @@ GaussianMixtureModel FitGaussianMixture(
   if (!bestConverged)
   {
     ExpectationStep(points, best, responsibility);
-    bestConverged = runEm(best, bestLogLikelihood, bestIterations, options.maxIterations);
+    bestConverged = runEm(best, bestLogLikelihood, bestIterations, options.MaxIterations);
   }
   GaussianMixtureModel model = ToSortedModel(best, points.origin);
-  model.logLikelihood = bestLogLikelihood;
-  model.sampleCount = static_cast<std::size_t>(values.size());
-  model.iterations = bestIterations;
-  model.converged = bestConverged;
+  model.LogLikelihood = bestLogLikelihood;
+  model.SampleCount = static_cast<std::size_t>(values.size());
+  model.Iterations = bestIterations;
+  model.Converged = bestConverged;
   return model;
 }
 
@@ -436,18 +436,18 @@ GaussianMixtureBicResult FitGaussianMixtureBic(
   {
     GaussianMixtureModel model = FitGaussianMixture(values, k, options);
     const int used = model.ComponentCount();
-    if (std::find(result.componentCounts.begin(), result.componentCounts.end(), used) !=
-      result.componentCounts.end())
+    if (std::find(result.ComponentCounts.begin(), result.ComponentCounts.end(), used) !=
+      result.ComponentCounts.end())
     {
       break; // reduced: every larger k reduces to the same count
     }
     const double bic = model.Bic();
-    if (result.bics.empty() || bic < *std::min_element(result.bics.begin(), result.bics.end()))
+    if (result.Bics.empty() || bic < *std::min_element(result.Bics.begin(), result.Bics.end()))
     {
-      result.model = model;
+      result.Model = model;
     }
-    result.componentCounts.push_back(used);
-    result.bics.push_back(bic);
+    result.ComponentCounts.push_back(used);
+    result.Bics.push_back(bic);
   }
   return result;
 }
@@ -455,22 +455,22 @@ GaussianMixtureBicResult FitGaussianMixtureBic(
 PosteriorMatrix ComputePosteriors(
   const GaussianMixtureModel& model, ValuesView values, const ParallelFor& parallelFor)
 {
-  const std::size_t k = model.means.size();
-  if (k == 0 || model.sigmas.size() != k || model.weights.size() != k)
+  const std::size_t k = model.Means.size();
+  if (k == 0 || model.Sigmas.size() != k || model.Weights.size() != k)
   {
     throw GaussianMixtureError("GMM: the model has no components or inconsistent sizes");
   }
   std::vector<double> logPrefix(k), inverseSigma(k);
   for (std::size_t m = 0; m < k; ++m)
   {
-    if (!std::isfinite(model.means[m]) || !std::isfinite(model.sigmas[m]) || model.sigmas[m] <= 0.0 ||
-      !std::isfinite(model.weights[m]) || model.weights[m] <= 0.0)
+    if (!std::isfinite(model.Means[m]) || !std::isfinite(model.Sigmas[m]) || model.Sigmas[m] <= 0.0 ||
+      !std::isfinite(model.Weights[m]) || model.Weights[m] <= 0.0)
     {
       throw GaussianMixtureError("GMM: component " + std::to_string(m) +
         " needs a finite mean, a positive finite sigma and a positive finite weight");
     }
-    logPrefix[m] = std::log(model.weights[m]) - std::log(model.sigmas[m]);
-    inverseSigma[m] = 1.0 / model.sigmas[m];
+    logPrefix[m] = std::log(model.Weights[m]) - std::log(model.Sigmas[m]);
+    inverseSigma[m] = 1.0 / model.Sigmas[m];
   }
   for (Eigen::Index i = 0; i < values.size(); ++i)
   {
@@ -489,7 +489,7 @@ PosteriorMatrix ComputePosteriors(
       double largest = -std::numeric_limits<double>::infinity();
       for (std::size_t m = 0; m < k; ++m)
       {
-        const double z = (x - model.means[m]) * inverseSigma[m];
+        const double z = (x - model.Means[m]) * inverseSigma[m];
         logDensity[m] = logPrefix[m] - 0.5 * z * z;
         largest = std::max(largest, logDensity[m]);
       }
@@ -500,8 +500,8 @@ PosteriorMatrix ComputePosteriors(
         std::size_t nearest = 0;
         for (std::size_t m = 1; m < k; ++m)
         {
-          if (std::abs(x - model.means[m]) * inverseSigma[m] <
-            std::abs(x - model.means[nearest]) * inverseSigma[nearest])
+          if (std::abs(x - model.Means[m]) * inverseSigma[m] <
+            std::abs(x - model.Means[nearest]) * inverseSigma[nearest])
           {
             nearest = m;
           }

@@ -12,36 +12,36 @@
 //   `SDFCluster` 0 = largest GMM mean), so hierarchy level L separates the L largest means.
 //
 // How
-//   - The values are binned into `binCount` equal bins over [min, max]. Each occupied bin is
+//   - The values are binned into `BinCount` equal bins over [min, max]. Each occupied bin is
 //     one weighted point holding the count, the mean and the sum of squared deviations of its
 //     values (exact first and second moments). EM then runs on the occupied bins with the
 //     responsibilities shared by all values of a bin: this is block-constrained EM, which
 //     increases a lower bound of the exact log-likelihood, the M-step uses the exact moments,
 //     and the result equals unbinned EM up to the variation of the responsibilities inside one
 //     bin (the tests check the means agree within 1e-3 of the range). One iteration costs
-//     O(binCount k) instead of O(n k). binCount = 0 selects exact EM on the distinct values
+//     O(BinCount k) instead of O(n k). BinCount = 0 selects exact EM on the distinct values
 //     (sorted, with multiplicities), for tests and small data.
 //   - Initialisation: k-means++ seeding (first centre with probability proportional to the
 //     count, the next ones proportional to count x squared distance to the nearest centre),
 //     then weights and variances from the nearest-centre assignment. Random numbers: one
 //     std::mt19937_64 seeded with `seed`, mapped to [0, 1) by (r >> 11) * 2^-53 (bit-identical
 //     on every platform). `restarts` seedings are drawn one after another from that generator;
-//     each runs `screeningIterations` EM iterations, and only the one with the largest
+//     each runs `ScreeningIterations` EM iterations, and only the one with the largest
 //     log-likelihood then (the first on ties) runs on to convergence. Screening keeps the cost
 //     of restarts low: EM crawls for hundreds of iterations when k exceeds the modes present.
 //   - Convergence: stop when the log-likelihood per value increases by less than `tolerance`,
-//     or after `maxIterations` iterations in all (`converged` says which).
+//     or after `MaxIterations` iterations in all (`converged` says which).
 //   - Posteriors (ComputePosteriors) are evaluated per value, exactly, from the fitted
 //     parameters with a log-sum-exp: every row sums to 1 (to rounding) and is finite.
 //
 // Parameters (GaussianMixtureOptions; the paper gives none of these)
 //   restarts        5       [1, 1000]   k-means++ seedings; the most likely is kept.
-//   maxIterations   500     [1, 1e6]    EM iterations of the kept seeding, screening included.
-//   screeningIterations 20  [1, 1e6]    EM iterations given to every seeding before choosing.
+//   MaxIterations   500     [1, 1e6]    EM iterations of the kept seeding, screening included.
+//   ScreeningIterations 20  [1, 1e6]    EM iterations given to every seeding before choosing.
 //   tolerance       1e-8    [0, 1]      stop when the log-likelihood per value gains less.
-//   binCount        512     [0, 1e7]    histogram bins; 0 = exact EM on distinct values.
-//                                       Cost per iteration O(binCount k), independent of n.
-//   minSigmaRelative 1e-3   [1e-12, 1]  sigma floor, relative to the data range max - min
+//   BinCount        512     [0, 1e7]    histogram bins; 0 = exact EM on distinct values.
+//                                       Cost per iteration O(BinCount k), independent of n.
+//   MinSigmaRelative 1e-3   [1e-12, 1]  sigma floor, relative to the data range max - min
 //                                       (relative to max(|value|, 1) for constant data).
 //                                       Stops a component collapsing onto one value.
 //   seed            0x5DF2008
@@ -91,28 +91,28 @@ using PosteriorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Ei
 
 struct GaussianMixtureOptions
 {
-  int restarts = 5;
-  int maxIterations = 500;
-  int screeningIterations = 20;
-  double tolerance = 1e-8;
-  int binCount = 512;
-  double minSigmaRelative = 1e-3;
-  std::uint64_t seed = 0x5DF2008;
+  int Restarts = 5;
+  int MaxIterations = 500;
+  int ScreeningIterations = 20;
+  double Tolerance = 1e-8;
+  int BinCount = 512;
+  double MinSigmaRelative = 1e-3;
+  std::uint64_t Seed = 0x5DF2008;
 };
 
 /// A fitted 1-D mixture; components sorted by mean, largest first.
 struct GaussianMixtureModel
 {
-  std::vector<double> means;
-  std::vector<double> sigmas;
-  std::vector<double> weights; ///< sum to 1
+  std::vector<double> Means;
+  std::vector<double> Sigmas;
+  std::vector<double> Weights; ///< sum to 1
   /// Log-likelihood of the data (a tight lower bound when binned, see header), finite.
-  double logLikelihood = 0.0;
-  std::size_t sampleCount = 0;
-  int iterations = 0;     ///< EM iterations of the kept restart
-  bool converged = false; ///< the kept restart met the tolerance before maxIterations
+  double LogLikelihood = 0.0;
+  std::size_t SampleCount = 0;
+  int Iterations = 0;     ///< EM iterations of the kept restart
+  bool Converged = false; ///< the kept restart met the tolerance before MaxIterations
 
-  int ComponentCount() const { return static_cast<int>(means.size()); }
+  int ComponentCount() const { return static_cast<int>(Means.size()); }
   /// Bayesian information criterion -2 logL + (3k - 1) ln n (lower is better).
   double Bic() const;
 };
@@ -124,9 +124,9 @@ GaussianMixtureModel FitGaussianMixture(
 
 struct GaussianMixtureBicResult
 {
-  GaussianMixtureModel model;     ///< the fit with the lowest BIC
-  std::vector<int> componentCounts; ///< k tried, in order (duplicates after reduction removed)
-  std::vector<double> bics;       ///< BIC of each k tried
+  GaussianMixtureModel Model;     ///< the fit with the lowest BIC
+  std::vector<int> ComponentCounts; ///< k tried, in order (duplicates after reduction removed)
+  std::vector<double> Bics;       ///< BIC of each k tried
 };
 
 /// Fits k = minComponents..maxComponents and keeps the lowest BIC (the smallest k on ties).

@@ -47,18 +47,18 @@ std::vector<std::int64_t> MortonFaceOrder(const OFFMesh& mesh)
   high.fill(-std::numeric_limits<double>::infinity());
   for (std::size_t f = 0; f < faceCount; ++f)
   {
-    const auto begin = static_cast<std::size_t>(mesh.faceOffsets[f]);
-    const auto end = static_cast<std::size_t>(mesh.faceOffsets[f + 1]);
+    const auto begin = static_cast<std::size_t>(mesh.FaceOffsets[f]);
+    const auto end = static_cast<std::size_t>(mesh.FaceOffsets[f + 1]);
     if (begin == end)
     {
       continue;
     }
     for (std::size_t i = begin; i < end; ++i)
     {
-      const auto vertex = static_cast<std::size_t>(mesh.faceConnectivity[i]);
+      const auto vertex = static_cast<std::size_t>(mesh.FaceConnectivity[i]);
       for (int axis = 0; axis < 3; ++axis)
       {
-        centroids[f][axis] += mesh.points[3 * vertex + axis];
+        centroids[f][axis] += mesh.Points[3 * vertex + axis];
       }
     }
     for (int axis = 0; axis < 3; ++axis)
@@ -80,7 +80,7 @@ std::vector<std::int64_t> MortonFaceOrder(const OFFMesh& mesh)
   for (std::size_t f = 0; f < faceCount; ++f)
   {
     std::uint64_t code = 0;
-    const bool hasVertices = mesh.faceOffsets[f] != mesh.faceOffsets[f + 1];
+    const bool hasVertices = mesh.FaceOffsets[f] != mesh.FaceOffsets[f + 1];
     for (int axis = 0; hasVertices && axis < 3; ++axis)
     {
       const double cell = std::clamp((centroids[f][axis] - low[axis]) * scale, 0.0, cells);
@@ -133,7 +133,7 @@ MeshPiece ExtractFacePiece(const OFFMesh& mesh, int piece, int pieces, PieceOrde
   if (piece == 0)
   {
     std::vector<char> used(vertexCount, 0);
-    for (const std::int64_t vertex : mesh.faceConnectivity)
+    for (const std::int64_t vertex : mesh.FaceConnectivity)
     {
       used[static_cast<std::size_t>(vertex)] = 1;
     }
@@ -145,9 +145,9 @@ MeshPiece ExtractFacePiece(const OFFMesh& mesh, int piece, int pieces, PieceOrde
   std::size_t connectivitySize = 0;
   for (const std::size_t f : faces)
   {
-    for (auto i = static_cast<std::size_t>(mesh.faceOffsets[f]); i < static_cast<std::size_t>(mesh.faceOffsets[f + 1]); ++i)
+    for (auto i = static_cast<std::size_t>(mesh.FaceOffsets[f]); i < static_cast<std::size_t>(mesh.FaceOffsets[f + 1]); ++i)
     {
-      kept[static_cast<std::size_t>(mesh.faceConnectivity[i])] = 1;
+      kept[static_cast<std::size_t>(mesh.FaceConnectivity[i])] = 1;
       ++connectivitySize;
     }
   }
@@ -160,33 +160,33 @@ MeshPiece ExtractFacePiece(const OFFMesh& mesh, int piece, int pieces, PieceOrde
     {
       continue;
     }
-    localIndex[v] = static_cast<std::int64_t>(result.globalPointIds.size());
-    result.globalPointIds.push_back(static_cast<std::int64_t>(v));
-    AppendTuple(result.mesh.points, mesh.points, v, 3);
-    if (!mesh.vertexNormals.empty())
+    localIndex[v] = static_cast<std::int64_t>(result.GlobalPointIds.size());
+    result.GlobalPointIds.push_back(static_cast<std::int64_t>(v));
+    AppendTuple(result.Mesh.Points, mesh.Points, v, 3);
+    if (!mesh.VertexNormals.empty())
     {
-      AppendTuple(result.mesh.vertexNormals, mesh.vertexNormals, v, 3);
+      AppendTuple(result.Mesh.VertexNormals, mesh.VertexNormals, v, 3);
     }
-    if (!mesh.vertexColors.empty())
+    if (!mesh.VertexColors.empty())
     {
-      AppendTuple(result.mesh.vertexColors, mesh.vertexColors, v, 4);
+      AppendTuple(result.Mesh.VertexColors, mesh.VertexColors, v, 4);
     }
   }
 
-  result.mesh.faceOffsets.reserve(faces.size() + 1);
-  result.mesh.faceOffsets.push_back(0);
-  result.mesh.faceConnectivity.reserve(connectivitySize);
+  result.Mesh.FaceOffsets.reserve(faces.size() + 1);
+  result.Mesh.FaceOffsets.push_back(0);
+  result.Mesh.FaceConnectivity.reserve(connectivitySize);
   for (const std::size_t f : faces)
   {
-    for (auto i = static_cast<std::size_t>(mesh.faceOffsets[f]); i < static_cast<std::size_t>(mesh.faceOffsets[f + 1]); ++i)
+    for (auto i = static_cast<std::size_t>(mesh.FaceOffsets[f]); i < static_cast<std::size_t>(mesh.FaceOffsets[f + 1]); ++i)
     {
-      result.mesh.faceConnectivity.push_back(localIndex[static_cast<std::size_t>(mesh.faceConnectivity[i])]);
+      result.Mesh.FaceConnectivity.push_back(localIndex[static_cast<std::size_t>(mesh.FaceConnectivity[i])]);
     }
-    result.mesh.faceOffsets.push_back(static_cast<std::int64_t>(result.mesh.faceConnectivity.size()));
-    result.globalFaceIds.push_back(static_cast<std::int64_t>(f));
-    if (!mesh.faceColors.empty())
+    result.Mesh.FaceOffsets.push_back(static_cast<std::int64_t>(result.Mesh.FaceConnectivity.size()));
+    result.GlobalFaceIds.push_back(static_cast<std::int64_t>(f));
+    if (!mesh.FaceColors.empty())
     {
-      AppendTuple(result.mesh.faceColors, mesh.faceColors, f, 4);
+      AppendTuple(result.Mesh.FaceColors, mesh.FaceColors, f, 4);
     }
   }
   return result;

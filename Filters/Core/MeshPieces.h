@@ -14,9 +14,9 @@ namespace shapediameter
 /// index it has in the whole mesh (what VTK calls global ids).
 struct MeshPiece
 {
-  OFFMesh mesh;
-  std::vector<std::int64_t> globalPointIds; ///< one per vertex of `mesh`, increasing
-  std::vector<std::int64_t> globalFaceIds;  ///< one per face of `mesh`, increasing
+  OFFMesh Mesh;
+  std::vector<std::int64_t> GlobalPointIds; ///< one per vertex of `mesh`, increasing
+  std::vector<std::int64_t> GlobalFaceIds;  ///< one per face of `mesh`, increasing
 };
 
 /// How faces are dealt out to the pieces.

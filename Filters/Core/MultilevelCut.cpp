@@ -20,25 +20,25 @@ struct Adjacency
   std::vector<std::pair<std::size_t, double>> entries;
 
   explicit Adjacency(const PartitionEnergy& energy)
-    : start(energy.faceCount + 1, 0)
+    : start(energy.FaceCount + 1, 0)
   {
-    for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+    for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
     {
-      ++start[static_cast<std::size_t>(energy.pairFirst[p]) + 1];
-      ++start[static_cast<std::size_t>(energy.pairSecond[p]) + 1];
+      ++start[static_cast<std::size_t>(energy.PairFirst[p]) + 1];
+      ++start[static_cast<std::size_t>(energy.PairSecond[p]) + 1];
     }
-    for (std::size_t f = 0; f < energy.faceCount; ++f)
+    for (std::size_t f = 0; f < energy.FaceCount; ++f)
     {
       start[f + 1] += start[f];
     }
     std::vector<std::size_t> fill(start.begin(), start.end() - 1);
     entries.resize(start.back());
-    for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+    for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
     {
-      const auto a = static_cast<std::size_t>(energy.pairFirst[p]);
-      const auto b = static_cast<std::size_t>(energy.pairSecond[p]);
-      entries[fill[a]++] = { b, energy.pairWeight[p] };
-      entries[fill[b]++] = { a, energy.pairWeight[p] };
+      const auto a = static_cast<std::size_t>(energy.PairFirst[p]);
+      const auto b = static_cast<std::size_t>(energy.PairSecond[p]);
+      entries[fill[a]++] = { b, energy.PairWeight[p] };
+      entries[fill[b]++] = { a, energy.PairWeight[p] };
     }
   }
 };
@@ -82,27 +82,27 @@ std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(
 /// The energy of labellings constant on clusters.
 PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const std::vector<std::size_t>& cluster, std::size_t clusterCount)
 {
-  const auto k = static_cast<std::size_t>(energy.labelCount);
+  const auto k = static_cast<std::size_t>(energy.LabelCount);
   PartitionEnergy coarse;
-  coarse.faceCount = clusterCount;
-  coarse.labelCount = energy.labelCount;
-  coarse.dataCost.assign(clusterCount * k, 0.0);
-  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  coarse.FaceCount = clusterCount;
+  coarse.LabelCount = energy.LabelCount;
+  coarse.DataCosts.assign(clusterCount * k, 0.0);
+  for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
     for (std::size_t l = 0; l < k; ++l)
     {
-      coarse.dataCost[cluster[f] * k + l] += energy.dataCost[f * k + l];
+      coarse.DataCosts[cluster[f] * k + l] += energy.DataCosts[f * k + l];
     }
   }
   std::vector<std::tuple<std::size_t, std::size_t, double>> links;
-  links.reserve(energy.pairWeight.size());
-  for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+  links.reserve(energy.PairWeight.size());
+  for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
   {
-    const std::size_t a = cluster[static_cast<std::size_t>(energy.pairFirst[p])];
-    const std::size_t b = cluster[static_cast<std::size_t>(energy.pairSecond[p])];
+    const std::size_t a = cluster[static_cast<std::size_t>(energy.PairFirst[p])];
+    const std::size_t b = cluster[static_cast<std::size_t>(energy.PairSecond[p])];
     if (a != b)
     {
-      links.emplace_back(std::min(a, b), std::max(a, b), energy.pairWeight[p]);
+      links.emplace_back(std::min(a, b), std::max(a, b), energy.PairWeight[p]);
     }
   }
   // Sorted by cluster pair, then by weight: the sums do not depend on the input's pair order.
@@ -115,9 +115,9 @@ PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const std::vector<st
     {
       sum += std::get<2>(links[i]);
     }
-    coarse.pairFirst.push_back(static_cast<std::int64_t>(a));
-    coarse.pairSecond.push_back(static_cast<std::int64_t>(b));
-    coarse.pairWeight.push_back(sum);
+    coarse.PairFirst.push_back(static_cast<std::int64_t>(a));
+    coarse.PairSecond.push_back(static_cast<std::int64_t>(b));
+    coarse.PairWeight.push_back(sum);
   }
   return coarse;
 }
@@ -241,17 +241,17 @@ std::vector<std::vector<std::size_t>> BandComponents(const Adjacency& adjacency,
 PartitionEnergy BandEnergy(const PartitionEnergy& energy, const Adjacency& adjacency, const std::vector<std::uint8_t>& inBand,
   const std::vector<std::size_t>& faces, const std::vector<int>& labels)
 {
-  const auto k = static_cast<std::size_t>(energy.labelCount);
+  const auto k = static_cast<std::size_t>(energy.LabelCount);
   PartitionEnergy part;
-  part.faceCount = faces.size();
-  part.labelCount = energy.labelCount;
-  part.dataCost.resize(faces.size() * k);
+  part.FaceCount = faces.size();
+  part.LabelCount = energy.LabelCount;
+  part.DataCosts.resize(faces.size() * k);
   for (std::size_t b = 0; b < faces.size(); ++b)
   {
     const std::size_t f = faces[b];
     for (std::size_t l = 0; l < k; ++l)
     {
-      part.dataCost[b * k + l] = energy.dataCost[f * k + l];
+      part.DataCosts[b * k + l] = energy.DataCosts[f * k + l];
     }
     for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
     {
@@ -260,17 +260,17 @@ PartitionEnergy BandEnergy(const PartitionEnergy& energy, const Adjacency& adjac
       {
         for (std::size_t l = 0; l < k; ++l)
         {
-          part.dataCost[b * k + l] += static_cast<int>(l) != labels[g] ? w : 0.0;
+          part.DataCosts[b * k + l] += static_cast<int>(l) != labels[g] ? w : 0.0;
         }
       }
       else if (g > f)
       {
         // Pairs in the order of their lower face, then of the adjacency: the sub-energy does
         // not depend on how the band is split among threads.
-        part.pairFirst.push_back(static_cast<std::int64_t>(b));
-        part.pairSecond.push_back(static_cast<std::int64_t>(
+        part.PairFirst.push_back(static_cast<std::int64_t>(b));
+        part.PairSecond.push_back(static_cast<std::int64_t>(
           std::lower_bound(faces.begin(), faces.end(), g) - faces.begin()));
-        part.pairWeight.push_back(w);
+        part.PairWeight.push_back(w);
       }
     }
   }
@@ -327,20 +327,20 @@ ProgressCallback SubRange(const ProgressCallback& progress, double from, double 
 AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel,
   const AlphaExpansionOptions& options, const ProgressCallback& progress, const ParallelFor& parallelFor)
 {
-  if (multilevel.directBelowFaces < 16 || multilevel.clusterSize < 2 || multilevel.clusterSize > 1024 ||
-    multilevel.bandRings < 1 || multilevel.bandRings > 64 || multilevel.lostRegionFaces < 1)
+  if (multilevel.DirectBelowFaces < 16 || multilevel.ClusterSize < 2 || multilevel.ClusterSize > 1024 ||
+    multilevel.BandRings < 1 || multilevel.BandRings > 64 || multilevel.LostRegionFaces < 1)
   {
     throw PartitionEnergyError("multilevel cut: options out of range");
   }
-  if (energy.faceCount <= multilevel.directBelowFaces || energy.labelCount < 2)
+  if (energy.FaceCount <= multilevel.DirectBelowFaces || energy.LabelCount < 2)
   {
     return MinimizeByAlphaExpansion(energy, options, progress);
   }
   ValidateEnergyForCut(energy);
   const std::vector<int> mostProbable = MostProbableLabels(energy);
   const Adjacency adjacency(energy);
-  const auto [cluster, clusterCount] = GrowClusters(adjacency, mostProbable, multilevel.clusterSize);
-  if (2 * clusterCount > energy.faceCount)
+  const auto [cluster, clusterCount] = GrowClusters(adjacency, mostProbable, multilevel.ClusterSize);
+  if (2 * clusterCount > energy.FaceCount)
   {
     return MinimizeByAlphaExpansion(energy, options, progress); // too fragmented to coarsen
   }
@@ -350,27 +350,27 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   const AlphaExpansionResult coarseResult =
     MinimizeMultilevel(coarse, multilevel, options, SubRange(progress, 0.0, 0.5), parallelFor);
   AlphaExpansionResult result;
-  result.initialEnergy = energy.Evaluate(mostProbable);
-  result.labels.resize(energy.faceCount);
-  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  result.InitialEnergy = energy.Evaluate(mostProbable);
+  result.Labels.resize(energy.FaceCount);
+  for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
-    result.labels[f] = coarseResult.labels[cluster[f]];
+    result.Labels[f] = coarseResult.Labels[cluster[f]];
   }
-  result.moves = coarseResult.moves;
-  result.appliedMoves = coarseResult.appliedMoves;
-  if (coarseResult.aborted)
+  result.Moves = coarseResult.Moves;
+  result.AppliedMoves = coarseResult.AppliedMoves;
+  if (coarseResult.Aborted)
   {
-    result.aborted = true;
-    result.energy = energy.Evaluate(result.labels);
+    result.Aborted = true;
+    result.Energy = energy.Evaluate(result.Labels);
     return result;
   }
 
   // The band at full resolution, the rest fixed.
   const std::vector<std::uint8_t> inBand =
-    BoundaryBand(adjacency, result.labels, mostProbable, multilevel.bandRings, multilevel.lostRegionFaces);
-  std::vector<std::size_t> bandIndex(energy.faceCount, 0);
+    BoundaryBand(adjacency, result.Labels, mostProbable, multilevel.BandRings, multilevel.LostRegionFaces);
+  std::vector<std::size_t> bandIndex(energy.FaceCount, 0);
   std::vector<std::size_t> bandFaces;
-  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
     if (inBand[f])
     {
@@ -389,29 +389,29 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
     for (std::size_t c = begin; c < end; ++c)
     {
       const std::vector<std::size_t>& faces = components[c];
-      const PartitionEnergy part = BandEnergy(energy, adjacency, inBand, faces, result.labels);
+      const PartitionEnergy part = BandEnergy(energy, adjacency, inBand, faces, result.Labels);
       std::vector<int> partLabels(faces.size());
       for (std::size_t i = 0; i < faces.size(); ++i)
       {
-        partLabels[i] = result.labels[faces[i]];
+        partLabels[i] = result.Labels[faces[i]];
       }
       solved[c] = MinimizeByAlphaExpansion(part, partLabels, options, bandProgress.ForPart(faces.size()));
     }
   });
-  result.converged = true;
+  result.Converged = true;
   for (std::size_t c = 0; c < components.size(); ++c)
   {
     for (std::size_t i = 0; i < components[c].size(); ++i)
     {
-      result.labels[components[c][i]] = solved[c].labels[i];
+      result.Labels[components[c][i]] = solved[c].Labels[i];
     }
-    result.moves += solved[c].moves;
-    result.appliedMoves += solved[c].appliedMoves;
-    result.converged = result.converged && solved[c].converged;
-    result.aborted = result.aborted || solved[c].aborted;
+    result.Moves += solved[c].Moves;
+    result.AppliedMoves += solved[c].AppliedMoves;
+    result.Converged = result.Converged && solved[c].Converged;
+    result.Aborted = result.Aborted || solved[c].Aborted;
   }
-  result.energy = energy.Evaluate(result.labels);
-  result.energyTrace.push_back(result.energy);
+  result.Energy = energy.Evaluate(result.Labels);
+  result.EnergyTrace.push_back(result.Energy);
   if (progress)
   {
     progress(1.0);

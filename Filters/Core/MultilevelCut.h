@@ -12,16 +12,16 @@
 //
 // What it computes
 //   1. The most probable label of each face (MostProbableLabels).
-//   2. Clusters of at most clusterSize faces, grown breadth-first in face order over faces
+//   2. Clusters of at most ClusterSize faces, grown breadth-first in face order over faces
 //      with the same most probable label (deterministic).
 //   3. The coarse energy: a cluster's data cost is the sum of its faces', the weight between
 //      two clusters the sum of the weights of the face pairs between them (pairs inside a
 //      cluster are never cut by a labelling constant on clusters, so for such labellings the
 //      coarse E equals the fine E). Solved by this same function (recursively, until at most
-//      directBelowFaces nodes remain, then MinimizeByAlphaExpansion).
-//   4. The coarse labels projected onto the faces; the band = faces within bandRings rings of
+//      DirectBelowFaces nodes remain, then MinimizeByAlphaExpansion).
+//   4. The coarse labels projected onto the faces; the band = faces within BandRings rings of
 //      a face whose neighbour has another label, or of a connected region of at least
-//      lostRegionFaces faces that the coarse solve labelled against their common most probable
+//      LostRegionFaces faces that the coarse solve labelled against their common most probable
 //      label. Alpha-expansion (AlphaExpansion.h) on the band faces, from the projected labels,
 //      with the faces outside the band fixed (their pairs with band faces become data costs of
 //      the band faces). The second kind of band is for parts the coarse solve lost: a thin
@@ -31,7 +31,7 @@
 //      It also makes the result follow the energy as the plain alpha-expansion does: on the
 //      84k-face elephant poses 5.01 % of the faces change cluster between poses, the plain
 //      cut 4.96 %, the coarse solve without this band 3.61 % (it smoothed more than λ asks).
-//   Graphs with at most directBelowFaces faces go straight to MinimizeByAlphaExpansion, so
+//   Graphs with at most DirectBelowFaces faces go straight to MinimizeByAlphaExpansion, so
 //   small meshes get exactly the plain alpha-expansion.
 //   The band's connected components (one per part boundary, typically) are independent once
 //   the faces around them are fixed: each is solved on its own, concurrently through
@@ -50,16 +50,16 @@
 //   alpha-expansion finds. Measured against the plain alpha-expansion on the armadillo:
 //   208k faces 0.31 s instead of 0.76 s, E +1.1 %, 2.5 % of the faces labelled differently,
 //   14 segments both; 832k faces 1.1 s instead of 6.4 s, E +2.3 %, 2.2 % of the faces, 13
-//   segments instead of 14. Below directBelowFaces the plain alpha-expansion is used: on 35k-
+//   segments instead of 14. Below DirectBelowFaces the plain alpha-expansion is used: on 35k-
 //   52k meshes the multilevel cut gained only 1.4-1.7x and moved 3-6 % of the faces.
 //
 // Parameters (MultilevelOptions)
-//   directBelowFaces  60000  [16, inf)  solve directly up to this many faces/nodes.
-//   clusterSize       8      [2, 1024]  faces per cluster at most (coarsening factor); 16
+//   DirectBelowFaces  60000  [16, inf)  solve directly up to this many faces/nodes.
+//   ClusterSize       8      [2, 1024]  faces per cluster at most (coarsening factor); 16
 //                                        was 10 % faster and 3 % of faces off.
-//   bandRings         8      [1, 64]    rings around the projected boundaries that are
+//   BandRings         8      [1, 64]    rings around the projected boundaries that are
 //                                        re-solved; 4 gave E +3 %, 16 only 0.3 % better than 8.
-//   lostRegionFaces   1024   [1, inf)   smallest region off its most probable label that is
+//   LostRegionFaces   1024   [1, inf)   smallest region off its most probable label that is
 //                                        re-solved. Armadillo 208k: band 24.5k faces without
 //                                        it, 28.2k with 1024 (E -0.05 %), 46.9k with 64 (E
 //                                        -0.3 %); the camel's and the man's linear
@@ -77,10 +77,10 @@ namespace shapediameter
 
 struct MultilevelOptions
 {
-  std::size_t directBelowFaces = 60000;
-  int clusterSize = 8;
-  int bandRings = 8;
-  std::size_t lostRegionFaces = 1024;
+  std::size_t DirectBelowFaces = 60000;
+  int ClusterSize = 8;
+  int BandRings = 8;
+  std::size_t LostRegionFaces = 1024;
 };
 
 /// See the header. Throws PartitionEnergyError on an inconsistent energy or bad options.

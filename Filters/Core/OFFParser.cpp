@@ -38,32 +38,10 @@ inline bool IsSpace(char c)
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 
-/// The token as it can be shown in a one-line message: bytes outside printable ASCII as \xNN,
-/// long tokens cut, so that binary input cannot garble a terminal or a log.
+/// The token as it can be shown in a one-line message (TextFiles.h).
 std::string Printable(const Token& token)
 {
-  constexpr std::size_t limit = 32;
-  std::string out;
-  const std::size_t shown = std::min(token.Size(), limit);
-  for (std::size_t i = 0; i < shown; ++i)
-  {
-    const auto c = static_cast<unsigned char>(token.begin[i]);
-    if (c >= 0x20 && c < 0x7f)
-    {
-      out += static_cast<char>(c);
-    }
-    else
-    {
-      char escaped[8];
-      std::snprintf(escaped, sizeof(escaped), "\\x%02x", c);
-      out += escaped;
-    }
-  }
-  if (token.Size() > limit)
-  {
-    out += "...";
-  }
-  return out;
+  return PrintableText(token.begin, token.begin + token.Size());
 }
 
 std::string Quoted(const Token& token)
@@ -422,14 +400,14 @@ OFFMesh ParseOFF(const char* data, std::size_t size)
   const auto faces = static_cast<std::size_t>(faceCount);
 
   // ---- vertices
-  mesh.points.resize(3 * vertices);
+  mesh.Points.resize(3 * vertices);
   if (header.normals)
   {
-    mesh.vertexNormals.resize(3 * vertices);
+    mesh.VertexNormals.resize(3 * vertices);
   }
   if (header.colors)
   {
-    mesh.vertexColors.resize(4 * vertices);
+    mesh.VertexColors.resize(4 * vertices);
   }
   for (std::size_t v = 0; v < vertices; ++v)
   {
@@ -462,18 +440,18 @@ OFFMesh ParseOFF(const char* data, std::size_t size)
     std::size_t t = 0;
     for (std::size_t k = 0; k < 3; ++k)
     {
-      mesh.points[3 * v + k] = ReadFinite(tokens[t++], line, "vertex", index);
+      mesh.Points[3 * v + k] = ReadFinite(tokens[t++], line, "vertex", index);
     }
     if (header.normals)
     {
       for (std::size_t k = 0; k < 3; ++k)
       {
-        mesh.vertexNormals[3 * v + k] = ReadFinite(tokens[t++], line, "vertex", index);
+        mesh.VertexNormals[3 * v + k] = ReadFinite(tokens[t++], line, "vertex", index);
       }
     }
     if (header.colors)
     {
-      ReadColor(&tokens[t], colorValues, &mesh.vertexColors[4 * v], line, "vertex", index);
+      ReadColor(&tokens[t], colorValues, &mesh.VertexColors[4 * v], line, "vertex", index);
       t += colorValues;
     }
     if (header.textureCoordinates)
@@ -491,9 +469,9 @@ OFFMesh ParseOFF(const char* data, std::size_t size)
   }
 
   // ---- faces
-  mesh.faceOffsets.reserve(faces + 1);
-  mesh.faceOffsets.push_back(0);
-  mesh.faceConnectivity.reserve(3 * faces);
+  mesh.FaceOffsets.reserve(faces + 1);
+  mesh.FaceOffsets.push_back(0);
+  mesh.FaceConnectivity.reserve(3 * faces);
   for (std::size_t f = 0; f < faces; ++f)
   {
     const auto index = static_cast<std::int64_t>(f);
@@ -545,7 +523,7 @@ OFFMesh ParseOFF(const char* data, std::size_t size)
         Fail(line, "face " + std::to_string(f) + ": vertex index " + Printable(tokens[k]) +
             " is out of range [0, " + std::to_string(vertexCount) + ")");
       }
-      mesh.faceConnectivity.push_back(vertex);
+      mesh.FaceConnectivity.push_back(vertex);
     }
     if (extra == 1)
     {
@@ -559,18 +537,18 @@ OFFMesh ParseOFF(const char* data, std::size_t size)
     }
     else if (extra >= 3)
     {
-      if (mesh.faceColors.empty())
+      if (mesh.FaceColors.empty())
       {
-        mesh.faceColors.resize(4 * faces);
+        mesh.FaceColors.resize(4 * faces);
         for (std::size_t g = 0; g < faces; ++g)
         {
           std::copy(kOFFDefaultFaceColor.begin(), kOFFDefaultFaceColor.end(),
-            mesh.faceColors.begin() + static_cast<std::ptrdiff_t>(4 * g));
+            mesh.FaceColors.begin() + static_cast<std::ptrdiff_t>(4 * g));
         }
       }
-      ReadColor(&tokens[corners + 1], extra, &mesh.faceColors[4 * f], line, "face", index);
+      ReadColor(&tokens[corners + 1], extra, &mesh.FaceColors[4 * f], line, "face", index);
     }
-    mesh.faceOffsets.push_back(static_cast<std::int64_t>(mesh.faceConnectivity.size()));
+    mesh.FaceOffsets.push_back(static_cast<std::int64_t>(mesh.FaceConnectivity.size()));
   }
   // Anything after the declared elements is ignored on purpose (see the header).
   return mesh;

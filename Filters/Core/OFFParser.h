@@ -87,17 +87,17 @@ inline constexpr std::array<std::uint8_t, 4> kOFFDefaultFaceColor = { 192, 192, 
 /// A polygon mesh as read from an OFF file. Sizes: V vertices, F faces.
 struct OFFMesh
 {
-  std::vector<double> points;             ///< 3 * V: x y z per vertex
-  std::vector<double> vertexNormals;      ///< 3 * V when the header has N (NOFF), else empty
-  std::vector<std::uint8_t> vertexColors; ///< 4 * V RGBA when the header has C (COFF), else empty
-  std::vector<std::int64_t> faceOffsets;  ///< F + 1, starts at 0; face f is [offsets[f], offsets[f+1])
-  std::vector<std::int64_t> faceConnectivity; ///< vertex indices of all faces, in [0, V)
-  std::vector<std::uint8_t> faceColors;   ///< 4 * F RGBA when any face has a colour, else empty
+  std::vector<double> Points;             ///< 3 * V: x y z per vertex
+  std::vector<double> VertexNormals;      ///< 3 * V when the header has N (NOFF), else empty
+  std::vector<std::uint8_t> VertexColors; ///< 4 * V RGBA when the header has C (COFF), else empty
+  std::vector<std::int64_t> FaceOffsets;  ///< F + 1, starts at 0; face f is [offsets[f], offsets[f+1])
+  std::vector<std::int64_t> FaceConnectivity; ///< vertex indices of all faces, in [0, V)
+  std::vector<std::uint8_t> FaceColors;   ///< 4 * F RGBA when any face has a colour, else empty
 
-  std::size_t VertexCount() const noexcept { return this->points.size() / 3; }
+  std::size_t VertexCount() const noexcept { return this->Points.size() / 3; }
   std::size_t FaceCount() const noexcept
   {
-    return this->faceOffsets.empty() ? 0 : this->faceOffsets.size() - 1;
+    return this->FaceOffsets.empty() ? 0 : this->FaceOffsets.size() - 1;
   }
 };
 

@@ -105,12 +105,12 @@ TriangleAdjacency BuildTriangleAdjacency(const TrianglesView& triangles)
   std::sort(links.begin(), links.end());
   TriangleAdjacency adjacency;
   adjacency.Offsets.assign(static_cast<std::size_t>(count) + 1, 0);
-  adjacency.Neighbours.reserve(links.size());
+  adjacency.Neighbors.reserve(links.size());
   adjacency.SameDirection.reserve(links.size());
   for (const auto& [triangle, neighbour, same] : links)
   {
     ++adjacency.Offsets[static_cast<std::size_t>(triangle) + 1];
-    adjacency.Neighbours.push_back(neighbour);
+    adjacency.Neighbors.push_back(neighbour);
     adjacency.SameDirection.push_back(same);
   }
   for (std::size_t t = 0; t < static_cast<std::size_t>(count); ++t)
@@ -163,7 +163,7 @@ OrientationResult OrientOutward(
       for (auto entry = adjacency.Offsets[static_cast<std::size_t>(t)];
            entry < adjacency.Offsets[static_cast<std::size_t>(t) + 1]; ++entry)
       {
-        const std::int64_t neighbour = adjacency.Neighbours[static_cast<std::size_t>(entry)];
+        const std::int64_t neighbour = adjacency.Neighbors[static_cast<std::size_t>(entry)];
         // Same direction on a shared edge means opposite windings: the neighbour must
         // end up with the other flip state than ours.
         const std::uint8_t wanted = adjacency.SameDirection[static_cast<std::size_t>(entry)]

@@ -50,7 +50,7 @@ struct OrientationResult
 struct TriangleAdjacency
 {
   std::vector<std::int64_t> Offsets;
-  std::vector<std::int64_t> Neighbours;
+  std::vector<std::int64_t> Neighbors;
   std::vector<std::uint8_t> SameDirection;
 };
 

@@ -49,7 +49,7 @@ GaussianMixtureModel FitClusterModel(ValuesView values, const FaceGraph& graph, 
     return FitDensityModes(values, areas, modes).Model;
   }
   return options.NumberOfClusters == 0
-    ? FitGaussianMixtureBic(values, 2, options.MaximumClusters, options.Mixture).model
+    ? FitGaussianMixtureBic(values, 2, options.MaximumClusters, options.Mixture).Model
     : FitGaussianMixture(values, options.NumberOfClusters, options.Mixture);
 }
 
@@ -108,7 +108,7 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
 
   // 4. The energy; the graph is checked here once, for the energy and the segments.
   const DualGraphView view = MakeDualGraphView(graph);
-  ValidateDualGraph(view, options.Energy.geometricWeights, parallelFor);
+  ValidateDualGraph(view, options.Energy.GeometricWeights, parallelFor);
   const PartitionEnergy energy =
     BuildPartitionEnergyOnValidGraph(result.Probabilities, view, options.Energy, parallelFor);
   result.Timings.EnergyMs = Lap(start);
@@ -117,13 +117,13 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
   AlphaExpansionResult cut = MinimizeMultilevel(
     energy, options.Multilevel, options.AlphaExpansion, SubProgress(progress, 0.2, 0.95), parallelFor);
   result.Timings.CutMs = Lap(start);
-  if (cut.aborted)
+  if (cut.Aborted)
   {
     return AbortedResult();
   }
-  result.Labels = std::move(cut.labels);
-  result.Energy = cut.energy;
-  result.CutMoves = cut.moves;
+  result.Labels = std::move(cut.Labels);
+  result.Energy = cut.Energy;
+  result.CutMoves = cut.Moves;
 
   // 6. Segments and hierarchy.
   result.Segments = FindConnectedSegmentsOnValidGraph(view, result.Labels, graph.Areas);
@@ -154,11 +154,11 @@ PartitionResult PartitionBySDF(PointsView points, TrianglesView triangles, Value
 PartitionHistogram MixtureHistogram(const GaussianMixtureModel& model, ValuesView values, int bins)
 {
   if (values.size() == 0 || bins < 1 || model.ComponentCount() == 0 ||
-    model.sigmas.size() != model.means.size() || model.weights.size() != model.means.size())
+    model.Sigmas.size() != model.Means.size() || model.Weights.size() != model.Means.size())
   {
     throw PartitionError("histogram: needs values, bins >= 1 and a model with components");
   }
-  const double sigmaMax = *std::max_element(model.sigmas.begin(), model.sigmas.end());
+  const double sigmaMax = *std::max_element(model.Sigmas.begin(), model.Sigmas.end());
   const double low = values.minCoeff() - 4.0 * sigmaMax;
   const double high = values.maxCoeff() + 4.0 * sigmaMax;
   const double width = (high - low) / bins;
@@ -186,12 +186,12 @@ PartitionHistogram MixtureHistogram(const GaussianMixtureModel& model, ValuesVie
     std::vector<double> curve(binCount);
     // The mean density over each bin (not its value at the centre): comparable with the
     // histogram bar, and exact for Gaussians narrower than a bin.
-    const double scale = 1.0 / (model.sigmas[component] * std::sqrt(2.0));
-    auto cumulative = [&](double x) { return 0.5 * std::erf((x - model.means[component]) * scale); };
+    const double scale = 1.0 / (model.Sigmas[component] * std::sqrt(2.0));
+    auto cumulative = [&](double x) { return 0.5 * std::erf((x - model.Means[component]) * scale); };
     for (std::size_t b = 0; b < binCount; ++b)
     {
       const double left = histogram.BinCenters[b] - 0.5 * width;
-      curve[b] = model.weights[component] * (cumulative(left + width) - cumulative(left)) / width;
+      curve[b] = model.Weights[component] * (cumulative(left + width) - cumulative(left)) / width;
       histogram.Mixture[b] += curve[b];
     }
     histogram.Components.push_back(std::move(curve));

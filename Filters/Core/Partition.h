@@ -12,7 +12,7 @@
 //     4. BuildPartitionEnergy    - E = data term from the posteriors + lambda x weighted
 //                                  concave-crease term (PartitionEnergy.h)
 //     5. MinimizeMultilevel      - the k-way alpha-expansion graph cut, multilevel on large
-//                                  meshes, plain below MultilevelOptions::directBelowFaces
+//                                  meshes, plain below MultilevelOptions::DirectBelowFaces
 //                                  (MultilevelCut.h, AlphaExpansion.h)
 //     6. the hierarchy levels and the connected segments of equal cluster (PartitionEnergy.h)
 //     7. MixtureHistogram        - the histogram of the values with the fitted densities
@@ -97,12 +97,12 @@ struct PartitionOptions
   int NumberOfClusters = 5;
   /// Default 8, [1, inf) ([2, inf) for the BIC search): the most clusters when k = 0.
   int MaximumClusters = 8;
-  /// The EM fit (restarts, maxIterations, seed, ...; GaussianMixture.h).
+  /// The EM fit (Restarts, MaxIterations, Seed, ...; GaussianMixture.h).
   GaussianMixtureOptions Mixture;
   /// The density modes (Bandwidth, MinimumProminence, ...; DensityModes.h). MaximumModes is not
   /// read: it is k, or MaximumClusters when k = 0.
   DensityModesOptions Modes;
-  /// The energy: lambda (the paper's λ), probabilityEpsilon (ε), convexityFactor, ...
+  /// The energy: Lambda (the paper's λ), ProbabilityEpsilon (ε), ConvexityFactor, ...
   /// (PartitionEnergy.h).
   PartitionEnergyOptions Energy;
   /// When and how the cut is multilevel (MultilevelCut.h).

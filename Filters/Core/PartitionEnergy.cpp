@@ -23,55 +23,55 @@ bool InRange(double value, double low, double high)
 
 void ValidateOptions(const PartitionEnergyOptions& options)
 {
-  if (!InRange(options.lambda, 0.0, 1e3))
+  if (!InRange(options.Lambda, 0.0, 1e3))
   {
-    throw PartitionEnergyError("partition energy: lambda must be in [0, 1e3]");
+    throw PartitionEnergyError("partition energy: Lambda must be in [0, 1e3]");
   }
-  if (!InRange(options.probabilityEpsilon, 1e-300, 1.0))
+  if (!InRange(options.ProbabilityEpsilon, 1e-300, 1.0))
   {
-    throw PartitionEnergyError("partition energy: probabilityEpsilon must be in [1e-300, 1]");
+    throw PartitionEnergyError("partition energy: ProbabilityEpsilon must be in [1e-300, 1]");
   }
-  if (!InRange(options.convexityFactor, 0.0, 1.0))
+  if (!InRange(options.ConvexityFactor, 0.0, 1.0))
   {
-    throw PartitionEnergyError("partition energy: convexityFactor must be in [0, 1]");
+    throw PartitionEnergyError("partition energy: ConvexityFactor must be in [0, 1]");
   }
-  if (!InRange(options.minAngleRatio, 1e-300, 1.0))
+  if (!InRange(options.MinAngleRatio, 1e-300, 1.0))
   {
-    throw PartitionEnergyError("partition energy: minAngleRatio must be in [1e-300, 1]");
+    throw PartitionEnergyError("partition energy: MinAngleRatio must be in [1e-300, 1]");
   }
 }
 
 /// Number of CSR entries; an empty graph may come without any array.
 std::size_t EntryCount(const DualGraphView& graph)
 {
-  return graph.offsets == nullptr ? 0 : static_cast<std::size_t>(graph.offsets[graph.faceCount]);
+  return graph.Offsets == nullptr ? 0 : static_cast<std::size_t>(graph.Offsets[graph.FaceCount]);
 }
 
 /// Offsets, neighbour range, no self loops, symmetry.
 void ValidateTopology(const DualGraphView& graph, const ParallelFor& parallelFor)
 {
-  if (graph.offsets == nullptr && graph.faceCount == 0)
+  if (graph.Offsets == nullptr && graph.FaceCount == 0)
   {
     return;
   }
-  if (graph.offsets == nullptr)
+  if (graph.Offsets == nullptr)
   {
     throw PartitionEnergyError("dual graph: offsets are missing");
   }
-  if (graph.offsets[0] != 0)
+  if (graph.Offsets[0] != 0)
   {
     throw PartitionEnergyError("dual graph: offsets must start at 0");
   }
-  const std::size_t n = graph.faceCount;
+  const std::size_t n = graph.FaceCount;
   for (std::size_t f = 0; f < n; ++f)
   {
-    if (graph.offsets[f + 1] < graph.offsets[f])
+    if (graph.Offsets[f + 1] < graph.Offsets[f])
     {
       throw PartitionEnergyError("dual graph: offsets decrease at face " + std::to_string(f));
     }
   }
   const std::size_t entryCount = EntryCount(graph);
-  if (entryCount > 0 && graph.neighbours == nullptr)
+  if (entryCount > 0 && graph.Neighbors == nullptr)
   {
     throw PartitionEnergyError("dual graph: neighbour indices are missing");
   }
@@ -79,9 +79,9 @@ void ValidateTopology(const DualGraphView& graph, const ParallelFor& parallelFor
   // does not depend on the thread split (and nothing is thrown on a worker thread).
   const auto faceCount = static_cast<std::int64_t>(n);
   auto problemOf = [&](std::size_t f) -> std::string {
-    for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+    for (std::int64_t e = graph.Offsets[f]; e < graph.Offsets[f + 1]; ++e)
     {
-      const std::int64_t g = graph.neighbours[e];
+      const std::int64_t g = graph.Neighbors[e];
       if (g < 0 || g >= faceCount)
       {
         return "dual graph: neighbour index out of range at face " + std::to_string(f);
@@ -90,8 +90,8 @@ void ValidateTopology(const DualGraphView& graph, const ParallelFor& parallelFor
       {
         return "dual graph: face " + std::to_string(f) + " is its own neighbour";
       }
-      const std::int64_t* begin = graph.neighbours + graph.offsets[g];
-      const std::int64_t* end = graph.neighbours + graph.offsets[g + 1];
+      const std::int64_t* begin = graph.Neighbors + graph.Offsets[g];
+      const std::int64_t* end = graph.Neighbors + graph.Offsets[g + 1];
       if (std::find(begin, end, static_cast<std::int64_t>(f)) == end)
       {
         return "dual graph: not symmetric, face " + std::to_string(g) + " does not list its neighbour " +
@@ -121,7 +121,7 @@ void ValidateTopology(const DualGraphView& graph, const ParallelFor& parallelFor
 }
 
 /// The factors that make E a discretisation of an energy over the surface (see the header):
-/// data cost times area / mean area, pair weight times edge length * faceCount / sqrt(total
+/// data cost times area / mean area, pair weight times edge length * FaceCount / sqrt(total
 /// area). Fallbacks for a surface of zero total area: data factor 1, pair factor edge length /
 /// mean edge length (1 when that is 0 too).
 struct GeometricWeights
@@ -133,16 +133,16 @@ struct GeometricWeights
 GeometricWeights ComputeGeometricWeights(const DualGraphView& graph, const PartitionEnergyOptions& options)
 {
   GeometricWeights weights;
-  if (!options.geometricWeights || graph.faceCount == 0)
+  if (!options.GeometricWeights || graph.FaceCount == 0)
   {
     return weights;
   }
-  const double totalArea = std::accumulate(graph.faceArea, graph.faceArea + graph.faceCount, 0.0);
-  const auto faceCount = static_cast<double>(graph.faceCount);
+  const double totalArea = std::accumulate(graph.FaceArea, graph.FaceArea + graph.FaceCount, 0.0);
+  const auto faceCount = static_cast<double>(graph.FaceCount);
   if (totalArea > 0.0 && std::isfinite(totalArea))
   {
     const double meanArea = totalArea / faceCount;
-    weights.face.assign(graph.faceArea, graph.faceArea + graph.faceCount);
+    weights.face.assign(graph.FaceArea, graph.FaceArea + graph.FaceCount);
     for (double& w : weights.face)
     {
       w /= meanArea;
@@ -152,13 +152,13 @@ GeometricWeights ComputeGeometricWeights(const DualGraphView& graph, const Parti
   }
   double sum = 0.0;
   std::size_t count = 0;
-  for (std::size_t f = 0; f < graph.faceCount; ++f)
+  for (std::size_t f = 0; f < graph.FaceCount; ++f)
   {
-    for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+    for (std::int64_t e = graph.Offsets[f]; e < graph.Offsets[f + 1]; ++e)
     {
-      if (graph.neighbours[e] > static_cast<std::int64_t>(f))
+      if (graph.Neighbors[e] > static_cast<std::int64_t>(f))
       {
-        sum += graph.edgeLength[e];
+        sum += graph.EdgeLength[e];
         ++count;
       }
     }
@@ -173,38 +173,38 @@ GeometricWeights ComputeGeometricWeights(const DualGraphView& graph, const Parti
 DualGraphView MakeDualGraphView(const FaceGraph& graph)
 {
   DualGraphView view;
-  view.offsets = graph.Offsets.data();
-  view.neighbours = graph.Neighbors.data();
-  view.normalAngle = graph.NormalAngles.data();
-  view.concave = graph.Concave.data();
-  view.edgeLength = graph.SharedEdgeLengths.data();
-  view.faceArea = graph.Areas.data();
-  view.faceCount = graph.FaceCount();
+  view.Offsets = graph.Offsets.data();
+  view.Neighbors = graph.Neighbors.data();
+  view.NormalAngle = graph.NormalAngles.data();
+  view.Concave = graph.Concave.data();
+  view.EdgeLength = graph.SharedEdgeLengths.data();
+  view.FaceArea = graph.Areas.data();
+  view.FaceCount = graph.FaceCount();
   return view;
 }
 
 double PartitionEnergy::Evaluate(const std::vector<int>& labels) const
 {
-  if (labels.size() != faceCount)
+  if (labels.size() != FaceCount)
   {
     throw PartitionEnergyError("partition energy: " + std::to_string(labels.size()) +
-      " labels for " + std::to_string(faceCount) + " faces");
+      " labels for " + std::to_string(FaceCount) + " faces");
   }
   double data = 0.0;
-  for (std::size_t f = 0; f < faceCount; ++f)
+  for (std::size_t f = 0; f < FaceCount; ++f)
   {
-    if (labels[f] < 0 || labels[f] >= labelCount)
+    if (labels[f] < 0 || labels[f] >= LabelCount)
     {
       throw PartitionEnergyError("partition energy: label out of range at face " + std::to_string(f));
     }
     data += DataCost(f, labels[f]);
   }
   double smoothness = 0.0;
-  for (std::size_t p = 0; p < pairWeight.size(); ++p)
+  for (std::size_t p = 0; p < PairWeight.size(); ++p)
   {
-    if (labels[static_cast<std::size_t>(pairFirst[p])] != labels[static_cast<std::size_t>(pairSecond[p])])
+    if (labels[static_cast<std::size_t>(PairFirst[p])] != labels[static_cast<std::size_t>(PairSecond[p])])
     {
-      smoothness += pairWeight[p];
+      smoothness += PairWeight[p];
     }
   }
   return data + smoothness;
@@ -213,22 +213,22 @@ double PartitionEnergy::Evaluate(const std::vector<int>& labels) const
 double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOptions& options)
 {
   const double angle = std::isfinite(normalAngle) ? std::clamp(normalAngle, 0.0, kPi) : 0.0;
-  const double scaled = concave ? angle : options.convexityFactor * angle;
-  return -std::log(std::max(scaled / kPi, options.minAngleRatio));
+  const double scaled = concave ? angle : options.ConvexityFactor * angle;
+  return -std::log(std::max(scaled / kPi, options.MinAngleRatio));
 }
 
 void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry, const ParallelFor& parallelFor)
 {
   ValidateTopology(graph, parallelFor);
-  if (requireGeometry && graph.faceCount > 0)
+  if (requireGeometry && graph.FaceCount > 0)
   {
-    if (graph.faceArea == nullptr)
+    if (graph.FaceArea == nullptr)
     {
       throw PartitionEnergyError("dual graph: face areas are missing (needed for geometric weights)");
     }
-    for (std::size_t f = 0; f < graph.faceCount; ++f)
+    for (std::size_t f = 0; f < graph.FaceCount; ++f)
     {
-      if (!InRange(graph.faceArea[f], 0.0, std::numeric_limits<double>::max()))
+      if (!InRange(graph.FaceArea[f], 0.0, std::numeric_limits<double>::max()))
       {
         throw PartitionEnergyError("dual graph: area of face " + std::to_string(f) + " is negative, NaN or infinite");
       }
@@ -239,21 +239,21 @@ void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry, const P
   {
     return;
   }
-  if (graph.normalAngle == nullptr || graph.concave == nullptr)
+  if (graph.NormalAngle == nullptr || graph.Concave == nullptr)
   {
     throw PartitionEnergyError("dual graph: normal angles or concave flags are missing");
   }
-  if (requireGeometry && graph.edgeLength == nullptr)
+  if (requireGeometry && graph.EdgeLength == nullptr)
   {
     throw PartitionEnergyError("dual graph: edge lengths are missing (needed for geometric weights)");
   }
   for (std::size_t e = 0; e < entryCount; ++e)
   {
-    if (!std::isfinite(graph.normalAngle[e]))
+    if (!std::isfinite(graph.NormalAngle[e]))
     {
       throw PartitionEnergyError("dual graph: normal angle " + std::to_string(e) + " is NaN or infinite");
     }
-    if (requireGeometry && !InRange(graph.edgeLength[e], 0.0, std::numeric_limits<double>::max()))
+    if (requireGeometry && !InRange(graph.EdgeLength[e], 0.0, std::numeric_limits<double>::max()))
     {
       throw PartitionEnergyError("dual graph: edge length " + std::to_string(e) + " is negative, NaN or infinite");
     }
@@ -266,10 +266,10 @@ namespace
 PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
   const DualGraphView& graph, const PartitionEnergyOptions& options, const ParallelFor& parallelFor)
 {
-  const std::size_t n = graph.faceCount;
+  const std::size_t n = graph.FaceCount;
   if (static_cast<std::size_t>(posteriors.rows()) != n || posteriors.cols() < 1)
   {
-    throw PartitionEnergyError("partition energy: posteriors must be faceCount x k with k >= 1");
+    throw PartitionEnergyError("partition energy: posteriors must be FaceCount x k with k >= 1");
   }
   if (!posteriors.allFinite())
   {
@@ -282,10 +282,10 @@ PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> po
     }
   }
   PartitionEnergy energy;
-  energy.faceCount = n;
-  energy.labelCount = static_cast<int>(posteriors.cols());
-  const auto k = static_cast<std::size_t>(energy.labelCount);
-  energy.dataCost.resize(n * k);
+  energy.FaceCount = n;
+  energy.LabelCount = static_cast<int>(posteriors.cols());
+  const auto k = static_cast<std::size_t>(energy.LabelCount);
+  energy.DataCosts.resize(n * k);
   const GeometricWeights weights = ComputeGeometricWeights(graph, options);
   // Pairs in the order of their lower face: each face writes its own data costs and pairs
   // (slots from a prefix sum), so the result does not depend on the thread split.
@@ -297,39 +297,39 @@ PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> po
       for (std::size_t l = 0; l < k; ++l)
       {
         const double p = posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l));
-        energy.dataCost[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.probabilityEpsilon);
+        energy.DataCosts[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.ProbabilityEpsilon);
       }
       std::size_t higher = 0;
-      for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+      for (std::int64_t e = graph.Offsets[f]; e < graph.Offsets[f + 1]; ++e)
       {
-        higher += graph.neighbours[e] > static_cast<std::int64_t>(f) ? 1 : 0;
+        higher += graph.Neighbors[e] > static_cast<std::int64_t>(f) ? 1 : 0;
       }
       pairStart[f + 1] = higher;
     }
   });
   std::partial_sum(pairStart.begin(), pairStart.end(), pairStart.begin());
-  energy.pairFirst.resize(pairStart[n]);
-  energy.pairSecond.resize(pairStart[n]);
-  energy.pairWeight.resize(pairStart[n]);
+  energy.PairFirst.resize(pairStart[n]);
+  energy.PairSecond.resize(pairStart[n]);
+  energy.PairWeight.resize(pairStart[n]);
   parallelFor(n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f)
     {
       std::size_t pair = pairStart[f];
-      for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+      for (std::int64_t e = graph.Offsets[f]; e < graph.Offsets[f + 1]; ++e)
       {
-        const std::int64_t g = graph.neighbours[e];
+        const std::int64_t g = graph.Neighbors[e];
         if (g <= static_cast<std::int64_t>(f))
         {
           continue;
         }
-        double weight = options.lambda * SmoothnessTerm(graph.normalAngle[e], graph.concave[e] != 0, options);
+        double weight = options.Lambda * SmoothnessTerm(graph.NormalAngle[e], graph.Concave[e] != 0, options);
         if (weights.perUnitLength > 0.0)
         {
-          weight *= graph.edgeLength[e] * weights.perUnitLength;
+          weight *= graph.EdgeLength[e] * weights.perUnitLength;
         }
-        energy.pairFirst[pair] = static_cast<std::int64_t>(f);
-        energy.pairSecond[pair] = g;
-        energy.pairWeight[pair] = weight;
+        energy.PairFirst[pair] = static_cast<std::int64_t>(f);
+        energy.PairSecond[pair] = g;
+        energy.PairWeight[pair] = weight;
         ++pair;
       }
     }
@@ -342,7 +342,7 @@ PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posterior
   const DualGraphView& graph, const PartitionEnergyOptions& options, const ParallelFor& parallelFor)
 {
   ValidateOptions(options);
-  ValidateDualGraph(graph, options.geometricWeights, parallelFor);
+  ValidateDualGraph(graph, options.GeometricWeights, parallelFor);
   return BuildCheckedPartitionEnergy(posteriors, graph, options, parallelFor);
 }
 
@@ -355,10 +355,10 @@ PartitionEnergy BuildPartitionEnergyOnValidGraph(Eigen::Ref<const PosteriorMatri
 
 std::vector<int> MostProbableLabels(const PartitionEnergy& energy)
 {
-  std::vector<int> labels(energy.faceCount, 0);
-  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  std::vector<int> labels(energy.FaceCount, 0);
+  for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
-    for (int l = 1; l < energy.labelCount; ++l)
+    for (int l = 1; l < energy.LabelCount; ++l)
     {
       if (energy.DataCost(f, l) < energy.DataCost(f, labels[f]))
       {
@@ -397,7 +397,7 @@ ConnectedSegments FindConnectedSegments(const DualGraphView& graph, const std::v
 ConnectedSegments FindConnectedSegmentsOnValidGraph(const DualGraphView& graph, const std::vector<int>& labels,
   const std::vector<double>& faceAreas)
 {
-  const std::size_t n = graph.faceCount;
+  const std::size_t n = graph.FaceCount;
   if (labels.size() != n || faceAreas.size() != n)
   {
     throw PartitionEnergyError("segments: labels and face areas need one value per face");
@@ -430,9 +430,9 @@ ConnectedSegments FindConnectedSegmentsOnValidGraph(const DualGraphView& graph, 
       const std::size_t f = stack.back();
       stack.pop_back();
       area[static_cast<std::size_t>(id)] += faceAreas[f];
-      for (std::int64_t e = graph.offsets[f]; e < graph.offsets[f + 1]; ++e)
+      for (std::int64_t e = graph.Offsets[f]; e < graph.Offsets[f + 1]; ++e)
       {
-        const auto g = static_cast<std::size_t>(graph.neighbours[e]);
+        const auto g = static_cast<std::size_t>(graph.Neighbors[e]);
         if (component[g] < 0 && labels[g] == labels[seed])
         {
           component[g] = id;
@@ -450,13 +450,13 @@ ConnectedSegments FindConnectedSegmentsOnValidGraph(const DualGraphView& graph, 
   for (std::size_t r = 0; r < order.size(); ++r)
   {
     rank[static_cast<std::size_t>(order[r])] = static_cast<int>(r);
-    result.area.push_back(area[static_cast<std::size_t>(order[r])]);
-    result.label.push_back(componentLabel[static_cast<std::size_t>(order[r])]);
+    result.Area.push_back(area[static_cast<std::size_t>(order[r])]);
+    result.Label.push_back(componentLabel[static_cast<std::size_t>(order[r])]);
   }
-  result.segment.resize(n);
+  result.Segment.resize(n);
   for (std::size_t f = 0; f < n; ++f)
   {
-    result.segment[f] = rank[static_cast<std::size_t>(component[f])];
+    result.Segment[f] = rank[static_cast<std::size_t>(component[f])];
   }
   return result;
 }

@@ -4,15 +4,15 @@
 // What it computes
 //   Section 4 of Shapira, Shamir & Cohen-Or 2008: the energy minimised by the k-way graph cut
 //     E(x) = sum_f w_f e1(f, x_f) + lambda sum_{f,g adjacent} w_fg e2(x_f, x_g)
-//     e1(f, l)   = -log(P(f | l) + epsilon)                     (data term, GMM posteriors)
-//     e2(f, g)   = -log(max(phi'/pi, minAngleRatio)) if x_f != x_g, 0 otherwise
+//     e1(f, l)   = -log(P(l | f) + epsilon)                     (data term: the posterior of label l given face f)
+//     e2(f, g)   = -log(max(phi'/pi, MinAngleRatio)) if x_f != x_g, 0 otherwise
 //   with phi in [0, pi] the angle between the two face normals (0 = flat, pi = folded back),
-//   phi' = phi on concave edges and phi' = convexityFactor * phi on convex edges. Cutting along
+//   phi' = phi on concave edges and phi' = ConvexityFactor * phi on convex edges. Cutting along
 //   a concave crease is cheap, along a flat or convex region expensive (the paper: "concavity
 //   as the positive dihedral angle ... normalized to [0, 1]"). Each unordered adjacent pair is
 //   counted once. The pairwise term depends on the labels only through x_f != x_g (a Potts
 //   model with one weight per edge), so every alpha-expansion move is submodular.
-//   Geometric weights (geometricWeights, default on): w_f = area_f / mean face area and
+//   Geometric weights (GeometricWeights, default on): w_f = area_f / mean face area and
 //   w_fg = shared edge length * F / sqrt(A), F faces of total area A. Then
 //     E / F = (1/A) integral of e1 dA  +  lambda (1/sqrt(A)) integral over the cuts of e2 ds,
 //   a property of the surface, not of its triangulation: the same lambda gives the same parts
@@ -31,25 +31,25 @@
 //   twice (two faces sharing two edges) counts twice.
 //
 // Parameters (PartitionEnergyOptions)
-//   lambda              0.03   [0, 1e3]   smoothness weight (paper's lambda; the paper gives no
+//   Lambda              0.03   [0, 1e3]   smoothness weight (paper's lambda; the paper gives no
 //                                         value). A cut of length sqrt(A) across a flat region
 //                                         costs 0.03 * 11.5 = 0.35 times the mean data cost of
 //                                         all faces; along a 90-degree concave crease 0.02.
 //                                         Chosen on the articulated test figure (Table 2 measure
 //                                         lowest at 0.02-0.03; at 0.08 a cluster vanishes in one
 //                                         pose) and checked on 8 meshes of 1k-208k faces.
-//   probabilityEpsilon  1e-8   [1e-300, 1] epsilon of e1: a zero posterior costs 18.4.
-//   convexityFactor     0.08   [0, 1]     phi scale on convex edges (convex creases are not
+//   ProbabilityEpsilon  1e-8   [1e-300, 1] epsilon of e1: a zero posterior costs 18.4.
+//   ConvexityFactor     0.08   [0, 1]     phi scale on convex edges (convex creases are not
 //                                         part boundaries; 1 = ignore convexity).
-//   minAngleRatio       1e-5   [1e-300, 1] floor of phi'/pi: a flat edge costs -log(1e-5) = 11.5,
+//   MinAngleRatio       1e-5   [1e-300, 1] floor of phi'/pi: a flat edge costs -log(1e-5) = 11.5,
 //                                         large but finite.
-//   geometricWeights    true              the weights w_f, w_fg above. Fallback when the total
+//   GeometricWeights    true              the weights w_f, w_fg above. Fallback when the total
 //                                         area is 0: w_f = 1, w_fg = edge length / mean edge
 //                                         length (1 when that is 0 too). Zero-area faces have
 //                                         no data cost: their neighbours decide their label.
 //
 // Degenerate cases and errors (PartitionEnergyError, one-line reason)
-//   - posteriors: must be faceCount x k, k >= 1, finite; values are clamped to [0, 1].
+//   - posteriors: must be FaceCount x k, k >= 1, finite; values are clamped to [0, 1].
 //   - graph: null arrays, offsets not starting at 0 or decreasing, neighbour out of range,
 //     a face listed as its own neighbour, asymmetric adjacency, NaN/Inf angle; with geometric
 //     weights also missing, negative or NaN/Inf edge lengths or face areas -> error. Angles
@@ -87,14 +87,14 @@ public:
 /// Face adjacency (dual graph) in CSR form; see the header for the conventions.
 struct DualGraphView
 {
-  const std::int64_t* offsets = nullptr;    ///< faceCount + 1 entries, offsets[0] = 0 (may be
-                                            ///< null when faceCount = 0)
-  const std::int64_t* neighbours = nullptr; ///< offsets[faceCount] entries
-  const double* normalAngle = nullptr;      ///< per entry, angle between normals in [0, pi]
-  const std::uint8_t* concave = nullptr;    ///< per entry, nonzero = concave edge
-  const double* edgeLength = nullptr;       ///< per entry; may be null without geometric weights
-  const double* faceArea = nullptr;         ///< per face; may be null without geometric weights
-  std::size_t faceCount = 0;
+  const std::int64_t* Offsets = nullptr;    ///< FaceCount + 1 entries, offsets[0] = 0 (may be
+                                            ///< null when FaceCount = 0)
+  const std::int64_t* Neighbors = nullptr; ///< offsets[FaceCount] entries
+  const double* NormalAngle = nullptr;      ///< per entry, angle between normals in [0, pi]
+  const std::uint8_t* Concave = nullptr;    ///< per entry, nonzero = concave edge
+  const double* EdgeLength = nullptr;       ///< per entry; may be null without geometric weights
+  const double* FaceArea = nullptr;         ///< per face; may be null without geometric weights
+  std::size_t FaceCount = 0;
 };
 
 /// The view of a FaceGraph (which must outlive it), with every array set.
@@ -102,31 +102,31 @@ DualGraphView MakeDualGraphView(const FaceGraph& graph);
 
 struct PartitionEnergyOptions
 {
-  double lambda = 0.03;
-  double probabilityEpsilon = 1e-8;
-  double convexityFactor = 0.08;
-  double minAngleRatio = 1e-5;
-  bool geometricWeights = true;
+  double Lambda = 0.03;
+  double ProbabilityEpsilon = 1e-8;
+  double ConvexityFactor = 0.08;
+  double MinAngleRatio = 1e-5;
+  bool GeometricWeights = true;
 };
 
 /// The energy of one problem: data costs and weighted pairs, ready for AlphaExpansion.
 struct PartitionEnergy
 {
-  std::size_t faceCount = 0;
-  int labelCount = 0;
-  /// e1(f, l) at [f * labelCount + l].
-  std::vector<double> dataCost;
+  std::size_t FaceCount = 0;
+  int LabelCount = 0;
+  /// e1(f, l) at [f * LabelCount + l].
+  std::vector<double> DataCosts;
   /// Adjacent pairs, first < second, and what the pair pays when its labels differ
   /// (lambda e2, times the length factor). All weights are finite and >= 0.
-  std::vector<std::int64_t> pairFirst;
-  std::vector<std::int64_t> pairSecond;
-  std::vector<double> pairWeight;
+  std::vector<std::int64_t> PairFirst;
+  std::vector<std::int64_t> PairSecond;
+  std::vector<double> PairWeight;
 
   double DataCost(std::size_t face, int label) const
   {
-    return dataCost[face * static_cast<std::size_t>(labelCount) + static_cast<std::size_t>(label)];
+    return DataCosts[face * static_cast<std::size_t>(LabelCount) + static_cast<std::size_t>(label)];
   }
-  /// E(labels). Throws PartitionEnergyError on a wrong size or a label outside [0, labelCount).
+  /// E(labels). Throws PartitionEnergyError on a wrong size or a label outside [0, LabelCount).
   double Evaluate(const std::vector<int>& labels) const;
 };
 
@@ -140,13 +140,13 @@ double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOpt
 /// whatever the thread split.
 void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry, const ParallelFor& parallelFor = SerialFor);
 
-/// Builds E from the GMM posteriors (faceCount x k) and the adjacency. Pairs are listed in the
+/// Builds E from the GMM posteriors (FaceCount x k) and the adjacency. Pairs are listed in the
 /// order of their lower face, then of its adjacency; the result is the same for any parallelFor.
 PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
   const DualGraphView& graph, const PartitionEnergyOptions& options = {}, const ParallelFor& parallelFor = SerialFor);
 
 /// BuildPartitionEnergy on a graph that has passed ValidateDualGraph(graph,
-/// options.geometricWeights): the same result without checking the graph again (PartitionBySDF
+/// options.GeometricWeights): the same result without checking the graph again (PartitionBySDF
 /// validates it once for the energy and the segments).
 PartitionEnergy BuildPartitionEnergyOnValidGraph(Eigen::Ref<const PosteriorMatrix> posteriors,
   const DualGraphView& graph, const PartitionEnergyOptions& options = {}, const ParallelFor& parallelFor = SerialFor);
@@ -160,10 +160,10 @@ std::vector<int> HierarchyLevel(const std::vector<int>& clusters, int level);
 
 struct ConnectedSegments
 {
-  std::vector<int> segment;       ///< per face, 0 = the segment of largest total area
-  std::vector<double> area;       ///< per segment, total face area (non-increasing)
-  std::vector<int> label;         ///< per segment, the label of its faces
-  int SegmentCount() const { return static_cast<int>(area.size()); }
+  std::vector<int> Segment;       ///< per face, 0 = the segment of largest total area
+  std::vector<double> Area;       ///< per segment, total face area (non-increasing)
+  std::vector<int> Label;         ///< per segment, the label of its faces
+  int SegmentCount() const { return static_cast<int>(Area.size()); }
 };
 
 /// Connected components of equal label over the adjacency, numbered by decreasing total area

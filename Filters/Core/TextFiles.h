@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
+#include <algorithm>
 #include <string>
 
 namespace shapediameter
@@ -23,6 +24,35 @@ inline std::string LineMessage(std::int64_t line, const std::string& reason, con
     message += "line " + std::to_string(line) + ": ";
   }
   return message + reason;
+}
+
+/// Text of [begin, end) as it can be shown in a one-line message: bytes outside printable
+/// ASCII as \xNN, at most 32 bytes shown and then "...", so that binary input cannot garble
+/// a terminal or a log.
+inline std::string PrintableText(const char* begin, const char* end)
+{
+  constexpr std::size_t limit = 32;
+  std::string out;
+  const auto size = static_cast<std::size_t>(end - begin);
+  for (std::size_t i = 0; i < std::min(size, limit); ++i)
+  {
+    const auto c = static_cast<unsigned char>(begin[i]);
+    if (c >= 0x20 && c < 0x7f)
+    {
+      out += static_cast<char>(c);
+    }
+    else
+    {
+      char escaped[8];
+      std::snprintf(escaped, sizeof(escaped), "\\x%02x", c);
+      out += escaped;
+    }
+  }
+  if (size > limit)
+  {
+    out += "...";
+  }
+  return out;
 }
 
 enum class FileReadFailure

@@ -70,17 +70,17 @@ RecordedExpansionRun RecordRun(const std::string& name)
 {
   const OFFMesh mesh = ReadOFFFile(std::string(SHAPEDIAMETER_DATA_DIR) + "/" + name + ".off");
   const auto faces = static_cast<Eigen::Index>(mesh.FaceCount());
-  const Eigen::Map<const PointMatrix> points(mesh.points.data(), static_cast<Eigen::Index>(mesh.VertexCount()), 3);
+  const Eigen::Map<const PointMatrix> points(mesh.Points.data(), static_cast<Eigen::Index>(mesh.VertexCount()), 3);
   TriangleMatrix triangles(faces, 3);
   for (Eigen::Index f = 0; f < faces; ++f)
   {
-    if (mesh.faceOffsets[static_cast<std::size_t>(f) + 1] - mesh.faceOffsets[static_cast<std::size_t>(f)] != 3)
+    if (mesh.FaceOffsets[static_cast<std::size_t>(f) + 1] - mesh.FaceOffsets[static_cast<std::size_t>(f)] != 3)
     {
       throw std::runtime_error(name + ": not a triangle mesh");
     }
     for (int c = 0; c < 3; ++c)
     {
-      triangles(f, c) = mesh.faceConnectivity[static_cast<std::size_t>(mesh.faceOffsets[static_cast<std::size_t>(f)]) + static_cast<std::size_t>(c)];
+      triangles(f, c) = mesh.FaceConnectivity[static_cast<std::size_t>(mesh.FaceOffsets[static_cast<std::size_t>(f)]) + static_cast<std::size_t>(c)];
     }
   }
   const ParallelFor parallelFor = ThreadedFor(2);
@@ -93,9 +93,9 @@ RecordedExpansionRun RecordRun(const std::string& name)
   const PartitionEnergy energy = BuildPartitionEnergy(ComputePosteriors(model, values), MakeDualGraphView(graph));
 
   RecordedExpansionRun run;
-  run.nodeCount = energy.faceCount;
-  run.pairFirst = energy.pairFirst;
-  run.pairSecond = energy.pairSecond;
+  run.nodeCount = energy.FaceCount;
+  run.pairFirst = energy.PairFirst;
+  run.pairSecond = energy.PairSecond;
   AlphaExpansionOptions options;
   options.beforeEachCut = [&run](const MaxFlowGraph& cut) {
     run.arcCount = cut.ArcCount();

@@ -120,15 +120,7 @@ struct SyntheticPartitionProblem
 
   DualGraphView View() const
   {
-    DualGraphView view;
-    view.offsets = offsets.data();
-    view.neighbours = neighbours.data();
-    view.normalAngle = angle.data();
-    view.concave = concave.data();
-    view.edgeLength = length.data();
-    view.faceArea = area.data();
-    view.faceCount = faceCount;
-    return view;
+    return { offsets.data(), neighbours.data(), angle.data(), concave.data(), length.data(), area.data(), faceCount };
   }
 };
 
@@ -163,9 +155,9 @@ void BM_PartitionStep(benchmark::State& state)
     const PosteriorMatrix posteriors = ComputePosteriors(model, problem.values, parallelFor);
     const PartitionEnergy partitionEnergy = BuildPartitionEnergy(posteriors, problem.View());
     const AlphaExpansionResult result = MinimizeByAlphaExpansion(partitionEnergy);
-    energy = result.energy;
-    moves = result.moves;
-    benchmark::DoNotOptimize(result.labels.data());
+    energy = result.Energy;
+    moves = result.Moves;
+    benchmark::DoNotOptimize(result.Labels.data());
   }
   state.counters["faces"] = static_cast<double>(problem.faceCount);
   state.counters["moves"] = moves;
@@ -177,15 +169,15 @@ void BM_GaussianMixtureFit(benchmark::State& state)
 {
   const SyntheticPartitionProblem& problem = Problem(static_cast<int>(state.range(0)));
   GaussianMixtureOptions options;
-  options.binCount = static_cast<int>(state.range(1));
+  options.BinCount = static_cast<int>(state.range(1));
   int iterations = 0;
   for (auto _ : state)
   {
     const GaussianMixtureModel model = FitGaussianMixture(problem.values, kClusters, options);
-    iterations = model.iterations;
-    benchmark::DoNotOptimize(model.means.data());
+    iterations = model.Iterations;
+    benchmark::DoNotOptimize(model.Means.data());
   }
-  state.counters["bins"] = static_cast<double>(options.binCount);
+  state.counters["bins"] = static_cast<double>(options.BinCount);
   state.counters["em_iterations"] = iterations;
 }
 
@@ -208,7 +200,7 @@ void BM_BuildEnergy(benchmark::State& state)
   for (auto _ : state)
   {
     const PartitionEnergy energy = BuildPartitionEnergy(posteriors, problem.View());
-    benchmark::DoNotOptimize(energy.dataCost.data());
+    benchmark::DoNotOptimize(energy.DataCosts.data());
   }
 }
 
@@ -223,10 +215,10 @@ void BM_AlphaExpansion(benchmark::State& state)
   for (auto _ : state)
   {
     const AlphaExpansionResult result = MinimizeByAlphaExpansion(energy);
-    moves = result.moves;
-    applied = result.appliedMoves;
-    reduction = result.initialEnergy - result.energy;
-    benchmark::DoNotOptimize(result.labels.data());
+    moves = result.Moves;
+    applied = result.AppliedMoves;
+    reduction = result.InitialEnergy - result.Energy;
+    benchmark::DoNotOptimize(result.Labels.data());
   }
   state.counters["moves"] = moves;
   state.counters["applied"] = applied;

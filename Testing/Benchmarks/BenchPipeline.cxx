@@ -817,7 +817,7 @@ void BM_PartitionBreakdown(benchmark::State& state, const std::string& path)
       // The filter's defaults are the core's (the density modes; see PartitionOptions).
       const PartitionResult result =
         PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues }, PartitionOptions(), parallelFor);
-      benchmark::DoNotOptimize(result.Segments.segment.data());
+      benchmark::DoNotOptimize(result.Segments.Segment.data());
       const PartitionTimings& t = result.Timings;
       laps.Record({ t.FaceGraphMs, t.ClusterModelMs, t.PosteriorsMs, t.EnergyMs, t.CutMs, t.SegmentsMs, t.HistogramMs });
       laps.Finish();

@@ -60,15 +60,7 @@ struct TestGraph
 
   DualGraphView View() const
   {
-    DualGraphView view;
-    view.offsets = offsets.data();
-    view.neighbours = neighbours.data();
-    view.normalAngle = angle.data();
-    view.concave = concave.data();
-    view.edgeLength = length.data();
-    view.faceArea = area.data();
-    view.faceCount = faceCount;
-    return view;
+    return { offsets.data(), neighbours.data(), angle.data(), concave.data(), length.data(), area.data(), faceCount };
   }
 };
 
@@ -76,11 +68,11 @@ struct TestGraph
 PartitionEnergy RandomEnergy(std::mt19937_64& generator, std::size_t faces, int labels)
 {
   PartitionEnergy energy;
-  energy.faceCount = faces;
-  energy.labelCount = labels;
+  energy.FaceCount = faces;
+  energy.LabelCount = labels;
   for (std::size_t i = 0; i < faces * static_cast<std::size_t>(labels); ++i)
   {
-    energy.dataCost.push_back(4.0 * Uniform(generator));
+    energy.DataCosts.push_back(4.0 * Uniform(generator));
   }
   for (std::size_t a = 0; a < faces; ++a)
   {
@@ -88,9 +80,9 @@ PartitionEnergy RandomEnergy(std::mt19937_64& generator, std::size_t faces, int 
     {
       if (Uniform(generator) < 0.4)
       {
-        energy.pairFirst.push_back(static_cast<std::int64_t>(a));
-        energy.pairSecond.push_back(static_cast<std::int64_t>(b));
-        energy.pairWeight.push_back(2.0 * Uniform(generator));
+        energy.PairFirst.push_back(static_cast<std::int64_t>(a));
+        energy.PairSecond.push_back(static_cast<std::int64_t>(b));
+        energy.PairWeight.push_back(2.0 * Uniform(generator));
       }
     }
   }
@@ -100,11 +92,11 @@ PartitionEnergy RandomEnergy(std::mt19937_64& generator, std::size_t faces, int 
 double SmoothnessOf(const PartitionEnergy& energy, const std::vector<int>& labels)
 {
   double sum = 0.0;
-  for (std::size_t p = 0; p < energy.pairWeight.size(); ++p)
+  for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
   {
-    if (labels[static_cast<std::size_t>(energy.pairFirst[p])] != labels[static_cast<std::size_t>(energy.pairSecond[p])])
+    if (labels[static_cast<std::size_t>(energy.PairFirst[p])] != labels[static_cast<std::size_t>(energy.PairSecond[p])])
     {
-      sum += energy.pairWeight[p];
+      sum += energy.PairWeight[p];
     }
   }
   return sum;
@@ -113,13 +105,13 @@ double SmoothnessOf(const PartitionEnergy& energy, const std::vector<int>& label
 /// Exhaustive minimum over all k^n labelings.
 std::vector<int> ExhaustiveMinimum(const PartitionEnergy& energy)
 {
-  const std::size_t n = energy.faceCount;
+  const std::size_t n = energy.FaceCount;
   std::vector<int> labels(n, 0), best(n, 0);
   double bestEnergy = energy.Evaluate(labels);
   while (true)
   {
     std::size_t digit = 0;
-    while (digit < n && ++labels[digit] == energy.labelCount)
+    while (digit < n && ++labels[digit] == energy.LabelCount)
     {
       labels[digit++] = 0;
     }
@@ -154,18 +146,18 @@ TEST(PartitionEnergy, BuildAndEvaluateHandComputedCase)
   PosteriorMatrix posteriors(3, 2);
   posteriors << 0.9, 0.1, 0.5, 0.5, 0.0, 1.0;
   PartitionEnergyOptions options;
-  options.lambda = 0.5;
+  options.Lambda = 0.5;
   const PartitionEnergy energy = BuildPartitionEnergy(posteriors, graph.View(), options);
-  ASSERT_EQ(energy.faceCount, 3u);
-  ASSERT_EQ(energy.labelCount, 2);
-  ASSERT_EQ(energy.pairWeight.size(), 2u);
+  ASSERT_EQ(energy.FaceCount, 3u);
+  ASSERT_EQ(energy.LabelCount, 2);
+  ASSERT_EQ(energy.PairWeight.size(), 2u);
   EXPECT_NEAR(energy.DataCost(0, 0), -std::log(0.9 + 1e-8), 1e-12);
   EXPECT_NEAR(energy.DataCost(2, 0), -std::log(1e-8), 1e-9);
   // Areas 1: data factors 1; pair factor = length * faceCount / sqrt(total area) = length * sqrt(3).
-  EXPECT_NEAR(energy.pairWeight[0], 0.5 * std::log(2.0) * 1.0 * std::sqrt(3.0), 1e-12);
-  EXPECT_NEAR(energy.pairWeight[1], 0.5 * -std::log(0.04) * 3.0 * std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(energy.PairWeight[0], 0.5 * std::log(2.0) * 1.0 * std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(energy.PairWeight[1], 0.5 * -std::log(0.04) * 3.0 * std::sqrt(3.0), 1e-12);
   const double expected = -std::log(0.9 + 1e-8) - std::log(0.5 + 1e-8) - std::log(1.0 + 1e-8) +
-    energy.pairWeight[1];
+    energy.PairWeight[1];
   EXPECT_NEAR(energy.Evaluate({ 0, 0, 1 }), expected, 1e-12);
   EXPECT_EQ(MostProbableLabels(energy), std::vector<int>({ 0, 0, 1 }));
 
@@ -175,18 +167,18 @@ TEST(PartitionEnergy, BuildAndEvaluateHandComputedCase)
   const PartitionEnergy weighted = BuildPartitionEnergy(posteriors, uneven.View(), options);
   EXPECT_NEAR(weighted.DataCost(0, 0), 0.5 * -std::log(0.9 + 1e-8), 1e-12);
   EXPECT_NEAR(weighted.DataCost(2, 0), 2.0 * -std::log(1e-8), 1e-9);
-  EXPECT_NEAR(weighted.pairWeight[0], 0.5 * std::log(2.0) * 1.0 * 3.0 / std::sqrt(6.0), 1e-12);
+  EXPECT_NEAR(weighted.PairWeight[0], 0.5 * std::log(2.0) * 1.0 * 3.0 / std::sqrt(6.0), 1e-12);
 
   // Zero total area: data factors 1, pair factors length / mean length (mean 2).
   TestGraph flat = graph;
   flat.area = { 0.0, 0.0, 0.0 };
   const PartitionEnergy fallback = BuildPartitionEnergy(posteriors, flat.View(), options);
   EXPECT_NEAR(fallback.DataCost(2, 0), -std::log(1e-8), 1e-9);
-  EXPECT_NEAR(fallback.pairWeight[1], 0.5 * -std::log(0.04) * 1.5, 1e-12);
+  EXPECT_NEAR(fallback.PairWeight[1], 0.5 * -std::log(0.04) * 1.5, 1e-12);
 
-  options.geometricWeights = false;
+  options.GeometricWeights = false;
   const PartitionEnergy unweighted = BuildPartitionEnergy(posteriors, graph.View(), options);
-  EXPECT_NEAR(unweighted.pairWeight[0], 0.5 * std::log(2.0), 1e-12);
+  EXPECT_NEAR(unweighted.PairWeight[0], 0.5 * std::log(2.0), 1e-12);
 
   EXPECT_THROW(energy.Evaluate({ 0, 0 }), PartitionEnergyError);
   EXPECT_THROW(energy.Evaluate({ 0, 2, 0 }), PartitionEnergyError);
@@ -216,14 +208,14 @@ TEST(PartitionEnergy, TheSameForAnyThreadSplit)
     posteriors.row(f) << a, b * (1 - a), (1 - b) * (1 - a);
   }
   const PartitionEnergy serial = BuildPartitionEnergy(posteriors, graph.View());
-  ASSERT_EQ(serial.pairWeight.size(), edges.size());
+  ASSERT_EQ(serial.PairWeight.size(), edges.size());
   for (const unsigned threads : { 2u, 3u, 7u })
   {
     const PartitionEnergy threaded = BuildPartitionEnergy(posteriors, graph.View(), {}, ThreadedFor(threads));
-    EXPECT_EQ(threaded.dataCost, serial.dataCost) << threads << " threads";
-    EXPECT_EQ(threaded.pairFirst, serial.pairFirst) << threads << " threads";
-    EXPECT_EQ(threaded.pairSecond, serial.pairSecond) << threads << " threads";
-    EXPECT_EQ(threaded.pairWeight, serial.pairWeight) << threads << " threads";
+    EXPECT_EQ(threaded.DataCosts, serial.DataCosts) << threads << " threads";
+    EXPECT_EQ(threaded.PairFirst, serial.PairFirst) << threads << " threads";
+    EXPECT_EQ(threaded.PairSecond, serial.PairSecond) << threads << " threads";
+    EXPECT_EQ(threaded.PairWeight, serial.PairWeight) << threads << " threads";
   }
   // A broken graph: the error names the same (lowest) failing face whatever the split.
   TestGraph broken = graph;
@@ -287,13 +279,13 @@ TEST(PartitionEnergy, BadGraphsAndPosteriorsThrow)
   nanArea.area[1] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(BuildPartitionEnergy(posteriors, nanArea.View()), PartitionEnergyError);
   DualGraphView noAreas = good.View();
-  noAreas.faceArea = nullptr;
+  noAreas.FaceArea = nullptr;
   EXPECT_THROW(BuildPartitionEnergy(posteriors, noAreas), PartitionEnergyError);
   DualGraphView noLengths = good.View();
-  noLengths.edgeLength = nullptr;
+  noLengths.EdgeLength = nullptr;
   EXPECT_THROW(BuildPartitionEnergy(posteriors, noLengths), PartitionEnergyError);
   PartitionEnergyOptions unweighted;
-  unweighted.geometricWeights = false;
+  unweighted.GeometricWeights = false;
   EXPECT_NO_THROW(BuildPartitionEnergy(posteriors, noLengths, unweighted));
   TestGraph decreasing = good;
   decreasing.offsets = { 0, 2, 1 };
@@ -306,7 +298,7 @@ TEST(PartitionEnergy, BadGraphsAndPosteriorsThrow)
   withNaN(1, 0) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(BuildPartitionEnergy(withNaN, good.View()), PartitionEnergyError);
   PartitionEnergyOptions badLambda;
-  badLambda.lambda = -1.0;
+  badLambda.Lambda = -1.0;
   EXPECT_THROW(BuildPartitionEnergy(posteriors, good.View(), badLambda), PartitionEnergyError);
 }
 
@@ -356,10 +348,10 @@ TEST(AlphaExpansion, TwoLabelsReachTheExhaustiveOptimum)
     const PartitionEnergy energy = RandomEnergy(generator, n, 2);
     const AlphaExpansionResult result = MinimizeByAlphaExpansion(energy);
     const double optimum = energy.Evaluate(ExhaustiveMinimum(energy));
-    ASSERT_TRUE(result.converged);
-    ASSERT_NEAR(result.energy, optimum, 1e-9) << "instance " << instance;
-    ASSERT_NEAR(result.energy, energy.Evaluate(result.labels), 1e-12);
-    ASSERT_LE(result.energy, energy.Evaluate(MostProbableLabels(energy)) + 1e-12);
+    ASSERT_TRUE(result.Converged);
+    ASSERT_NEAR(result.Energy, optimum, 1e-9) << "instance " << instance;
+    ASSERT_NEAR(result.Energy, energy.Evaluate(result.Labels), 1e-12);
+    ASSERT_LE(result.Energy, energy.Evaluate(MostProbableLabels(energy)) + 1e-12);
   }
 }
 
@@ -375,12 +367,12 @@ TEST(AlphaExpansion, ThreeLabelsStayWithinTheFactorTwoBound)
     const std::vector<int> optimal = ExhaustiveMinimum(energy);
     const double optimum = energy.Evaluate(optimal);
     const double smoothness = SmoothnessOf(energy, optimal);
-    ASSERT_TRUE(result.converged);
-    ASSERT_GE(result.energy, optimum - 1e-9);
+    ASSERT_TRUE(result.Converged);
+    ASSERT_GE(result.Energy, optimum - 1e-9);
     // Boykov-Veksler-Zabih: E(x) <= E_data(x*) + 2 E_smooth(x*) for a Potts local minimum.
-    ASSERT_LE(result.energy, optimum + smoothness + 1e-9) << "instance " << instance;
-    ASSERT_LE(result.energy, 2.0 * optimum + 1e-9);
-    exact += std::abs(result.energy - optimum) < 1e-9 ? 1 : 0;
+    ASSERT_LE(result.Energy, optimum + smoothness + 1e-9) << "instance " << instance;
+    ASSERT_LE(result.Energy, 2.0 * optimum + 1e-9);
+    exact += std::abs(result.Energy - optimum) < 1e-9 ? 1 : 0;
   }
   EXPECT_GT(exact, 150); // in practice nearly always optimal on such graphs
 }
@@ -397,15 +389,15 @@ TEST(AlphaExpansion, EnergyNeverIncreases)
       l = static_cast<int>(generator() % 4);
     }
     const AlphaExpansionResult result = MinimizeByAlphaExpansion(energy, start);
-    ASSERT_EQ(result.energyTrace.size(), static_cast<std::size_t>(result.moves));
-    double previous = result.initialEnergy;
-    for (double e : result.energyTrace)
+    ASSERT_EQ(result.EnergyTrace.size(), static_cast<std::size_t>(result.Moves));
+    double previous = result.InitialEnergy;
+    for (double e : result.EnergyTrace)
     {
       ASSERT_LE(e, previous);
       previous = e;
     }
-    ASSERT_EQ(result.energy, result.energyTrace.back());
-    ASSERT_NEAR(result.initialEnergy, energy.Evaluate(start), 1e-12);
+    ASSERT_EQ(result.Energy, result.EnergyTrace.back());
+    ASSERT_NEAR(result.InitialEnergy, energy.Evaluate(start), 1e-12);
   }
 }
 
@@ -433,9 +425,9 @@ TEST(AlphaExpansion, CutFollowsTheConcaveCrease)
     const AlphaExpansionResult result = MinimizeByAlphaExpansion(energy);
     for (int f = 0; f < 10; ++f)
     {
-      EXPECT_EQ(result.labels[static_cast<std::size_t>(f)], f <= crease ? 0 : 1) << "crease " << crease << " face " << f;
+      EXPECT_EQ(result.Labels[static_cast<std::size_t>(f)], f <= crease ? 0 : 1) << "crease " << crease << " face " << f;
     }
-    EXPECT_NEAR(result.energy, energy.Evaluate(ExhaustiveMinimum(energy)), 1e-9);
+    EXPECT_NEAR(result.Energy, energy.Evaluate(ExhaustiveMinimum(energy)), 1e-9);
   }
 }
 
@@ -483,15 +475,15 @@ TEST(AlphaExpansion, DenoisesAGridAndHandlesThreeLabels)
   ASSERT_GT(noisy, 400);
   const PartitionEnergy energy = BuildPartitionEnergy(posteriors, graph.View());
   const AlphaExpansionResult result = MinimizeByAlphaExpansion(energy);
-  EXPECT_TRUE(result.converged);
-  EXPECT_LT(result.energy, result.initialEnergy);
+  EXPECT_TRUE(result.Converged);
+  EXPECT_LT(result.Energy, result.InitialEnergy);
   int wrong = 0;
   for (std::size_t f = 0; f < n; ++f)
   {
-    wrong += result.labels[f] != truth[f] ? 1 : 0;
+    wrong += result.Labels[f] != truth[f] ? 1 : 0;
   }
   EXPECT_EQ(wrong, 0);
-  EXPECT_NEAR(result.energy, energy.Evaluate(truth), 1e-9);
+  EXPECT_NEAR(result.Energy, energy.Evaluate(truth), 1e-9);
 }
 
 TEST(AlphaExpansion, DegenerateInputsAndAbort)
@@ -499,46 +491,46 @@ TEST(AlphaExpansion, DegenerateInputsAndAbort)
   // An empty mesh may come with no arrays at all.
   const DualGraphView nothing;
   const PartitionEnergy emptyEnergy = BuildPartitionEnergy(PosteriorMatrix(0, 2), nothing);
-  EXPECT_EQ(emptyEnergy.faceCount, 0u);
-  EXPECT_TRUE(MinimizeByAlphaExpansion(emptyEnergy).labels.empty());
+  EXPECT_EQ(emptyEnergy.FaceCount, 0u);
+  EXPECT_TRUE(MinimizeByAlphaExpansion(emptyEnergy).Labels.empty());
   EXPECT_EQ(FindConnectedSegments(nothing, {}, {}).SegmentCount(), 0);
 
   PartitionEnergy empty;
-  empty.labelCount = 3;
+  empty.LabelCount = 3;
   const AlphaExpansionResult none = MinimizeByAlphaExpansion(empty);
-  EXPECT_TRUE(none.labels.empty());
-  EXPECT_EQ(none.energy, 0.0);
-  EXPECT_TRUE(none.converged);
+  EXPECT_TRUE(none.Labels.empty());
+  EXPECT_EQ(none.Energy, 0.0);
+  EXPECT_TRUE(none.Converged);
 
   std::mt19937_64 generator(9);
   PartitionEnergy single = RandomEnergy(generator, 5, 1);
   const AlphaExpansionResult one = MinimizeByAlphaExpansion(single);
-  EXPECT_EQ(one.labels, std::vector<int>(5, 0));
+  EXPECT_EQ(one.Labels, std::vector<int>(5, 0));
 
   // Isolated faces (no pairs): the data argmin is optimal.
   PartitionEnergy isolated = RandomEnergy(generator, 6, 3);
-  isolated.pairFirst.clear();
-  isolated.pairSecond.clear();
-  isolated.pairWeight.clear();
-  EXPECT_EQ(MinimizeByAlphaExpansion(isolated).labels, MostProbableLabels(isolated));
+  isolated.PairFirst.clear();
+  isolated.PairSecond.clear();
+  isolated.PairWeight.clear();
+  EXPECT_EQ(MinimizeByAlphaExpansion(isolated).Labels, MostProbableLabels(isolated));
 
   const PartitionEnergy energy = RandomEnergy(generator, 8, 3);
   EXPECT_THROW(MinimizeByAlphaExpansion(energy, std::vector<int>(7, 0)), PartitionEnergyError);
   EXPECT_THROW(MinimizeByAlphaExpansion(energy, std::vector<int>(8, 3)), PartitionEnergyError);
   EXPECT_THROW(OptimalExpansionMove(energy, std::vector<int>(8, 0), 3), PartitionEnergyError);
   PartitionEnergy badWeight = energy;
-  if (!badWeight.pairWeight.empty())
+  if (!badWeight.PairWeight.empty())
   {
-    badWeight.pairWeight[0] = std::numeric_limits<double>::quiet_NaN();
+    badWeight.PairWeight[0] = std::numeric_limits<double>::quiet_NaN();
     EXPECT_THROW(MinimizeByAlphaExpansion(badWeight), PartitionEnergyError);
   }
 
   int calls = 0;
   const AlphaExpansionResult aborted = MinimizeByAlphaExpansion(
     energy, std::vector<int>(8, 0), {}, [&calls](double) { return ++calls < 2; });
-  EXPECT_TRUE(aborted.aborted);
-  EXPECT_EQ(aborted.moves, 2);
-  EXPECT_NEAR(aborted.energy, energy.Evaluate(aborted.labels), 1e-12);
+  EXPECT_TRUE(aborted.Aborted);
+  EXPECT_EQ(aborted.Moves, 2);
+  EXPECT_NEAR(aborted.Energy, energy.Evaluate(aborted.Labels), 1e-12);
 }
 
 TEST(PartitionEnergy, HierarchyLevels)
@@ -562,9 +554,9 @@ TEST(PartitionEnergy, ConnectedSegmentsAreNumberedByArea)
   // Components: {0,1} area 2, {2,3} area 6, {4} 0.5, {5} 0.5, {6,7} area 2 (label 0 again,
   // but not connected to {0,1}). Ties keep the order of the lowest face.
   EXPECT_EQ(segments.SegmentCount(), 5);
-  EXPECT_EQ(segments.segment, std::vector<int>({ 1, 1, 0, 0, 3, 4, 2, 2 }));
-  EXPECT_EQ(segments.area, std::vector<double>({ 6, 2, 2, 0.5, 0.5 }));
-  EXPECT_EQ(segments.label, std::vector<int>({ 1, 0, 0, 0, 2 }));
+  EXPECT_EQ(segments.Segment, std::vector<int>({ 1, 1, 0, 0, 3, 4, 2, 2 }));
+  EXPECT_EQ(segments.Area, std::vector<double>({ 6, 2, 2, 0.5, 0.5 }));
+  EXPECT_EQ(segments.Label, std::vector<int>({ 1, 0, 0, 0, 2 }));
 
   EXPECT_THROW(FindConnectedSegments(graph.View(), { 0, 0 }, areas), PartitionEnergyError);
   std::vector<double> badAreas = areas;

@@ -48,19 +48,19 @@ TEST(DensityModes, FindsSeparatedModesWithTheirMomentsAndValleys)
   const auto result = FitDensityModes(View(values), View(weights));
   ASSERT_EQ(result.Model.ComponentCount(), 3);
   // Largest mean first, like the EM fit.
-  EXPECT_NEAR(result.Model.means[0], 0.85, 0.01);
-  EXPECT_NEAR(result.Model.means[1], 0.50, 0.01);
-  EXPECT_NEAR(result.Model.means[2], 0.15, 0.01);
-  EXPECT_NEAR(result.Model.weights[0], 0.2, 0.01);
-  EXPECT_NEAR(result.Model.weights[1], 0.5, 0.01);
-  EXPECT_NEAR(result.Model.sigmas[1], 0.05, 0.005);
+  EXPECT_NEAR(result.Model.Means[0], 0.85, 0.01);
+  EXPECT_NEAR(result.Model.Means[1], 0.50, 0.01);
+  EXPECT_NEAR(result.Model.Means[2], 0.15, 0.01);
+  EXPECT_NEAR(result.Model.Weights[0], 0.2, 0.01);
+  EXPECT_NEAR(result.Model.Weights[1], 0.5, 0.01);
+  EXPECT_NEAR(result.Model.Sigmas[1], 0.05, 0.005);
   ASSERT_EQ(result.Valleys.size(), 2u);
   EXPECT_GT(result.Valleys[0], 0.25);
   EXPECT_LT(result.Valleys[0], 0.38);
   EXPECT_GT(result.Valleys[1], 0.62);
   EXPECT_LT(result.Valleys[1], 0.76);
   EXPECT_DOUBLE_EQ(result.Prominences[1], 1.0) << "the highest peak";
-  EXPECT_TRUE(std::isfinite(result.Model.logLikelihood));
+  EXPECT_TRUE(std::isfinite(result.Model.LogLikelihood));
 }
 
 TEST(DensityModes, WeightsDecideTheModesNotTheCounts)
@@ -72,7 +72,7 @@ TEST(DensityModes, WeightsDecideTheModesNotTheCounts)
   std::fill(weights.begin() + 9000, weights.end(), 1.0);
   const auto result = FitDensityModes(View(values), View(weights));
   ASSERT_EQ(result.Model.ComponentCount(), 2);
-  EXPECT_NEAR(result.Model.weights[0], 1000.0 / 1090.0, 1e-9);
+  EXPECT_NEAR(result.Model.Weights[0], 1000.0 / 1090.0, 1e-9);
   EXPECT_NEAR(result.Prominences[1], 1.0, 1e-12) << "the heavy mode is the highest";
 }
 
@@ -131,8 +131,8 @@ TEST(DensityModes, DegenerateAndBadInput)
   const std::vector<double> constant(10, 0.3), ones(10, 1.0), zeros(10, 0.0);
   const auto single = FitDensityModes(View(constant), View(ones));
   ASSERT_EQ(single.Model.ComponentCount(), 1);
-  EXPECT_EQ(single.Model.means[0], 0.3);
-  EXPECT_GT(single.Model.sigmas[0], 0.0);
+  EXPECT_EQ(single.Model.Means[0], 0.3);
+  EXPECT_GT(single.Model.Sigmas[0], 0.0);
   // All weights zero: every value counts once.
   const std::vector<double> two = Mixture({ 0.2, 0.8 }, { 0.02, 0.02 }, { 500, 500 });
   const std::vector<double> twoZeros(two.size(), 0.0);

@@ -56,39 +56,39 @@ TEST(GaussianMixture, RecoversThreeComponentsSortedByMeanDescending)
   const Eigen::VectorXd values = SampleMixture(kThreeModes, 30000, 7);
   const GaussianMixtureModel model = FitGaussianMixture(values, 3);
   ASSERT_EQ(model.ComponentCount(), 3);
-  EXPECT_TRUE(model.converged);
+  EXPECT_TRUE(model.Converged);
   const int truthOrder[3] = { 2, 1, 0 }; // descending means
   for (int m = 0; m < 3; ++m)
   {
     const Component& truth = kThreeModes[truthOrder[m]];
-    EXPECT_NEAR(model.means[m], truth.mean, 0.02 * truth.mean) << m;
-    EXPECT_NEAR(model.sigmas[m], truth.sigma, 0.06 * truth.sigma) << m;
-    EXPECT_NEAR(model.weights[m], truth.weight, 0.015) << m;
+    EXPECT_NEAR(model.Means[m], truth.mean, 0.02 * truth.mean) << m;
+    EXPECT_NEAR(model.Sigmas[m], truth.sigma, 0.06 * truth.sigma) << m;
+    EXPECT_NEAR(model.Weights[m], truth.weight, 0.015) << m;
   }
-  EXPECT_GT(model.means[0], model.means[1]);
-  EXPECT_GT(model.means[1], model.means[2]);
-  EXPECT_NEAR(model.weights[0] + model.weights[1] + model.weights[2], 1.0, 1e-12);
-  EXPECT_EQ(model.sampleCount, 30000u);
-  EXPECT_TRUE(std::isfinite(model.logLikelihood));
+  EXPECT_GT(model.Means[0], model.Means[1]);
+  EXPECT_GT(model.Means[1], model.Means[2]);
+  EXPECT_NEAR(model.Weights[0] + model.Weights[1] + model.Weights[2], 1.0, 1e-12);
+  EXPECT_EQ(model.SampleCount, 30000u);
+  EXPECT_TRUE(std::isfinite(model.LogLikelihood));
 }
 
 TEST(GaussianMixture, BinnedFitIsCloseToExactFit)
 {
   const Eigen::VectorXd values = SampleMixture(kThreeModes, 30000, 11);
   GaussianMixtureOptions exact;
-  exact.binCount = 0;
+  exact.BinCount = 0;
   const GaussianMixtureModel binned = FitGaussianMixture(values, 3);
   const GaussianMixtureModel reference = FitGaussianMixture(values, 3, exact);
   const double range = values.maxCoeff() - values.minCoeff();
   for (int m = 0; m < 3; ++m)
   {
-    EXPECT_NEAR(binned.means[m], reference.means[m], 1e-3 * range);
-    EXPECT_NEAR(binned.sigmas[m], reference.sigmas[m], 1e-3 * range);
-    EXPECT_NEAR(binned.weights[m], reference.weights[m], 1e-3);
+    EXPECT_NEAR(binned.Means[m], reference.Means[m], 1e-3 * range);
+    EXPECT_NEAR(binned.Sigmas[m], reference.Sigmas[m], 1e-3 * range);
+    EXPECT_NEAR(binned.Weights[m], reference.Weights[m], 1e-3);
   }
   // Binned log-likelihood is a lower bound, and tight.
-  EXPECT_LE(binned.logLikelihood, reference.logLikelihood + 1e-6 * std::abs(reference.logLikelihood));
-  EXPECT_NEAR(binned.logLikelihood, reference.logLikelihood, 1e-4 * std::abs(reference.logLikelihood));
+  EXPECT_LE(binned.LogLikelihood, reference.LogLikelihood + 1e-6 * std::abs(reference.LogLikelihood));
+  EXPECT_NEAR(binned.LogLikelihood, reference.LogLikelihood, 1e-4 * std::abs(reference.LogLikelihood));
 }
 
 TEST(GaussianMixture, IsDeterministicAndRestartsDoNotHurt)
@@ -96,16 +96,16 @@ TEST(GaussianMixture, IsDeterministicAndRestartsDoNotHurt)
   const Eigen::VectorXd values = SampleMixture(kThreeModes, 5000, 3);
   const GaussianMixtureModel a = FitGaussianMixture(values, 4);
   const GaussianMixtureModel b = FitGaussianMixture(values, 4);
-  EXPECT_EQ(a.means, b.means);
-  EXPECT_EQ(a.sigmas, b.sigmas);
-  EXPECT_EQ(a.weights, b.weights);
+  EXPECT_EQ(a.Means, b.Means);
+  EXPECT_EQ(a.Sigmas, b.Sigmas);
+  EXPECT_EQ(a.Weights, b.Weights);
   // Without screening every seeding runs to the end; seeding 0 is the same in both runs.
   GaussianMixtureOptions full;
-  full.screeningIterations = full.maxIterations;
+  full.ScreeningIterations = full.MaxIterations;
   GaussianMixtureOptions single = full;
-  single.restarts = 1;
-  EXPECT_GE(FitGaussianMixture(values, 4, full).logLikelihood,
-    FitGaussianMixture(values, 4, single).logLikelihood);
+  single.Restarts = 1;
+  EXPECT_GE(FitGaussianMixture(values, 4, full).LogLikelihood,
+    FitGaussianMixture(values, 4, single).LogLikelihood);
 }
 
 TEST(GaussianMixture, PosteriorRowsSumToOneAndThreadingIsBitIdentical)
@@ -144,10 +144,10 @@ TEST(GaussianMixture, ConstantDataGivesOneComponent)
   const Eigen::VectorXd values = Eigen::VectorXd::Constant(100, 0.37);
   const GaussianMixtureModel model = FitGaussianMixture(values, 4);
   ASSERT_EQ(model.ComponentCount(), 1);
-  EXPECT_EQ(model.means[0], 0.37);
-  EXPECT_GT(model.sigmas[0], 0.0);
-  EXPECT_EQ(model.weights[0], 1.0);
-  EXPECT_TRUE(std::isfinite(model.logLikelihood));
+  EXPECT_EQ(model.Means[0], 0.37);
+  EXPECT_GT(model.Sigmas[0], 0.0);
+  EXPECT_EQ(model.Weights[0], 1.0);
+  EXPECT_TRUE(std::isfinite(model.LogLikelihood));
   const PosteriorMatrix posteriors = ComputePosteriors(model, values);
   EXPECT_TRUE((posteriors.array() == 1.0).all());
 
@@ -165,14 +165,14 @@ TEST(GaussianMixture, MoreComponentsThanDistinctValuesAreReduced)
   for (int binCount : { 1024, 0 })
   {
     GaussianMixtureOptions options;
-    options.binCount = binCount;
+    options.BinCount = binCount;
     const GaussianMixtureModel model = FitGaussianMixture(values, 5, options);
     ASSERT_EQ(model.ComponentCount(), 2) << binCount;
-    EXPECT_NEAR(model.means[0], 0.9, 1e-12);
-    EXPECT_NEAR(model.means[1], 0.1, 1e-12);
-    EXPECT_NEAR(model.weights[0], 2.0 / 3.0, 1e-9);
+    EXPECT_NEAR(model.Means[0], 0.9, 1e-12);
+    EXPECT_NEAR(model.Means[1], 0.1, 1e-12);
+    EXPECT_NEAR(model.Weights[0], 2.0 / 3.0, 1e-9);
     // Each component sits on one value: its sigma is the floor, 1e-3 of the range.
-    EXPECT_NEAR(model.sigmas[0], 1e-3 * 0.8, 1e-12);
+    EXPECT_NEAR(model.Sigmas[0], 1e-3 * 0.8, 1e-12);
     const PosteriorMatrix posteriors = ComputePosteriors(model, values);
     EXPECT_TRUE(posteriors.allFinite());
     EXPECT_NEAR(posteriors(0, 1), 1.0, 1e-12);
@@ -185,11 +185,11 @@ TEST(GaussianMixture, SigmaNeverCollapsesBelowTheFloor)
   values.head(1000).setConstant(0.25); // a spike that attracts a component
   const GaussianMixtureModel model = FitGaussianMixture(values, 3);
   const double floor = 1e-3 * (values.maxCoeff() - values.minCoeff());
-  for (double sigma : model.sigmas)
+  for (double sigma : model.Sigmas)
   {
     EXPECT_GE(sigma, floor * (1.0 - 1e-12));
   }
-  EXPECT_TRUE(std::isfinite(model.logLikelihood));
+  EXPECT_TRUE(std::isfinite(model.LogLikelihood));
   EXPECT_TRUE(ComputePosteriors(model, values).allFinite());
 }
 
@@ -209,7 +209,7 @@ TEST(GaussianMixture, BadInputThrows)
   const Eigen::VectorXd fine = Eigen::VectorXd::LinSpaced(10, 0.0, 1.0);
   EXPECT_THROW(FitGaussianMixture(fine, 0), GaussianMixtureError);
   GaussianMixtureOptions badOptions;
-  badOptions.restarts = 0;
+  badOptions.Restarts = 0;
   EXPECT_THROW(FitGaussianMixture(fine, 2, badOptions), GaussianMixtureError);
   EXPECT_THROW(FitGaussianMixtureBic(fine, 3, 2), GaussianMixtureError);
   EXPECT_THROW(ComputePosteriors(GaussianMixtureModel{}, fine), GaussianMixtureError);
@@ -222,15 +222,15 @@ TEST(GaussianMixture, BicPicksTheNumberOfModes)
 {
   const Eigen::VectorXd three = SampleMixture(kThreeModes, 30000, 21);
   const GaussianMixtureBicResult threeFit = FitGaussianMixtureBic(three, 1, 8);
-  EXPECT_EQ(threeFit.model.ComponentCount(), 3);
-  EXPECT_EQ(threeFit.componentCounts.size(), 8u);
-  EXPECT_EQ(threeFit.bics.size(), 8u);
+  EXPECT_EQ(threeFit.Model.ComponentCount(), 3);
+  EXPECT_EQ(threeFit.ComponentCounts.size(), 8u);
+  EXPECT_EQ(threeFit.Bics.size(), 8u);
 
   const Eigen::VectorXd two = SampleMixture({ { 0.25, 0.05, 0.5 }, { 0.75, 0.05, 0.5 } }, 20000, 22);
-  EXPECT_EQ(FitGaussianMixtureBic(two).model.ComponentCount(), 2);
+  EXPECT_EQ(FitGaussianMixtureBic(two).Model.ComponentCount(), 2);
 
   const Eigen::VectorXd one = SampleMixture({ { 0.5, 0.1, 1.0 } }, 20000, 23);
-  EXPECT_EQ(FitGaussianMixtureBic(one, 1, 8).model.ComponentCount(), 1);
+  EXPECT_EQ(FitGaussianMixtureBic(one, 1, 8).Model.ComponentCount(), 1);
 
   // Two distinct values: larger k reduce to 2 and are not tried twice.
   Eigen::VectorXd twoValues(40);
@@ -239,8 +239,8 @@ TEST(GaussianMixture, BicPicksTheNumberOfModes)
     twoValues[i] = (i % 2) ? 0.2 : 0.6;
   }
   const GaussianMixtureBicResult reduced = FitGaussianMixtureBic(twoValues, 2, 8);
-  EXPECT_EQ(reduced.componentCounts, std::vector<int>({ 2 }));
-  EXPECT_EQ(reduced.model.ComponentCount(), 2);
+  EXPECT_EQ(reduced.ComponentCounts, std::vector<int>({ 2 }));
+  EXPECT_EQ(reduced.Model.ComponentCount(), 2);
 }
 
 } // namespace

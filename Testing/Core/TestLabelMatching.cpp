@@ -41,32 +41,32 @@ TEST(LabelMatching, HandComputedCase)
   const std::vector<int> first = { 0, 0, 0, 1, 1, 2 };
   const std::vector<int> second = { 1, 1, 0, 0, 0, 2 };
   const LabelMatchingResult result = CompareLabelings(first, second);
-  EXPECT_EQ(result.differentCount, 1u);
-  EXPECT_NEAR(result.percentDifferent, 100.0 / 6.0, 1e-12);
+  EXPECT_EQ(result.DifferentCount, 1u);
+  EXPECT_NEAR(result.PercentDifferent, 100.0 / 6.0, 1e-12);
   const std::vector<std::pair<int, int>> expected = { { 0, 1 }, { 1, 0 }, { 2, 2 } };
-  EXPECT_EQ(result.matching, expected);
+  EXPECT_EQ(result.Matching, expected);
 
   // Greedy would take (0,1)=3 then lose (1,0)... here the one-to-one optimum is not greedy:
   // overlaps (a0,b0) 3, (a0,b1) 2, (a1,b0) 2, (a1,b1) 0 -> best 2 + 2 = 4, not 3 + 0.
   const std::vector<int> a = { 0, 0, 0, 0, 0, 1, 1 };
   const std::vector<int> b = { 0, 0, 0, 1, 1, 0, 0 };
-  EXPECT_EQ(CompareLabelings(a, b).differentCount, 3u);
+  EXPECT_EQ(CompareLabelings(a, b).DifferentCount, 3u);
 }
 
 TEST(LabelMatching, IdenticalAndPermutedLabelingsAgreeCompletely)
 {
   std::mt19937_64 generator(3);
   const std::vector<int> labels = RandomLabels(generator, 1000, 6);
-  EXPECT_EQ(CompareLabelings(labels, labels).percentDifferent, 0.0);
+  EXPECT_EQ(CompareLabelings(labels, labels).PercentDifferent, 0.0);
   std::vector<int> permutation = { 3, 5, 0, 1, 4, 2 };
-  EXPECT_EQ(CompareLabelings(labels, Relabel(labels, permutation)).percentDifferent, 0.0);
+  EXPECT_EQ(CompareLabelings(labels, Relabel(labels, permutation)).PercentDifferent, 0.0);
   // Arbitrary label values (not 0..k-1) are fine too.
   std::vector<int> shifted = labels;
   for (int& l : shifted)
   {
     l = 100 - 7 * l;
   }
-  EXPECT_EQ(CompareLabelings(labels, shifted).differentCount, 0u);
+  EXPECT_EQ(CompareLabelings(labels, shifted).DifferentCount, 0u);
 }
 
 TEST(LabelMatching, InvariantUnderPermutationsAndSymmetric)
@@ -88,10 +88,10 @@ TEST(LabelMatching, InvariantUnderPermutationsAndSymmetric)
     std::iota(q.begin(), q.end(), 0);
     std::shuffle(p.begin(), p.end(), generator);
     std::shuffle(q.begin(), q.end(), generator);
-    const std::size_t reference = CompareLabelings(a, b).differentCount;
-    EXPECT_EQ(CompareLabelings(Relabel(a, p), b).differentCount, reference);
-    EXPECT_EQ(CompareLabelings(a, Relabel(b, q)).differentCount, reference);
-    EXPECT_EQ(CompareLabelings(b, a).differentCount, reference);
+    const std::size_t reference = CompareLabelings(a, b).DifferentCount;
+    EXPECT_EQ(CompareLabelings(Relabel(a, p), b).DifferentCount, reference);
+    EXPECT_EQ(CompareLabelings(a, Relabel(b, q)).DifferentCount, reference);
+    EXPECT_EQ(CompareLabelings(b, a).DifferentCount, reference);
     // Exhaustive check over all 5! matchings.
     std::vector<int> matching(5);
     std::iota(matching.begin(), matching.end(), 0);
@@ -111,14 +111,14 @@ TEST(LabelMatching, InvariantUnderPermutationsAndSymmetric)
 
 TEST(LabelMatching, DifferentLabelCounts)
 {
-  EXPECT_NEAR(CompareLabelings({ 0, 0, 1, 1 }, { 0, 0, 0, 0 }).percentDifferent, 50.0, 1e-12);
-  EXPECT_NEAR(CompareLabelings({ 0, 0, 0, 0 }, { 0, 1, 2, 3 }).percentDifferent, 75.0, 1e-12);
+  EXPECT_NEAR(CompareLabelings({ 0, 0, 1, 1 }, { 0, 0, 0, 0 }).PercentDifferent, 50.0, 1e-12);
+  EXPECT_NEAR(CompareLabelings({ 0, 0, 0, 0 }, { 0, 1, 2, 3 }).PercentDifferent, 75.0, 1e-12);
 }
 
 TEST(LabelMatching, DegenerateInputs)
 {
-  EXPECT_EQ(CompareLabelings({}, {}).percentDifferent, 0.0);
-  EXPECT_EQ(CompareLabelings({ 7 }, { 2 }).percentDifferent, 0.0);
+  EXPECT_EQ(CompareLabelings({}, {}).PercentDifferent, 0.0);
+  EXPECT_EQ(CompareLabelings({ 7 }, { 2 }).PercentDifferent, 0.0);
   EXPECT_THROW(CompareLabelings({ 0, 1 }, { 0 }), LabelMatchingError);
   std::vector<int> many(3000);
   std::iota(many.begin(), many.end(), 0);

@@ -55,45 +55,45 @@ TEST_P(MeshPiecesInEveryOrder, EveryFaceOnceWithItsVerticesAndAttributes)
     for (int piece = 0; piece < pieces; ++piece)
     {
       const MeshPiece part = ExtractFacePiece(whole, piece, pieces, GetParam());
-      ASSERT_EQ(part.globalFaceIds.size(), part.mesh.FaceCount());
-      ASSERT_EQ(part.globalPointIds.size(), part.mesh.VertexCount());
-      ASSERT_EQ(part.mesh.vertexNormals.size(), 3 * part.mesh.VertexCount());
-      ASSERT_EQ(part.mesh.vertexColors.size(), 4 * part.mesh.VertexCount());
-      ASSERT_EQ(part.mesh.faceColors.size(), 4 * part.mesh.FaceCount());
-      largest = std::max(largest, part.mesh.FaceCount());
-      smallest = std::min(smallest, part.mesh.FaceCount());
-      for (std::size_t v = 0; v < part.globalPointIds.size(); ++v)
+      ASSERT_EQ(part.GlobalFaceIds.size(), part.Mesh.FaceCount());
+      ASSERT_EQ(part.GlobalPointIds.size(), part.Mesh.VertexCount());
+      ASSERT_EQ(part.Mesh.VertexNormals.size(), 3 * part.Mesh.VertexCount());
+      ASSERT_EQ(part.Mesh.VertexColors.size(), 4 * part.Mesh.VertexCount());
+      ASSERT_EQ(part.Mesh.FaceColors.size(), 4 * part.Mesh.FaceCount());
+      largest = std::max(largest, part.Mesh.FaceCount());
+      smallest = std::min(smallest, part.Mesh.FaceCount());
+      for (std::size_t v = 0; v < part.GlobalPointIds.size(); ++v)
       {
-        const auto global = static_cast<std::size_t>(part.globalPointIds[v]);
+        const auto global = static_cast<std::size_t>(part.GlobalPointIds[v]);
         ++vertexSeen[global];
         if (v > 0)
         {
-          EXPECT_LT(part.globalPointIds[v - 1], part.globalPointIds[v]) << "vertices in file order";
+          EXPECT_LT(part.GlobalPointIds[v - 1], part.GlobalPointIds[v]) << "vertices in file order";
         }
         for (int c = 0; c < 3; ++c)
         {
-          EXPECT_EQ(part.mesh.points[3 * v + c], whole.points[3 * global + c]);
-          EXPECT_EQ(part.mesh.vertexNormals[3 * v + c], whole.vertexNormals[3 * global + c]);
+          EXPECT_EQ(part.Mesh.Points[3 * v + c], whole.Points[3 * global + c]);
+          EXPECT_EQ(part.Mesh.VertexNormals[3 * v + c], whole.VertexNormals[3 * global + c]);
         }
-        EXPECT_EQ(part.mesh.vertexColors[4 * v], whole.vertexColors[4 * global]);
+        EXPECT_EQ(part.Mesh.VertexColors[4 * v], whole.VertexColors[4 * global]);
       }
-      for (std::size_t f = 0; f < part.mesh.FaceCount(); ++f)
+      for (std::size_t f = 0; f < part.Mesh.FaceCount(); ++f)
       {
-        const auto global = static_cast<std::size_t>(part.globalFaceIds[f]);
+        const auto global = static_cast<std::size_t>(part.GlobalFaceIds[f]);
         ++faceSeen[global];
         if (f > 0)
         {
-          EXPECT_LT(part.globalFaceIds[f - 1], part.globalFaceIds[f]) << "faces in file order";
+          EXPECT_LT(part.GlobalFaceIds[f - 1], part.GlobalFaceIds[f]) << "faces in file order";
         }
-        ASSERT_EQ(part.mesh.faceOffsets[f + 1] - part.mesh.faceOffsets[f],
-          whole.faceOffsets[global + 1] - whole.faceOffsets[global]);
-        for (std::int64_t i = 0; i < part.mesh.faceOffsets[f + 1] - part.mesh.faceOffsets[f]; ++i)
+        ASSERT_EQ(part.Mesh.FaceOffsets[f + 1] - part.Mesh.FaceOffsets[f],
+          whole.FaceOffsets[global + 1] - whole.FaceOffsets[global]);
+        for (std::int64_t i = 0; i < part.Mesh.FaceOffsets[f + 1] - part.Mesh.FaceOffsets[f]; ++i)
         {
-          const auto local = static_cast<std::size_t>(part.mesh.faceConnectivity[part.mesh.faceOffsets[f] + i]);
-          ASSERT_LT(local, part.mesh.VertexCount());
-          EXPECT_EQ(part.globalPointIds[local], whole.faceConnectivity[whole.faceOffsets[global] + i]);
+          const auto local = static_cast<std::size_t>(part.Mesh.FaceConnectivity[part.Mesh.FaceOffsets[f] + i]);
+          ASSERT_LT(local, part.Mesh.VertexCount());
+          EXPECT_EQ(part.GlobalPointIds[local], whole.FaceConnectivity[whole.FaceOffsets[global] + i]);
         }
-        EXPECT_EQ(part.mesh.faceColors[4 * f], whole.faceColors[4 * global]);
+        EXPECT_EQ(part.Mesh.FaceColors[4 * f], whole.FaceColors[4 * global]);
       }
     }
     for (std::size_t f = 0; f < faceSeen.size(); ++f)
@@ -156,12 +156,12 @@ double MeanPieceBoxShare(const OFFMesh& whole, int pieces, PieceOrder order)
     const MeshPiece part = ExtractFacePiece(whole, piece, pieces, order);
     double low[2] = { 1e300, 1e300 };
     double high[2] = { -1e300, -1e300 };
-    for (std::size_t v = 0; v < part.mesh.VertexCount(); ++v)
+    for (std::size_t v = 0; v < part.Mesh.VertexCount(); ++v)
     {
       for (int axis = 0; axis < 2; ++axis)
       {
-        low[axis] = std::min(low[axis], part.mesh.points[3 * v + axis]);
-        high[axis] = std::max(high[axis], part.mesh.points[3 * v + axis]);
+        low[axis] = std::min(low[axis], part.Mesh.Points[3 * v + axis]);
+        high[axis] = std::max(high[axis], part.Mesh.Points[3 * v + axis]);
       }
     }
     sum += (high[0] - low[0]) * (high[1] - low[1]) / (32.0 * 32.0);
@@ -202,26 +202,26 @@ TEST(MeshPieces, UnusedVerticesGoToPieceZeroOnly)
   const auto unused = static_cast<std::int64_t>(whole.VertexCount() - 1);
   const MeshPiece first = ExtractFacePiece(whole, 0, 3);
   const MeshPiece last = ExtractFacePiece(whole, 2, 3);
-  EXPECT_EQ(first.globalPointIds.back(), unused);
-  EXPECT_NE(last.globalPointIds.back(), unused);
-  EXPECT_EQ(last.globalFaceIds, (std::vector<std::int64_t>{ 4, 5 }));
+  EXPECT_EQ(first.GlobalPointIds.back(), unused);
+  EXPECT_NE(last.GlobalPointIds.back(), unused);
+  EXPECT_EQ(last.GlobalFaceIds, (std::vector<std::int64_t>{ 4, 5 }));
   // Border vertices are shared: face 1 (piece 0) and face 2 (piece 1) both use vertices 2 and 3.
-  EXPECT_EQ(first.globalPointIds, (std::vector<std::int64_t>{ 0, 1, 2, 3, 8 }));
-  EXPECT_EQ(ExtractFacePiece(whole, 1, 3).globalPointIds, (std::vector<std::int64_t>{ 2, 3, 4, 5 }));
+  EXPECT_EQ(first.GlobalPointIds, (std::vector<std::int64_t>{ 0, 1, 2, 3, 8 }));
+  EXPECT_EQ(ExtractFacePiece(whole, 1, 3).GlobalPointIds, (std::vector<std::int64_t>{ 2, 3, 4, 5 }));
 }
 
 TEST(MeshPieces, MorePiecesThanFacesAndBadRequests)
 {
   const OFFMesh whole = Strip(2);
-  EXPECT_EQ(ExtractFacePiece(whole, 0, 5).mesh.FaceCount(), 0u);
-  EXPECT_EQ(ExtractFacePiece(whole, 0, 5).globalPointIds, (std::vector<std::int64_t>{ 4 })) << "the unused vertex";
-  EXPECT_EQ(ExtractFacePiece(whole, 4, 5).mesh.FaceCount(), 1u);
-  EXPECT_EQ(ExtractFacePiece(whole, 3, 5).mesh.VertexCount(), 0u);
+  EXPECT_EQ(ExtractFacePiece(whole, 0, 5).Mesh.FaceCount(), 0u);
+  EXPECT_EQ(ExtractFacePiece(whole, 0, 5).GlobalPointIds, (std::vector<std::int64_t>{ 4 })) << "the unused vertex";
+  EXPECT_EQ(ExtractFacePiece(whole, 4, 5).Mesh.FaceCount(), 1u);
+  EXPECT_EQ(ExtractFacePiece(whole, 3, 5).Mesh.VertexCount(), 0u);
   EXPECT_THROW(ExtractFacePiece(whole, 5, 5), std::invalid_argument);
   EXPECT_THROW(ExtractFacePiece(whole, -1, 2), std::invalid_argument);
   EXPECT_THROW(ExtractFacePiece(whole, 0, 0), std::invalid_argument);
   const OFFMesh empty = ParseOFF("OFF\n0 0 0\n", 10);
-  EXPECT_EQ(ExtractFacePiece(empty, 1, 2).mesh.FaceCount(), 0u);
+  EXPECT_EQ(ExtractFacePiece(empty, 1, 2).Mesh.FaceCount(), 0u);
 }
 
 } // namespace

@@ -31,9 +31,9 @@ PartitionEnergy NoisyBands(int side, double weight, std::vector<int>* bands = nu
   std::mt19937_64 generator(2008);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   PartitionEnergy energy;
-  energy.faceCount = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
-  energy.labelCount = 3;
-  energy.dataCost.resize(energy.faceCount * 3);
+  energy.FaceCount = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
+  energy.LabelCount = 3;
+  energy.DataCosts.resize(energy.FaceCount * 3);
   for (int y = 0; y < side; ++y)
   {
     for (int x = 0; x < side; ++x)
@@ -51,19 +51,19 @@ PartitionEnergy NoisyBands(int side, double weight, std::vector<int>* bands = nu
       const std::size_t f = static_cast<std::size_t>(y) * static_cast<std::size_t>(side) + static_cast<std::size_t>(x);
       for (int l = 0; l < 3; ++l)
       {
-        energy.dataCost[f * 3 + static_cast<std::size_t>(l)] = -std::log(l == truth ? 0.6 : 0.2);
+        energy.DataCosts[f * 3 + static_cast<std::size_t>(l)] = -std::log(l == truth ? 0.6 : 0.2);
       }
       if (x + 1 < side)
       {
-        energy.pairFirst.push_back(static_cast<std::int64_t>(f));
-        energy.pairSecond.push_back(static_cast<std::int64_t>(f + 1));
-        energy.pairWeight.push_back(weight);
+        energy.PairFirst.push_back(static_cast<std::int64_t>(f));
+        energy.PairSecond.push_back(static_cast<std::int64_t>(f + 1));
+        energy.PairWeight.push_back(weight);
       }
       if (y + 1 < side)
       {
-        energy.pairFirst.push_back(static_cast<std::int64_t>(f));
-        energy.pairSecond.push_back(static_cast<std::int64_t>(f) + side);
-        energy.pairWeight.push_back(weight);
+        energy.PairFirst.push_back(static_cast<std::int64_t>(f));
+        energy.PairSecond.push_back(static_cast<std::int64_t>(f) + side);
+        energy.PairWeight.push_back(weight);
       }
     }
   }
@@ -74,38 +74,38 @@ TEST(MultilevelCut, CloseToThePlainAlphaExpansion)
 {
   std::vector<int> bands;
   const PartitionEnergy energy = NoisyBands(120, 2.0, &bands);
-  ASSERT_EQ(bands.size(), energy.faceCount);
+  ASSERT_EQ(bands.size(), energy.FaceCount);
   const AlphaExpansionResult plain = MinimizeByAlphaExpansion(energy);
   MultilevelOptions coarsen;
-  coarsen.directBelowFaces = 500; // 14400 faces -> about 1800 clusters -> about 225: two levels
+  coarsen.DirectBelowFaces = 500; // 14400 faces -> about 1800 clusters -> about 225: two levels
   const AlphaExpansionResult multilevel = MinimizeMultilevel(energy, coarsen);
-  ASSERT_EQ(multilevel.labels.size(), energy.faceCount);
-  EXPECT_FALSE(multilevel.aborted);
-  EXPECT_NEAR(multilevel.energy, energy.Evaluate(multilevel.labels), 1e-9 * multilevel.energy);
-  EXPECT_LT(multilevel.energy, 0.7 * multilevel.initialEnergy) << "the smoothing did its work";
-  EXPECT_LE(multilevel.energy, 1.03 * plain.energy);
+  ASSERT_EQ(multilevel.Labels.size(), energy.FaceCount);
+  EXPECT_FALSE(multilevel.Aborted);
+  EXPECT_NEAR(multilevel.Energy, energy.Evaluate(multilevel.Labels), 1e-9 * multilevel.Energy);
+  EXPECT_LT(multilevel.Energy, 0.7 * multilevel.InitialEnergy) << "the smoothing did its work";
+  EXPECT_LE(multilevel.Energy, 1.03 * plain.Energy);
   std::size_t different = 0;
-  for (std::size_t f = 0; f < energy.faceCount; ++f)
+  for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
-    different += multilevel.labels[f] != plain.labels[f] ? 1 : 0;
+    different += multilevel.Labels[f] != plain.Labels[f] ? 1 : 0;
   }
-  std::printf("multilevel E %.1f vs plain %.1f (argmax %.1f); %.2f %% of the faces differ\n", multilevel.energy,
-    plain.energy, plain.initialEnergy, 100.0 * static_cast<double>(different) / static_cast<double>(energy.faceCount));
-  EXPECT_LT(different, energy.faceCount / 20);
+  std::printf("multilevel E %.1f vs plain %.1f (argmax %.1f); %.2f %% of the faces differ\n", multilevel.Energy,
+    plain.Energy, plain.InitialEnergy, 100.0 * static_cast<double>(different) / static_cast<double>(energy.FaceCount));
+  EXPECT_LT(different, energy.FaceCount / 20);
   // Against the ground truth: the bands before the noise (20 % of the faces carry a wrong
   // most probable label). Bound set from the first measurement (plain 0.45 %, multilevel
   // 0.35 %) with a 3x margin: the rest sits along the wavy borders, which the cut straightens.
   const auto wrongShare = [&](const std::vector<int>& labels) {
     std::size_t wrong = 0;
-    for (std::size_t f = 0; f < energy.faceCount; ++f)
+    for (std::size_t f = 0; f < energy.FaceCount; ++f)
     {
       wrong += labels[f] != bands[f] ? 1 : 0;
     }
-    return static_cast<double>(wrong) / static_cast<double>(energy.faceCount);
+    return static_cast<double>(wrong) / static_cast<double>(energy.FaceCount);
   };
   const double wrongInitially = wrongShare(shapediameter::MostProbableLabels(energy));
-  const double wrongPlain = wrongShare(plain.labels);
-  const double wrongMultilevel = wrongShare(multilevel.labels);
+  const double wrongPlain = wrongShare(plain.Labels);
+  const double wrongMultilevel = wrongShare(multilevel.Labels);
   std::printf("faces off the true bands: argmax %.2f %%, plain %.2f %%, multilevel %.2f %%\n", 100.0 * wrongInitially,
     100.0 * wrongPlain, 100.0 * wrongMultilevel);
   EXPECT_LT(wrongPlain, 0.015);
@@ -116,23 +116,23 @@ TEST(MultilevelCut, CloseToThePlainAlphaExpansion)
 TEST(MultilevelCut, SmallProblemsAreThePlainAlphaExpansion)
 {
   const PartitionEnergy energy = NoisyBands(40, 2.0);
-  EXPECT_EQ(MinimizeMultilevel(energy).labels, MinimizeByAlphaExpansion(energy).labels);
+  EXPECT_EQ(MinimizeMultilevel(energy).Labels, MinimizeByAlphaExpansion(energy).Labels);
   // No pairs at all (isolated faces): nothing to coarsen, the plain cut (per-face argmax).
   PartitionEnergy isolated = energy;
-  isolated.pairFirst.clear();
-  isolated.pairSecond.clear();
-  isolated.pairWeight.clear();
+  isolated.PairFirst.clear();
+  isolated.PairSecond.clear();
+  isolated.PairWeight.clear();
   MultilevelOptions coarsen;
-  coarsen.directBelowFaces = 100;
-  EXPECT_EQ(MinimizeMultilevel(isolated, coarsen).labels, MinimizeByAlphaExpansion(isolated).labels);
+  coarsen.DirectBelowFaces = 100;
+  EXPECT_EQ(MinimizeMultilevel(isolated, coarsen).Labels, MinimizeByAlphaExpansion(isolated).Labels);
   MultilevelOptions bad;
-  bad.clusterSize = 1;
+  bad.ClusterSize = 1;
   EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
   bad = MultilevelOptions();
-  bad.bandRings = 0;
+  bad.BandRings = 0;
   EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
   bad = MultilevelOptions();
-  bad.lostRegionFaces = 0;
+  bad.LostRegionFaces = 0;
   EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
 }
 
@@ -142,7 +142,7 @@ TEST(MultilevelCut, BandComponentsGiveTheSameCutOnAnyNumberOfThreads)
   // concurrently with threads; labels, energy and move counts must not depend on it.
   const PartitionEnergy energy = NoisyBands(120, 2.0);
   MultilevelOptions coarsen;
-  coarsen.directBelowFaces = 500;
+  coarsen.DirectBelowFaces = 500;
   const AlphaExpansionResult serial = MinimizeMultilevel(energy, coarsen);
   for (const unsigned threads : { 2u, 3u, 8u })
   {
@@ -155,10 +155,10 @@ TEST(MultilevelCut, BandComponentsGiveTheSameCutOnAnyNumberOfThreads)
         return true;
       },
       shapediameter::ThreadedFor(threads));
-    EXPECT_EQ(threaded.labels, serial.labels) << threads << " threads";
-    EXPECT_EQ(threaded.energy, serial.energy) << threads << " threads";
-    EXPECT_EQ(threaded.moves, serial.moves) << threads << " threads";
-    EXPECT_TRUE(threaded.converged);
+    EXPECT_EQ(threaded.Labels, serial.Labels) << threads << " threads";
+    EXPECT_EQ(threaded.Energy, serial.Energy) << threads << " threads";
+    EXPECT_EQ(threaded.Moves, serial.Moves) << threads << " threads";
+    EXPECT_TRUE(threaded.Converged);
     ASSERT_FALSE(reported.empty());
     EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end())) << "progress never goes backwards";
     EXPECT_EQ(reported.back(), 1.0);
@@ -166,19 +166,19 @@ TEST(MultilevelCut, BandComponentsGiveTheSameCutOnAnyNumberOfThreads)
   // An abort requested while the bands are being solved stops every band.
   const AlphaExpansionResult aborted = MinimizeMultilevel(
     energy, coarsen, {}, [](double fraction) { return fraction < 0.55; }, shapediameter::ThreadedFor(2));
-  EXPECT_TRUE(aborted.aborted);
-  EXPECT_EQ(aborted.labels.size(), energy.faceCount);
+  EXPECT_TRUE(aborted.Aborted);
+  EXPECT_EQ(aborted.Labels.size(), energy.FaceCount);
 }
 
 TEST(MultilevelCut, AbortIsReported)
 {
   const PartitionEnergy energy = NoisyBands(60, 2.0);
   MultilevelOptions coarsen;
-  coarsen.directBelowFaces = 100;
+  coarsen.DirectBelowFaces = 100;
   const AlphaExpansionResult result =
     MinimizeMultilevel(energy, coarsen, {}, [](double fraction) { return fraction < 0.25; });
-  EXPECT_TRUE(result.aborted);
-  EXPECT_EQ(result.labels.size(), energy.faceCount);
+  EXPECT_TRUE(result.Aborted);
+  EXPECT_EQ(result.Labels.size(), energy.FaceCount);
 }
 
 } // namespace

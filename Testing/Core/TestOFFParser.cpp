@@ -54,8 +54,8 @@ std::string ErrorOf(const std::string& text)
 
 std::vector<std::int64_t> FaceOf(const OFFMesh& mesh, std::size_t face)
 {
-  return { mesh.faceConnectivity.begin() + mesh.faceOffsets[face],
-    mesh.faceConnectivity.begin() + mesh.faceOffsets[face + 1] };
+  return { mesh.FaceConnectivity.begin() + mesh.FaceOffsets[face],
+    mesh.FaceConnectivity.begin() + mesh.FaceOffsets[face + 1] };
 }
 
 std::vector<std::uint8_t> Rgba(const std::vector<std::uint8_t>& colors, std::size_t element)
@@ -66,31 +66,31 @@ std::vector<std::uint8_t> Rgba(const std::vector<std::uint8_t>& colors, std::siz
 /// The invariants every successfully parsed mesh must satisfy.
 void ExpectValidMesh(const OFFMesh& mesh)
 {
-  ASSERT_EQ(mesh.points.size() % 3, 0u);
+  ASSERT_EQ(mesh.Points.size() % 3, 0u);
   const std::size_t vertexCount = mesh.VertexCount();
-  for (double value : mesh.points)
+  for (double value : mesh.Points)
   {
     ASSERT_TRUE(std::isfinite(value));
   }
-  ASSERT_TRUE(mesh.vertexNormals.empty() || mesh.vertexNormals.size() == 3 * vertexCount);
-  for (double value : mesh.vertexNormals)
+  ASSERT_TRUE(mesh.VertexNormals.empty() || mesh.VertexNormals.size() == 3 * vertexCount);
+  for (double value : mesh.VertexNormals)
   {
     ASSERT_TRUE(std::isfinite(value));
   }
-  ASSERT_TRUE(mesh.vertexColors.empty() || mesh.vertexColors.size() == 4 * vertexCount);
-  ASSERT_FALSE(mesh.faceOffsets.empty());
-  ASSERT_EQ(mesh.faceOffsets.front(), 0);
-  ASSERT_EQ(mesh.faceOffsets.back(), static_cast<std::int64_t>(mesh.faceConnectivity.size()));
-  for (std::size_t f = 0; f + 1 < mesh.faceOffsets.size(); ++f)
+  ASSERT_TRUE(mesh.VertexColors.empty() || mesh.VertexColors.size() == 4 * vertexCount);
+  ASSERT_FALSE(mesh.FaceOffsets.empty());
+  ASSERT_EQ(mesh.FaceOffsets.front(), 0);
+  ASSERT_EQ(mesh.FaceOffsets.back(), static_cast<std::int64_t>(mesh.FaceConnectivity.size()));
+  for (std::size_t f = 0; f + 1 < mesh.FaceOffsets.size(); ++f)
   {
-    ASSERT_GE(mesh.faceOffsets[f + 1] - mesh.faceOffsets[f], 3);
+    ASSERT_GE(mesh.FaceOffsets[f + 1] - mesh.FaceOffsets[f], 3);
   }
-  for (std::int64_t index : mesh.faceConnectivity)
+  for (std::int64_t index : mesh.FaceConnectivity)
   {
     ASSERT_GE(index, 0);
     ASSERT_LT(index, static_cast<std::int64_t>(vertexCount));
   }
-  ASSERT_TRUE(mesh.faceColors.empty() || mesh.faceColors.size() == 4 * mesh.FaceCount());
+  ASSERT_TRUE(mesh.FaceColors.empty() || mesh.FaceColors.size() == 4 * mesh.FaceCount());
 }
 
 const char* const kTetrahedron = "OFF\n"
@@ -112,21 +112,21 @@ TEST(TestOFFParser, PlainOFFTetrahedron)
   ExpectValidMesh(mesh);
   EXPECT_EQ(mesh.VertexCount(), 4u);
   EXPECT_EQ(mesh.FaceCount(), 4u);
-  EXPECT_EQ(mesh.points, (std::vector<double>{ 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1 }));
-  EXPECT_EQ(mesh.faceOffsets, (std::vector<std::int64_t>{ 0, 3, 6, 9, 12 }));
+  EXPECT_EQ(mesh.Points, (std::vector<double>{ 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1 }));
+  EXPECT_EQ(mesh.FaceOffsets, (std::vector<std::int64_t>{ 0, 3, 6, 9, 12 }));
   EXPECT_EQ(FaceOf(mesh, 3), (std::vector<std::int64_t>{ 1, 2, 3 }));
-  EXPECT_TRUE(mesh.vertexNormals.empty());
-  EXPECT_TRUE(mesh.vertexColors.empty());
-  EXPECT_TRUE(mesh.faceColors.empty());
+  EXPECT_TRUE(mesh.VertexNormals.empty());
+  EXPECT_TRUE(mesh.VertexColors.empty());
+  EXPECT_TRUE(mesh.FaceColors.empty());
 }
 
 TEST(TestOFFParser, CountsOnKeywordLineAndDecimalCoordinates)
 {
   const OFFMesh mesh = Parse("OFF 3 1 0\n-1.5 2.25e1 +3\n.5 -0.125 1E-3\n7 8 9\n3 0 1 2\n");
   ExpectValidMesh(mesh);
-  EXPECT_EQ(mesh.points,
+  EXPECT_EQ(mesh.Points,
     (std::vector<double>{ -1.5, 22.5, 3.0, 0.5, -0.125, 1e-3, 7, 8, 9 }));
-  EXPECT_EQ(mesh.faceConnectivity, (std::vector<std::int64_t>{ 0, 1, 2 }));
+  EXPECT_EQ(mesh.FaceConnectivity, (std::vector<std::int64_t>{ 0, 1, 2 }));
 }
 
 TEST(TestOFFParser, CommentsBlankLinesTabsAndCRLF)
@@ -147,8 +147,8 @@ TEST(TestOFFParser, CommentsBlankLinesTabsAndCRLF)
                            "# trailing comment\r\n";
   const OFFMesh mesh = Parse(text);
   ExpectValidMesh(mesh);
-  EXPECT_EQ(mesh.points, (std::vector<double>{ 0, 0, 0, 1, 0, 0, 0, 1, 0 }));
-  EXPECT_EQ(mesh.faceConnectivity, (std::vector<std::int64_t>{ 2, 1, 0 }));
+  EXPECT_EQ(mesh.Points, (std::vector<double>{ 0, 0, 0, 1, 0, 0, 0, 1, 0 }));
+  EXPECT_EQ(mesh.FaceConnectivity, (std::vector<std::int64_t>{ 2, 1, 0 }));
 }
 
 TEST(TestOFFParser, NoFinalNewline)
@@ -177,7 +177,7 @@ TEST(TestOFFParser, EmptyMeshWithZeroCounts)
   ExpectValidMesh(mesh);
   EXPECT_EQ(mesh.VertexCount(), 0u);
   EXPECT_EQ(mesh.FaceCount(), 0u);
-  EXPECT_EQ(mesh.faceOffsets, (std::vector<std::int64_t>{ 0 }));
+  EXPECT_EQ(mesh.FaceOffsets, (std::vector<std::int64_t>{ 0 }));
 }
 
 TEST(TestOFFParser, VerticesWithoutFaces)
@@ -196,7 +196,7 @@ TEST(TestOFFParser, NGonsKeepTheirSizes)
                              "5 1 2 3 4 6\n"
                              "6 0 1 2 3 6 5\n");
   ExpectValidMesh(mesh);
-  EXPECT_EQ(mesh.faceOffsets, (std::vector<std::int64_t>{ 0, 4, 9, 15 }));
+  EXPECT_EQ(mesh.FaceOffsets, (std::vector<std::int64_t>{ 0, 4, 9, 15 }));
   EXPECT_EQ(FaceOf(mesh, 1), (std::vector<std::int64_t>{ 1, 2, 3, 4, 6 }));
   EXPECT_EQ(FaceOf(mesh, 2), (std::vector<std::int64_t>{ 0, 1, 2, 3, 6, 5 }));
 }
@@ -211,23 +211,23 @@ TEST(TestOFFParser, COFFVertexColoursIntegerAndFloat)
                              "0 0 1 1 0 0.0\n"       // a float among them: floats
                              "4 0 1 2 3\n");
   ExpectValidMesh(mesh);
-  ASSERT_EQ(mesh.vertexColors.size(), 16u);
-  EXPECT_EQ(Rgba(mesh.vertexColors, 0), (std::vector<std::uint8_t>{ 255, 0, 0, 255 }));
-  EXPECT_EQ(Rgba(mesh.vertexColors, 1), (std::vector<std::uint8_t>{ 0, 128, 255, 255 }));
-  EXPECT_EQ(Rgba(mesh.vertexColors, 2), (std::vector<std::uint8_t>{ 128, 255, 0, 64 }));
-  EXPECT_EQ(Rgba(mesh.vertexColors, 3), (std::vector<std::uint8_t>{ 255, 0, 0, 255 }));
-  EXPECT_EQ(mesh.points[9], 0.0);
-  EXPECT_EQ(mesh.points[11], 1.0);
-  EXPECT_TRUE(mesh.vertexNormals.empty());
-  EXPECT_TRUE(mesh.faceColors.empty());
+  ASSERT_EQ(mesh.VertexColors.size(), 16u);
+  EXPECT_EQ(Rgba(mesh.VertexColors, 0), (std::vector<std::uint8_t>{ 255, 0, 0, 255 }));
+  EXPECT_EQ(Rgba(mesh.VertexColors, 1), (std::vector<std::uint8_t>{ 0, 128, 255, 255 }));
+  EXPECT_EQ(Rgba(mesh.VertexColors, 2), (std::vector<std::uint8_t>{ 128, 255, 0, 64 }));
+  EXPECT_EQ(Rgba(mesh.VertexColors, 3), (std::vector<std::uint8_t>{ 255, 0, 0, 255 }));
+  EXPECT_EQ(mesh.Points[9], 0.0);
+  EXPECT_EQ(mesh.Points[11], 1.0);
+  EXPECT_TRUE(mesh.VertexNormals.empty());
+  EXPECT_TRUE(mesh.FaceColors.empty());
 }
 
 TEST(TestOFFParser, ColoursAreClamped)
 {
   const OFFMesh mesh = Parse("COFF\n1 0 0\n0 0 0 300 -4 12 1000\n");
-  EXPECT_EQ(Rgba(mesh.vertexColors, 0), (std::vector<std::uint8_t>{ 255, 0, 12, 255 }));
+  EXPECT_EQ(Rgba(mesh.VertexColors, 0), (std::vector<std::uint8_t>{ 255, 0, 12, 255 }));
   const OFFMesh floats = Parse("COFF\n1 0 0\n0 0 0 1.5 -0.5 0.5\n");
-  EXPECT_EQ(Rgba(floats.vertexColors, 0), (std::vector<std::uint8_t>{ 255, 0, 128, 255 }));
+  EXPECT_EQ(Rgba(floats.VertexColors, 0), (std::vector<std::uint8_t>{ 255, 0, 128, 255 }));
 }
 
 TEST(TestOFFParser, NOFFNormals)
@@ -238,9 +238,9 @@ TEST(TestOFFParser, NOFFNormals)
                              "0 1 0 -1 0 0\n"
                              "3 0 1 2\n");
   ExpectValidMesh(mesh);
-  EXPECT_EQ(mesh.vertexNormals, (std::vector<double>{ 0, 0, 1, 0, 0.6, 0.8, -1, 0, 0 }));
-  EXPECT_EQ(mesh.points, (std::vector<double>{ 0, 0, 0, 1, 0, 0, 0, 1, 0 }));
-  EXPECT_TRUE(mesh.vertexColors.empty());
+  EXPECT_EQ(mesh.VertexNormals, (std::vector<double>{ 0, 0, 1, 0, 0.6, 0.8, -1, 0, 0 }));
+  EXPECT_EQ(mesh.Points, (std::vector<double>{ 0, 0, 0, 1, 0, 0, 0, 1, 0 }));
+  EXPECT_TRUE(mesh.VertexColors.empty());
 }
 
 TEST(TestOFFParser, CNOFFAndNCOFFReadNormalsBeforeColours)
@@ -254,10 +254,10 @@ TEST(TestOFFParser, CNOFFAndNCOFFReadNormalsBeforeColours)
       "0 1 0 1 0 0 0.0 1.0 0.0\n"
       "3 0 1 2\n");
     ExpectValidMesh(mesh);
-    EXPECT_EQ(mesh.vertexNormals, (std::vector<double>{ 0, 0, 1, 0, 1, 0, 1, 0, 0 })) << keyword;
-    EXPECT_EQ(Rgba(mesh.vertexColors, 0), (std::vector<std::uint8_t>{ 10, 20, 30, 255 }));
-    EXPECT_EQ(Rgba(mesh.vertexColors, 1), (std::vector<std::uint8_t>{ 40, 50, 60, 70 }));
-    EXPECT_EQ(Rgba(mesh.vertexColors, 2), (std::vector<std::uint8_t>{ 0, 255, 0, 255 }));
+    EXPECT_EQ(mesh.VertexNormals, (std::vector<double>{ 0, 0, 1, 0, 1, 0, 1, 0, 0 })) << keyword;
+    EXPECT_EQ(Rgba(mesh.VertexColors, 0), (std::vector<std::uint8_t>{ 10, 20, 30, 255 }));
+    EXPECT_EQ(Rgba(mesh.VertexColors, 1), (std::vector<std::uint8_t>{ 40, 50, 60, 70 }));
+    EXPECT_EQ(Rgba(mesh.VertexColors, 2), (std::vector<std::uint8_t>{ 0, 255, 0, 255 }));
   }
 }
 
@@ -265,8 +265,8 @@ TEST(TestOFFParser, STVariantsDropTextureCoordinates)
 {
   const OFFMesh plain = Parse("STOFF\n3 1 0\n0 0 0 0.1 0.2\n1 0 0 0.3 0.4\n0 1 0 0.5 0.6\n3 0 1 2\n");
   ExpectValidMesh(plain);
-  EXPECT_EQ(plain.points, (std::vector<double>{ 0, 0, 0, 1, 0, 0, 0, 1, 0 }));
-  EXPECT_TRUE(plain.vertexColors.empty());
+  EXPECT_EQ(plain.Points, (std::vector<double>{ 0, 0, 0, 1, 0, 0, 0, 1, 0 }));
+  EXPECT_TRUE(plain.VertexColors.empty());
 
   // Normals, then a 3- or 4-component colour, then s t.
   const OFFMesh all = Parse("STCNOFF\n3 1 0\n"
@@ -275,11 +275,11 @@ TEST(TestOFFParser, STVariantsDropTextureCoordinates)
                             "0 1 0 0 0 1 8 9 10 0.5 0.6\n"
                             "3 0 1 2\n");
   ExpectValidMesh(all);
-  EXPECT_EQ(all.points, (std::vector<double>{ 0, 0, 0, 1, 0, 0, 0, 1, 0 }));
-  EXPECT_EQ(all.vertexNormals.size(), 9u);
-  EXPECT_EQ(Rgba(all.vertexColors, 0), (std::vector<std::uint8_t>{ 1, 2, 3, 255 }));
-  EXPECT_EQ(Rgba(all.vertexColors, 1), (std::vector<std::uint8_t>{ 4, 5, 6, 7 }));
-  EXPECT_EQ(Rgba(all.vertexColors, 2), (std::vector<std::uint8_t>{ 8, 9, 10, 255 }));
+  EXPECT_EQ(all.Points, (std::vector<double>{ 0, 0, 0, 1, 0, 0, 0, 1, 0 }));
+  EXPECT_EQ(all.VertexNormals.size(), 9u);
+  EXPECT_EQ(Rgba(all.VertexColors, 0), (std::vector<std::uint8_t>{ 1, 2, 3, 255 }));
+  EXPECT_EQ(Rgba(all.VertexColors, 1), (std::vector<std::uint8_t>{ 4, 5, 6, 7 }));
+  EXPECT_EQ(Rgba(all.VertexColors, 2), (std::vector<std::uint8_t>{ 8, 9, 10, 255 }));
 }
 
 TEST(TestOFFParser, FaceColoursWithDefaultForUncolouredFaces)
@@ -290,19 +290,19 @@ TEST(TestOFFParser, FaceColoursWithDefaultForUncolouredFaces)
                              "3 0 3 2 0 0.5 1 0.5\n"      // float RGBA
                              "3 1 2 3 7\n");              // colour-map index: no colour
   ExpectValidMesh(mesh);
-  ASSERT_EQ(mesh.faceColors.size(), 16u);
+  ASSERT_EQ(mesh.FaceColors.size(), 16u);
   const std::vector<std::uint8_t> defaultColor(kOFFDefaultFaceColor.begin(), kOFFDefaultFaceColor.end());
-  EXPECT_EQ(Rgba(mesh.faceColors, 0), defaultColor);
-  EXPECT_EQ(Rgba(mesh.faceColors, 1), (std::vector<std::uint8_t>{ 255, 0, 0, 255 }));
-  EXPECT_EQ(Rgba(mesh.faceColors, 2), (std::vector<std::uint8_t>{ 0, 128, 255, 128 }));
-  EXPECT_EQ(Rgba(mesh.faceColors, 3), defaultColor);
+  EXPECT_EQ(Rgba(mesh.FaceColors, 0), defaultColor);
+  EXPECT_EQ(Rgba(mesh.FaceColors, 1), (std::vector<std::uint8_t>{ 255, 0, 0, 255 }));
+  EXPECT_EQ(Rgba(mesh.FaceColors, 2), (std::vector<std::uint8_t>{ 0, 128, 255, 128 }));
+  EXPECT_EQ(Rgba(mesh.FaceColors, 3), defaultColor);
   EXPECT_EQ(FaceOf(mesh, 3), (std::vector<std::int64_t>{ 1, 2, 3 }));
 }
 
 TEST(TestOFFParser, OnlyColourMapIndicesMeansNoFaceColours)
 {
   const OFFMesh mesh = Parse("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 4\n");
-  EXPECT_TRUE(mesh.faceColors.empty());
+  EXPECT_TRUE(mesh.FaceColors.empty());
 }
 
 TEST(TestOFFParser, ContentAfterDeclaredElementsIsIgnored)
@@ -595,9 +595,9 @@ TEST(TestOFFParser, CamelFromDataDirectory)
   ExpectValidMesh(mesh);
   EXPECT_EQ(mesh.VertexCount(), 9770u);
   EXPECT_EQ(mesh.FaceCount(), 19536u);
-  EXPECT_EQ(mesh.faceConnectivity.size(), 3u * 19536u);
-  EXPECT_DOUBLE_EQ(mesh.points[0], -0.0274279);
-  EXPECT_EQ(mesh.faceConnectivity.back(), 2045);
+  EXPECT_EQ(mesh.FaceConnectivity.size(), 3u * 19536u);
+  EXPECT_DOUBLE_EQ(mesh.Points[0], -0.0274279);
+  EXPECT_EQ(mesh.FaceConnectivity.back(), 2045);
 }
 
 TEST(TestOFFParser, CactusCOFFFromDataDirectory)
@@ -611,8 +611,8 @@ TEST(TestOFFParser, CactusCOFFFromDataDirectory)
   ExpectValidMesh(mesh);
   EXPECT_EQ(mesh.VertexCount(), 620u);
   EXPECT_EQ(mesh.FaceCount(), 1236u);
-  ASSERT_EQ(mesh.vertexColors.size(), 4u * 620u);
-  EXPECT_EQ(Rgba(mesh.vertexColors, 0), (std::vector<std::uint8_t>{ 192, 192, 192, 255 }));
+  ASSERT_EQ(mesh.VertexColors.size(), 4u * 620u);
+  EXPECT_EQ(Rgba(mesh.VertexColors, 0), (std::vector<std::uint8_t>{ 192, 192, 192, 255 }));
 }
 
 TEST(TestOFFParser, ArmadilloFromDataDirectory)

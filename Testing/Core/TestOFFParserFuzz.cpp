@@ -28,6 +28,7 @@
 // the address space is capped during the call so that even an untouched giant allocation
 // would fail), and without looping over the declared counts (the same CPU-time bound).
 #include "OFFParser.h"
+#include "OFFTestOracle.h"
 
 #include <gtest/gtest.h>
 
@@ -55,6 +56,9 @@ namespace
 using shapediameter::OFFMesh;
 using shapediameter::OFFParseError;
 using shapediameter::ParseOFF;
+using shapediameter::testing::MeshViolation;
+using shapediameter::testing::SameMesh;
+using shapediameter::testing::WriteOFF;
 
 /// Inputs per seed: a few seconds in the ASan/UBSan build (about 6000 inputs/s there).
 constexpr std::uint64_t kIterationsPerSeed = 5000;
@@ -464,119 +468,6 @@ std::string Escaped(const std::string& text, std::size_t limit = 600)
     out += "... (" + std::to_string(text.size()) + " bytes)";
   }
   return out;
-}
-
-/// Empty when the mesh satisfies every documented invariant, else the first violation.
-std::string MeshViolation(const OFFMesh& mesh, std::size_t inputSize)
-{
-  if (mesh.points.size() % 3 != 0)
-  {
-    return "points not a multiple of 3";
-  }
-  const std::size_t vertices = mesh.VertexCount();
-  for (const double x : mesh.points)
-  {
-    if (!std::isfinite(x))
-    {
-      return "non-finite coordinate";
-    }
-  }
-  if (!mesh.vertexNormals.empty() && mesh.vertexNormals.size() != 3 * vertices)
-  {
-    return "normals size";
-  }
-  for (const double x : mesh.vertexNormals)
-  {
-    if (!std::isfinite(x))
-    {
-      return "non-finite normal";
-    }
-  }
-  if (!mesh.vertexColors.empty() && mesh.vertexColors.size() != 4 * vertices)
-  {
-    return "vertex colours size";
-  }
-  if (mesh.faceOffsets.empty() || mesh.faceOffsets.front() != 0 ||
-    mesh.faceOffsets.back() != static_cast<std::int64_t>(mesh.faceConnectivity.size()))
-  {
-    return "face offsets do not frame the connectivity";
-  }
-  for (std::size_t f = 0; f + 1 < mesh.faceOffsets.size(); ++f)
-  {
-    if (mesh.faceOffsets[f + 1] - mesh.faceOffsets[f] < 3)
-    {
-      return "face " + std::to_string(f) + " has fewer than 3 vertices";
-    }
-  }
-  for (const std::int64_t index : mesh.faceConnectivity)
-  {
-    if (index < 0 || index >= static_cast<std::int64_t>(vertices))
-    {
-      return "index " + std::to_string(index) + " out of range";
-    }
-  }
-  if (!mesh.faceColors.empty() && mesh.faceColors.size() != 4 * mesh.FaceCount())
-  {
-    return "face colours size";
-  }
-  // "Never an allocation larger than a small multiple of the input size."
-  const std::size_t bytes = 8 * (mesh.points.size() + mesh.vertexNormals.size() + mesh.faceOffsets.size() +
-                                  mesh.faceConnectivity.size()) +
-    mesh.vertexColors.size() + mesh.faceColors.size();
-  if (bytes > 64 * inputSize + 64)
-  {
-    return "mesh of " + std::to_string(bytes) + " bytes from " + std::to_string(inputSize) + " input bytes";
-  }
-  return {};
-}
-
-/// The mesh as OFF text that must parse back to the same mesh: %.17g for doubles,
-/// colours as 0-255 integer literals (so they are not rescaled), four components.
-std::string WriteOFF(const OFFMesh& mesh)
-{
-  std::string text;
-  text += mesh.vertexColors.empty() ? "" : "C";
-  text += mesh.vertexNormals.empty() ? "" : "N";
-  text += "OFF\n" + std::to_string(mesh.VertexCount()) + " " + std::to_string(mesh.FaceCount()) + " 0\n";
-  char buffer[64];
-  for (std::size_t v = 0; v < mesh.VertexCount(); ++v)
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      std::snprintf(buffer, sizeof(buffer), "%.17g ", mesh.points[3 * v + static_cast<std::size_t>(k)]);
-      text += buffer;
-    }
-    for (std::size_t k = 0; k < 3 && !mesh.vertexNormals.empty(); ++k)
-    {
-      std::snprintf(buffer, sizeof(buffer), "%.17g ", mesh.vertexNormals[3 * v + k]);
-      text += buffer;
-    }
-    for (std::size_t k = 0; k < 4 && !mesh.vertexColors.empty(); ++k)
-    {
-      text += std::to_string(mesh.vertexColors[4 * v + k]) + " ";
-    }
-    text.back() = '\n';
-  }
-  for (std::size_t f = 0; f < mesh.FaceCount(); ++f)
-  {
-    text += std::to_string(mesh.faceOffsets[f + 1] - mesh.faceOffsets[f]);
-    for (auto i = mesh.faceOffsets[f]; i < mesh.faceOffsets[f + 1]; ++i)
-    {
-      text += " " + std::to_string(mesh.faceConnectivity[static_cast<std::size_t>(i)]);
-    }
-    for (std::size_t k = 0; k < 4 && !mesh.faceColors.empty(); ++k)
-    {
-      text += " " + std::to_string(mesh.faceColors[4 * f + k]);
-    }
-    text += "\n";
-  }
-  return text;
-}
-
-bool SameMesh(const OFFMesh& a, const OFFMesh& b)
-{
-  return a.points == b.points && a.vertexNormals == b.vertexNormals && a.vertexColors == b.vertexColors &&
-    a.faceOffsets == b.faceOffsets && a.faceConnectivity == b.faceConnectivity && a.faceColors == b.faceColors;
 }
 
 struct FuzzStatistics

@@ -66,7 +66,7 @@ StepByStep RunSteps(const TwoLevelCapsule& shape, const PartitionOptions& option
   const DualGraphView view = MakeDualGraphView(graph);
   const PartitionEnergy energy = BuildPartitionEnergy(steps.Posteriors, view, options.Energy, parallelFor);
   steps.Cut = MinimizeMultilevel(energy, options.Multilevel, options.AlphaExpansion, nullptr, parallelFor);
-  steps.Segments = FindConnectedSegments(view, steps.Cut.labels, graph.Areas, parallelFor);
+  steps.Segments = FindConnectedSegments(view, steps.Cut.Labels, graph.Areas, parallelFor);
   return steps;
 }
 
@@ -85,15 +85,15 @@ TEST(Partition, OneCallEqualsTheStepsOneByOne)
       const PartitionResult result =
         PartitionBySDF(shape.Mesh.Points, shape.Mesh.Triangles, shape.Values, options, parallelFor);
       ASSERT_FALSE(result.Aborted);
-      EXPECT_EQ(result.Model.means, steps.Model.means);
-      EXPECT_EQ(result.Model.sigmas, steps.Model.sigmas);
-      EXPECT_EQ(result.Model.weights, steps.Model.weights);
+      EXPECT_EQ(result.Model.Means, steps.Model.Means);
+      EXPECT_EQ(result.Model.Sigmas, steps.Model.Sigmas);
+      EXPECT_EQ(result.Model.Weights, steps.Model.Weights);
       EXPECT_TRUE(result.Probabilities == steps.Posteriors);
-      EXPECT_EQ(result.Labels, steps.Cut.labels);
-      EXPECT_EQ(result.Energy, steps.Cut.energy);
-      EXPECT_EQ(result.CutMoves, steps.Cut.moves);
-      EXPECT_EQ(result.Segments.segment, steps.Segments.segment);
-      EXPECT_EQ(result.Segments.area, steps.Segments.area);
+      EXPECT_EQ(result.Labels, steps.Cut.Labels);
+      EXPECT_EQ(result.Energy, steps.Cut.Energy);
+      EXPECT_EQ(result.CutMoves, steps.Cut.Moves);
+      EXPECT_EQ(result.Segments.Segment, steps.Segments.Segment);
+      EXPECT_EQ(result.Segments.Area, steps.Segments.Area);
       const int k = result.Model.ComponentCount();
       ASSERT_EQ(result.Levels.size(), static_cast<std::size_t>(k - 1));
       for (int level = 1; level < k; ++level)
@@ -112,16 +112,16 @@ TEST(Partition, AFamilyModelIsUsedAsIs)
 {
   const TwoLevelCapsule shape;
   GaussianMixtureModel family;
-  family.means = { 0.8, 0.5, 0.2 };
-  family.sigmas = { 0.05, 0.05, 0.05 };
-  family.weights = { 0.3, 0.4, 0.3 };
+  family.Means = { 0.8, 0.5, 0.2 };
+  family.Sigmas = { 0.05, 0.05, 0.05 };
+  family.Weights = { 0.3, 0.4, 0.3 };
   PartitionOptions options;
   options.NumberOfClusters = 2; // not read with a family model
   std::vector<std::int64_t> offsets, connectivity;
   TriangleFaces(shape.Mesh.Triangles, offsets, connectivity);
   const PartitionResult result =
     PartitionBySDF(PartitionInput{ shape.Mesh.Points, offsets, connectivity, shape.Values, &family }, options);
-  EXPECT_EQ(result.Model.means, family.means);
+  EXPECT_EQ(result.Model.Means, family.Means);
   EXPECT_EQ(result.Probabilities.cols(), 3);
   EXPECT_EQ(result.Levels.size(), 2U);
   EXPECT_EQ(result.Histogram.Components.size(), 3U);
@@ -145,7 +145,7 @@ TEST(Partition, HistogramCountsEveryValueAndEachCurveIntegratesToItsWeight)
     // The bins reach 4 sigma_max beyond the values: the tails outside hold < 1e-4.
     const double integral =
       std::accumulate(histogram.Components[c].begin(), histogram.Components[c].end(), 0.0) * width;
-    EXPECT_NEAR(integral, result.Model.weights[c], 1e-4) << "component " << c;
+    EXPECT_NEAR(integral, result.Model.Weights[c], 1e-4) << "component " << c;
   }
   for (std::size_t b = 0; b < histogram.Mixture.size(); ++b)
   {

@@ -142,29 +142,29 @@ double RectangleAverageRadius(double w, double h)
 
 void ExpectAllZero(const SegmentationComparison& r)
 {
-  EXPECT_EQ(r.cut.cutDiscrepancy, 0.0);
-  EXPECT_EQ(r.cut.directionalCutDiscrepancyAB, 0.0);
-  EXPECT_EQ(r.cut.directionalCutDiscrepancyBA, 0.0);
-  EXPECT_EQ(r.partition.missingRate, 0.0);
-  EXPECT_EQ(r.partition.falseAlarmRate, 0.0);
-  EXPECT_EQ(r.partition.hammingDistance, 0.0);
-  EXPECT_EQ(r.partition.randIndexError, 0.0);
-  EXPECT_EQ(r.partition.globalConsistencyError, 0.0);
-  EXPECT_EQ(r.partition.localConsistencyError, 0.0);
+  EXPECT_EQ(r.Cut.CutDiscrepancy, 0.0);
+  EXPECT_EQ(r.Cut.DirectionalCutDiscrepancyAB, 0.0);
+  EXPECT_EQ(r.Cut.DirectionalCutDiscrepancyBA, 0.0);
+  EXPECT_EQ(r.Partition.MissingRate, 0.0);
+  EXPECT_EQ(r.Partition.FalseAlarmRate, 0.0);
+  EXPECT_EQ(r.Partition.HammingDistance, 0.0);
+  EXPECT_EQ(r.Partition.RandIndexError, 0.0);
+  EXPECT_EQ(r.Partition.GlobalConsistencyError, 0.0);
+  EXPECT_EQ(r.Partition.LocalConsistencyError, 0.0);
 }
 
 void ExpectSame(const SegmentationComparison& x, const SegmentationComparison& y)
 {
-  EXPECT_EQ(x.cut.cutDiscrepancy, y.cut.cutDiscrepancy);
-  EXPECT_EQ(x.cut.directionalCutDiscrepancyAB, y.cut.directionalCutDiscrepancyAB);
-  EXPECT_EQ(x.cut.directionalCutDiscrepancyBA, y.cut.directionalCutDiscrepancyBA);
-  EXPECT_EQ(x.cut.cutDiscrepancyDefined, y.cut.cutDiscrepancyDefined);
-  EXPECT_EQ(x.partition.missingRate, y.partition.missingRate);
-  EXPECT_EQ(x.partition.falseAlarmRate, y.partition.falseAlarmRate);
-  EXPECT_EQ(x.partition.hammingDistance, y.partition.hammingDistance);
-  EXPECT_EQ(x.partition.randIndexError, y.partition.randIndexError);
-  EXPECT_EQ(x.partition.globalConsistencyError, y.partition.globalConsistencyError);
-  EXPECT_EQ(x.partition.localConsistencyError, y.partition.localConsistencyError);
+  EXPECT_EQ(x.Cut.CutDiscrepancy, y.Cut.CutDiscrepancy);
+  EXPECT_EQ(x.Cut.DirectionalCutDiscrepancyAB, y.Cut.DirectionalCutDiscrepancyAB);
+  EXPECT_EQ(x.Cut.DirectionalCutDiscrepancyBA, y.Cut.DirectionalCutDiscrepancyBA);
+  EXPECT_EQ(x.Cut.CutDiscrepancyDefined, y.Cut.CutDiscrepancyDefined);
+  EXPECT_EQ(x.Partition.MissingRate, y.Partition.MissingRate);
+  EXPECT_EQ(x.Partition.FalseAlarmRate, y.Partition.FalseAlarmRate);
+  EXPECT_EQ(x.Partition.HammingDistance, y.Partition.HammingDistance);
+  EXPECT_EQ(x.Partition.RandIndexError, y.Partition.RandIndexError);
+  EXPECT_EQ(x.Partition.GlobalConsistencyError, y.Partition.GlobalConsistencyError);
+  EXPECT_EQ(x.Partition.LocalConsistencyError, y.Partition.LocalConsistencyError);
 }
 
 const SegmentationMetricsOptions kUniform{ SegmentationWeighting::Uniform };
@@ -178,40 +178,40 @@ TEST(SegmentationMetrics, HammingHandComputed)
   const Strip strip = MakeStrip({ 0, 1, 2, 3, 4 });
   const std::vector<int> a = { 0, 0, 1, 1 }, b = { 0, 1, 1, 1 };
   const PartitionComparison r =
-    CompareSegmentations(strip.points, strip.quadOffsets, strip.quadConnectivity, a, b).partition;
+    CompareSegmentations(strip.points, strip.quadOffsets, strip.quadConnectivity, a, b).Partition;
   // Rm: B1 (3 quads) best-overlaps A1 (2), misses 1. Rf: A0 (2) best-overlaps B0 or B1 (1).
-  EXPECT_DOUBLE_EQ(r.missingRate, 0.25);
-  EXPECT_DOUBLE_EQ(r.falseAlarmRate, 0.25);
-  EXPECT_DOUBLE_EQ(r.hammingDistance, 0.25);
-  EXPECT_EQ(r.segmentCountA, 2u);
-  EXPECT_EQ(r.segmentCountB, 2u);
+  EXPECT_DOUBLE_EQ(r.MissingRate, 0.25);
+  EXPECT_DOUBLE_EQ(r.FalseAlarmRate, 0.25);
+  EXPECT_DOUBLE_EQ(r.HammingDistance, 0.25);
+  EXPECT_EQ(r.SegmentCountA, 2u);
+  EXPECT_EQ(r.SegmentCountB, 2u);
 
   // The paper's direction convention: A one segment, B two halves -> Rm = 0, Rf = 1/2.
   const PartitionComparison under = ComparePartitions({ 5, 5, 5, 5 }, { 1, 1, 2, 2 });
-  EXPECT_DOUBLE_EQ(under.missingRate, 0.0);
-  EXPECT_DOUBLE_EQ(under.falseAlarmRate, 0.5);
-  EXPECT_DOUBLE_EQ(under.hammingDistance, 0.25);
+  EXPECT_DOUBLE_EQ(under.MissingRate, 0.0);
+  EXPECT_DOUBLE_EQ(under.FalseAlarmRate, 0.5);
+  EXPECT_DOUBLE_EQ(under.HammingDistance, 0.25);
   const PartitionComparison over = ComparePartitions({ 1, 1, 2, 2 }, { 5, 5, 5, 5 });
-  EXPECT_DOUBLE_EQ(over.missingRate, 0.5);
-  EXPECT_DOUBLE_EQ(over.falseAlarmRate, 0.0);
+  EXPECT_DOUBLE_EQ(over.MissingRate, 0.5);
+  EXPECT_DOUBLE_EQ(over.FalseAlarmRate, 0.0);
 }
 
 TEST(SegmentationMetrics, RandIndexHandComputed)
 {
   const std::vector<int> a = { 0, 0, 1, 1 }, b = { 0, 1, 1, 1 };
   // Uniform: 6 pairs; together in A only: (q0,q1); in B only: (q1,q2), (q1,q3) -> 3/6.
-  EXPECT_DOUBLE_EQ(ComparePartitions(a, b).randIndexError, 0.5);
+  EXPECT_DOUBLE_EQ(ComparePartitions(a, b).RandIndexError, 0.5);
   // Point pairs, equal areas: (sum a^2 + sum b^2 - 2 sum n^2) / W^2 = (8 + 10 - 12) / 16.
-  EXPECT_DOUBLE_EQ(ComparePartitions(a, b, { 1, 1, 1, 1 }).randIndexError, 3.0 / 8.0);
+  EXPECT_DOUBLE_EQ(ComparePartitions(a, b, { 1, 1, 1, 1 }).RandIndexError, 3.0 / 8.0);
   // Areas 1, 1, 2, 4: (40 + 50 - 2 * 38) / 64 = 14 / 64.
-  EXPECT_DOUBLE_EQ(ComparePartitions(a, b, { 1, 1, 2, 4 }).randIndexError, 7.0 / 32.0);
+  EXPECT_DOUBLE_EQ(ComparePartitions(a, b, { 1, 1, 2, 4 }).RandIndexError, 7.0 / 32.0);
 
   // One segment vs two halves of n faces: (n/2)^2 / C(n, 2) = n / (2 (n - 1)).
   const std::vector<int> one(10, 3);
   std::vector<int> halves(10, 0);
   std::fill(halves.begin() + 5, halves.end(), 1);
-  EXPECT_DOUBLE_EQ(ComparePartitions(one, halves).randIndexError, 10.0 / 18.0);
-  EXPECT_DOUBLE_EQ(ComparePartitions(one, halves, std::vector<double>(10, 2.0)).randIndexError, 0.5);
+  EXPECT_DOUBLE_EQ(ComparePartitions(one, halves).RandIndexError, 10.0 / 18.0);
+  EXPECT_DOUBLE_EQ(ComparePartitions(one, halves, std::vector<double>(10, 2.0)).RandIndexError, 0.5);
 }
 
 TEST(SegmentationMetrics, ConsistencyErrorsHandComputed)
@@ -219,11 +219,11 @@ TEST(SegmentationMetrics, ConsistencyErrorsHandComputed)
   const std::vector<int> a = { 0, 0, 1, 1 }, b = { 0, 1, 1, 1 };
   // E(A,B): q0 1/2, q1 1/2, q2 0, q3 0 (sum 1). E(B,A): q0 0, q1 2/3, q2 1/3, q3 1/3 (sum 4/3).
   const PartitionComparison r = ComparePartitions(a, b);
-  EXPECT_DOUBLE_EQ(r.globalConsistencyError, 0.25);         // min(1, 4/3) / 4
-  EXPECT_DOUBLE_EQ(r.localConsistencyError, 0.125);         // (0 + 1/2 + 0 + 0) / 4
+  EXPECT_DOUBLE_EQ(r.GlobalConsistencyError, 0.25);         // min(1, 4/3) / 4
+  EXPECT_DOUBLE_EQ(r.LocalConsistencyError, 0.125);         // (0 + 1/2 + 0 + 0) / 4
   const PartitionComparison swapped = ComparePartitions(b, a);
-  EXPECT_DOUBLE_EQ(swapped.globalConsistencyError, 0.25);
-  EXPECT_DOUBLE_EQ(swapped.localConsistencyError, 0.125);
+  EXPECT_DOUBLE_EQ(swapped.GlobalConsistencyError, 0.25);
+  EXPECT_DOUBLE_EQ(swapped.LocalConsistencyError, 0.125);
 }
 
 TEST(SegmentationMetrics, AreaWeightingMatters)
@@ -232,22 +232,22 @@ TEST(SegmentationMetrics, AreaWeightingMatters)
   const Strip strip = MakeStrip({ 0, 1, 2, 4, 8 });
   const std::vector<int> a = { 0, 0, 1, 1 }, b = { 0, 1, 1, 1 };
   const PartitionComparison area =
-    CompareSegmentations(strip.points, strip.quadOffsets, strip.quadConnectivity, a, b).partition;
+    CompareSegmentations(strip.points, strip.quadOffsets, strip.quadConnectivity, a, b).Partition;
   const PartitionComparison uniform =
-    CompareSegmentations(strip.points, strip.quadOffsets, strip.quadConnectivity, a, b, kUniform).partition;
-  EXPECT_FALSE(area.usedUniformWeights);
-  EXPECT_TRUE(uniform.usedUniformWeights);
+    CompareSegmentations(strip.points, strip.quadOffsets, strip.quadConnectivity, a, b, kUniform).Partition;
+  EXPECT_FALSE(area.UsedUniformWeights);
+  EXPECT_TRUE(uniform.UsedUniformWeights);
   // Rm: B1 (7) best A1 (6): 1/8; Rf: A0 (2) best 1: 1/8. Uniform: 1/4 each.
-  EXPECT_NEAR(area.missingRate, 1.0 / 8.0, 1e-15);
-  EXPECT_NEAR(area.falseAlarmRate, 1.0 / 8.0, 1e-15);
-  EXPECT_NEAR(uniform.missingRate, 0.25, 1e-15);
+  EXPECT_NEAR(area.MissingRate, 1.0 / 8.0, 1e-15);
+  EXPECT_NEAR(area.FalseAlarmRate, 1.0 / 8.0, 1e-15);
+  EXPECT_NEAR(uniform.MissingRate, 0.25, 1e-15);
   // E(A,B) sum 1; E(B,A): q1 6/7 * 1 + q2 1/7 * 2 + q3 1/7 * 4 = 12/7. GCE = 1/8; LCE = (1/2) / 8.
-  EXPECT_NEAR(area.globalConsistencyError, 1.0 / 8.0, 1e-15);
-  EXPECT_NEAR(area.localConsistencyError, 1.0 / 16.0, 1e-15);
-  EXPECT_NEAR(uniform.globalConsistencyError, 0.25, 1e-15);
-  EXPECT_NEAR(uniform.localConsistencyError, 0.125, 1e-15);
-  EXPECT_NEAR(area.randIndexError, 7.0 / 32.0, 1e-15);
-  EXPECT_NEAR(uniform.randIndexError, 0.5, 1e-15);
+  EXPECT_NEAR(area.GlobalConsistencyError, 1.0 / 8.0, 1e-15);
+  EXPECT_NEAR(area.LocalConsistencyError, 1.0 / 16.0, 1e-15);
+  EXPECT_NEAR(uniform.GlobalConsistencyError, 0.25, 1e-15);
+  EXPECT_NEAR(uniform.LocalConsistencyError, 0.125, 1e-15);
+  EXPECT_NEAR(area.RandIndexError, 7.0 / 32.0, 1e-15);
+  EXPECT_NEAR(uniform.RandIndexError, 0.5, 1e-15);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -259,14 +259,14 @@ TEST(SegmentationMetrics, AverageRadiusOfARectangle)
   const std::vector<int> labels(8, 0);
   const double expected = RectangleAverageRadius(4.0, 1.0); // about 1.0608
   const CutDiscrepancyResult coarse = ComputeCutDiscrepancy(strip.points, strip.triangles, labels, labels);
-  EXPECT_NEAR(coarse.averageRadius, expected, 2e-3 * expected);
+  EXPECT_NEAR(coarse.AverageRadius, expected, 2e-3 * expected);
 
   // Refined in both directions, the quadrature converges (the kink of |x - c| at the centroid
   // is the only non-smooth spot).
   const Strip fine = MakeGrid(64, 16, 1.0 / 16.0, 1.0 / 16.0, true);
   const std::vector<int> fineLabels(2 * 64 * 16, 0);
   const CutDiscrepancyResult refined = ComputeCutDiscrepancy(fine.points, fine.triangles, fineLabels, fineLabels);
-  EXPECT_NEAR(refined.averageRadius, expected, 1e-5 * expected);
+  EXPECT_NEAR(refined.AverageRadius, expected, 1e-5 * expected);
 }
 
 TEST(SegmentationMetrics, CutDiscrepancyHandComputed)
@@ -276,16 +276,16 @@ TEST(SegmentationMetrics, CutDiscrepancyHandComputed)
   // (the diagonal b1-t2 is longer, sqrt 2).
   const std::vector<int> a = PerTriangle({ 0, 0, 1, 1 }), b = PerTriangle({ 0, 1, 1, 1 });
   const CutDiscrepancyResult r = ComputeCutDiscrepancy(strip.points, strip.triangles, a, b);
-  const double radius = r.averageRadius;
+  const double radius = r.AverageRadius;
   ASSERT_GT(radius, 1.0);
-  EXPECT_TRUE(r.cutDiscrepancyDefined);
-  EXPECT_EQ(r.cutEdgeCountA, 1u);
-  EXPECT_EQ(r.cutEdgeCountB, 1u);
-  EXPECT_DOUBLE_EQ(r.cutLengthA, 1.0);
-  EXPECT_DOUBLE_EQ(r.directionalCutDiscrepancyAB, 1.0 / radius);
-  EXPECT_DOUBLE_EQ(r.directionalCutDiscrepancyBA, 1.0 / radius);
-  EXPECT_DOUBLE_EQ(r.cutDiscrepancy, 1.0 / radius);
-  EXPECT_EQ(r.cutPointsWithEuclideanDistance, 0u);
+  EXPECT_TRUE(r.CutDiscrepancyDefined);
+  EXPECT_EQ(r.CutEdgeCountA, 1u);
+  EXPECT_EQ(r.CutEdgeCountB, 1u);
+  EXPECT_DOUBLE_EQ(r.CutLengthA, 1.0);
+  EXPECT_DOUBLE_EQ(r.DirectionalCutDiscrepancyAB, 1.0 / radius);
+  EXPECT_DOUBLE_EQ(r.DirectionalCutDiscrepancyBA, 1.0 / radius);
+  EXPECT_DOUBLE_EQ(r.CutDiscrepancy, 1.0 / radius);
+  EXPECT_EQ(r.CutPointsWithEuclideanDistance, 0u);
 
   // A cuts at x = 1 and x = 3, B at x = 1. A => B: (0 * 1 + 2 * 1) / 2 = 1 (t3 reaches t1
   // along the top, 2, shorter than via a diagonal, 1 + sqrt 2). B => A: 0. Pooled: 2 / 3.
@@ -293,10 +293,10 @@ TEST(SegmentationMetrics, CutDiscrepancyHandComputed)
   for (const SegmentationMetricsOptions& options : { SegmentationMetricsOptions{}, kUniform })
   {
     const CutDiscrepancyResult s = ComputeCutDiscrepancy(strip.points, strip.triangles, a2, b, options);
-    EXPECT_DOUBLE_EQ(s.directionalCutDiscrepancyAB, 1.0 / radius);
-    EXPECT_DOUBLE_EQ(s.directionalCutDiscrepancyBA, 0.0);
-    EXPECT_DOUBLE_EQ(s.cutDiscrepancy, 2.0 / 3.0 / radius);
-    EXPECT_DOUBLE_EQ(s.cutLengthA, 2.0);
+    EXPECT_DOUBLE_EQ(s.DirectionalCutDiscrepancyAB, 1.0 / radius);
+    EXPECT_DOUBLE_EQ(s.DirectionalCutDiscrepancyBA, 0.0);
+    EXPECT_DOUBLE_EQ(s.CutDiscrepancy, 2.0 / 3.0 / radius);
+    EXPECT_DOUBLE_EQ(s.CutLengthA, 2.0);
   }
 }
 
@@ -311,11 +311,11 @@ TEST(SegmentationMetrics, CutDiscrepancyWeighsCutPointsByLength)
   // {b1, t1}: b3 2 (bottom edges), t3: t1-t2 (1) + t2-t3 (sqrt(1 + 4)).
   const double t3 = 1.0 + std::sqrt(5.0);
   const CutDiscrepancyResult byLength = ComputeCutDiscrepancy(strip.points, strip.triangles, a, b);
-  const double radius = byLength.averageRadius;
-  EXPECT_DOUBLE_EQ(byLength.directionalCutDiscrepancyAB, (3.0 * 0.5 * (2.0 + t3)) / 4.0 / radius);
+  const double radius = byLength.AverageRadius;
+  EXPECT_DOUBLE_EQ(byLength.DirectionalCutDiscrepancyAB, (3.0 * 0.5 * (2.0 + t3)) / 4.0 / radius);
   const CutDiscrepancyResult byVertex = ComputeCutDiscrepancy(strip.points, strip.triangles, a, b, kUniform);
-  EXPECT_DOUBLE_EQ(byVertex.directionalCutDiscrepancyAB, (2.0 + t3) / 4.0 / radius);
-  EXPECT_GT(byLength.directionalCutDiscrepancyAB, byVertex.directionalCutDiscrepancyAB);
+  EXPECT_DOUBLE_EQ(byVertex.DirectionalCutDiscrepancyAB, (2.0 + t3) / 4.0 / radius);
+  EXPECT_GT(byLength.DirectionalCutDiscrepancyAB, byVertex.DirectionalCutDiscrepancyAB);
 }
 
 TEST(SegmentationMetrics, CutDiscrepancyAcrossComponentsUsesEuclideanDistance)
@@ -325,12 +325,12 @@ TEST(SegmentationMetrics, CutDiscrepancyAcrossComponentsUsesEuclideanDistance)
   std::vector<int> a = PerTriangle({ 0, 1, 1, 1, 2, 3, 3, 3 });
   std::vector<int> b = PerTriangle({ 0, 1, 1, 1, 2, 2, 2, 2 });
   const CutDiscrepancyResult r = ComputeCutDiscrepancy(both.points, both.triangles, a, b);
-  EXPECT_EQ(r.cutPointsWithEuclideanDistance, 2u);
-  const double radius = r.averageRadius;
-  EXPECT_DOUBLE_EQ(r.directionalCutDiscrepancyAB, (0.0 + 5.0) / 2.0 / radius);
-  EXPECT_DOUBLE_EQ(r.directionalCutDiscrepancyBA, 0.0);
-  EXPECT_DOUBLE_EQ(r.cutDiscrepancy, 5.0 / 3.0 / radius);
-  EXPECT_TRUE(std::isfinite(r.cutDiscrepancy));
+  EXPECT_EQ(r.CutPointsWithEuclideanDistance, 2u);
+  const double radius = r.AverageRadius;
+  EXPECT_DOUBLE_EQ(r.DirectionalCutDiscrepancyAB, (0.0 + 5.0) / 2.0 / radius);
+  EXPECT_DOUBLE_EQ(r.DirectionalCutDiscrepancyBA, 0.0);
+  EXPECT_DOUBLE_EQ(r.CutDiscrepancy, 5.0 / 3.0 / radius);
+  EXPECT_TRUE(std::isfinite(r.CutDiscrepancy));
 }
 
 TEST(SegmentationMetrics, CutDiscrepancyWithoutCuts)
@@ -338,17 +338,17 @@ TEST(SegmentationMetrics, CutDiscrepancyWithoutCuts)
   const Strip strip = MakeStrip({ 0, 1, 2, 3, 4 });
   const std::vector<int> single(8, 7);
   const CutDiscrepancyResult none = ComputeCutDiscrepancy(strip.points, strip.triangles, single, single);
-  EXPECT_TRUE(none.cutDiscrepancyDefined);
-  EXPECT_EQ(none.cutDiscrepancy, 0.0);
+  EXPECT_TRUE(none.CutDiscrepancyDefined);
+  EXPECT_EQ(none.CutDiscrepancy, 0.0);
 
   const std::vector<int> halves = PerTriangle({ 0, 0, 1, 1 });
   for (const auto& [x, y] : { std::make_pair(single, halves), std::make_pair(halves, single) })
   {
     const CutDiscrepancyResult oneSided = ComputeCutDiscrepancy(strip.points, strip.triangles, x, y);
-    EXPECT_FALSE(oneSided.cutDiscrepancyDefined);
-    EXPECT_EQ(oneSided.cutDiscrepancy, 0.0);
-    EXPECT_EQ(oneSided.directionalCutDiscrepancyAB, 0.0);
-    EXPECT_EQ(oneSided.directionalCutDiscrepancyBA, 0.0);
+    EXPECT_FALSE(oneSided.CutDiscrepancyDefined);
+    EXPECT_EQ(oneSided.CutDiscrepancy, 0.0);
+    EXPECT_EQ(oneSided.DirectionalCutDiscrepancyAB, 0.0);
+    EXPECT_EQ(oneSided.DirectionalCutDiscrepancyBA, 0.0);
   }
 }
 
@@ -364,8 +364,8 @@ TEST(SegmentationMetrics, IdenticalSegmentationsScorePerfect)
   {
     const SegmentationComparison r = CompareSegmentations(grid.points, grid.triangles, labels, labels, options);
     ExpectAllZero(r);
-    EXPECT_TRUE(r.cut.cutDiscrepancyDefined);
-    EXPECT_GT(r.cut.cutEdgeCountA, 0u);
+    EXPECT_TRUE(r.Cut.CutDiscrepancyDefined);
+    EXPECT_GT(r.Cut.CutEdgeCountA, 0u);
   }
 }
 
@@ -387,8 +387,8 @@ TEST(SegmentationMetrics, RelabellingChangesNothing)
   for (const SegmentationMetricsOptions& options : { SegmentationMetricsOptions{}, kUniform })
   {
     const SegmentationComparison reference = CompareSegmentations(grid.points, grid.triangles, a, b, options);
-    EXPECT_GT(reference.partition.hammingDistance, 0.05);
-    EXPECT_GT(reference.cut.cutDiscrepancy, 0.01);
+    EXPECT_GT(reference.Partition.HammingDistance, 0.05);
+    EXPECT_GT(reference.Cut.CutDiscrepancy, 0.01);
     ExpectSame(reference, CompareSegmentations(grid.points, grid.triangles, renamedA, b, options));
     ExpectSame(reference, CompareSegmentations(grid.points, grid.triangles, a, renamedB, options));
     ExpectSame(reference, CompareSegmentations(grid.points, grid.triangles, renamedA, renamedB, options));
@@ -405,17 +405,17 @@ TEST(SegmentationMetrics, SymmetricMetricsAreSymmetric)
   {
     const SegmentationComparison ab = CompareSegmentations(grid.points, grid.triangles, a, b, options);
     const SegmentationComparison ba = CompareSegmentations(grid.points, grid.triangles, b, a, options);
-    EXPECT_GT(ab.partition.randIndexError, 0.05);
-    EXPECT_NEAR(ab.partition.randIndexError, ba.partition.randIndexError, 1e-14);
-    EXPECT_NEAR(ab.partition.globalConsistencyError, ba.partition.globalConsistencyError, 1e-14);
-    EXPECT_NEAR(ab.partition.localConsistencyError, ba.partition.localConsistencyError, 1e-14);
-    EXPECT_NEAR(ab.partition.hammingDistance, ba.partition.hammingDistance, 1e-14);
-    EXPECT_NEAR(ab.partition.missingRate, ba.partition.falseAlarmRate, 1e-14);
-    EXPECT_NEAR(ab.cut.cutDiscrepancy, ba.cut.cutDiscrepancy, 1e-14);
-    EXPECT_NEAR(ab.cut.directionalCutDiscrepancyAB, ba.cut.directionalCutDiscrepancyBA, 1e-14);
+    EXPECT_GT(ab.Partition.RandIndexError, 0.05);
+    EXPECT_NEAR(ab.Partition.RandIndexError, ba.Partition.RandIndexError, 1e-14);
+    EXPECT_NEAR(ab.Partition.GlobalConsistencyError, ba.Partition.GlobalConsistencyError, 1e-14);
+    EXPECT_NEAR(ab.Partition.LocalConsistencyError, ba.Partition.LocalConsistencyError, 1e-14);
+    EXPECT_NEAR(ab.Partition.HammingDistance, ba.Partition.HammingDistance, 1e-14);
+    EXPECT_NEAR(ab.Partition.MissingRate, ba.Partition.FalseAlarmRate, 1e-14);
+    EXPECT_NEAR(ab.Cut.CutDiscrepancy, ba.Cut.CutDiscrepancy, 1e-14);
+    EXPECT_NEAR(ab.Cut.DirectionalCutDiscrepancyAB, ba.Cut.DirectionalCutDiscrepancyBA, 1e-14);
     // Every value within its range; LCE <= GCE always.
-    EXPECT_LE(ab.partition.localConsistencyError, ab.partition.globalConsistencyError);
-    EXPECT_LE(ab.partition.randIndexError, 1.0);
+    EXPECT_LE(ab.Partition.LocalConsistencyError, ab.Partition.GlobalConsistencyError);
+    EXPECT_LE(ab.Partition.RandIndexError, 1.0);
   }
 }
 
@@ -433,29 +433,29 @@ TEST(SegmentationMetrics, RefinementHasNoConsistencyError)
   const std::vector<int> single(coarse.size(), 9);
   for (const SegmentationMetricsOptions& options : { SegmentationMetricsOptions{}, kUniform })
   {
-    const PartitionComparison r = CompareSegmentations(grid.points, grid.triangles, fine, coarse, options).partition;
-    EXPECT_EQ(r.globalConsistencyError, 0.0);
-    EXPECT_EQ(r.localConsistencyError, 0.0);
-    EXPECT_GT(r.hammingDistance, 0.0);
+    const PartitionComparison r = CompareSegmentations(grid.points, grid.triangles, fine, coarse, options).Partition;
+    EXPECT_EQ(r.GlobalConsistencyError, 0.0);
+    EXPECT_EQ(r.LocalConsistencyError, 0.0);
+    EXPECT_GT(r.HammingDistance, 0.0);
 
     // Anything refines the single segment: GCE = LCE = 0, Rm = 0 (nothing of the single
     // segment is missed by its best match), Rf = 1 - (largest segment share).
     const SegmentationComparison s = CompareSegmentations(grid.points, grid.triangles, single, coarse, options);
-    EXPECT_EQ(s.partition.globalConsistencyError, 0.0);
-    EXPECT_EQ(s.partition.localConsistencyError, 0.0);
-    EXPECT_EQ(s.partition.missingRate, 0.0);
-    EXPECT_GT(s.partition.falseAlarmRate, 0.0);
-    EXPECT_FALSE(s.cut.cutDiscrepancyDefined);
+    EXPECT_EQ(s.Partition.GlobalConsistencyError, 0.0);
+    EXPECT_EQ(s.Partition.LocalConsistencyError, 0.0);
+    EXPECT_EQ(s.Partition.MissingRate, 0.0);
+    EXPECT_GT(s.Partition.FalseAlarmRate, 0.0);
+    EXPECT_FALSE(s.Cut.CutDiscrepancyDefined);
   }
   // Uniform: Rf(single, halves) with halves of 120 + 120 faces = 1/2, Rm = 0;
   // 1 - RI = 120^2 / C(240, 2).
   std::vector<int> halves(240, 1);
   std::fill(halves.begin(), halves.begin() + 120, 4);
   const PartitionComparison h = ComparePartitions(single, halves);
-  EXPECT_DOUBLE_EQ(h.missingRate, 0.0);
-  EXPECT_DOUBLE_EQ(h.falseAlarmRate, 0.5);
-  EXPECT_DOUBLE_EQ(h.randIndexError, 14400.0 / 28680.0);
-  EXPECT_EQ(h.globalConsistencyError, 0.0);
+  EXPECT_DOUBLE_EQ(h.MissingRate, 0.0);
+  EXPECT_DOUBLE_EQ(h.FalseAlarmRate, 0.5);
+  EXPECT_DOUBLE_EQ(h.RandIndexError, 14400.0 / 28680.0);
+  EXPECT_EQ(h.GlobalConsistencyError, 0.0);
 }
 
 TEST(SegmentationMetrics, EveryFaceItsOwnSegment)
@@ -481,12 +481,12 @@ TEST(SegmentationMetrics, EveryFaceItsOwnSegment)
     pairsB += 0.5 * s * (s - 1.0);
   }
   const PartitionComparison r = ComparePartitions(every, blocks);
-  EXPECT_EQ(r.segmentCountA, n);
-  EXPECT_DOUBLE_EQ(r.missingRate, (static_cast<double>(n) - kB) / static_cast<double>(n));
-  EXPECT_EQ(r.falseAlarmRate, 0.0);
-  EXPECT_EQ(r.globalConsistencyError, 0.0);
-  EXPECT_EQ(r.localConsistencyError, 0.0);
-  EXPECT_NEAR(r.randIndexError, pairsB / (0.5 * n * (n - 1.0)), 1e-14);
+  EXPECT_EQ(r.SegmentCountA, n);
+  EXPECT_DOUBLE_EQ(r.MissingRate, (static_cast<double>(n) - kB) / static_cast<double>(n));
+  EXPECT_EQ(r.FalseAlarmRate, 0.0);
+  EXPECT_EQ(r.GlobalConsistencyError, 0.0);
+  EXPECT_EQ(r.LocalConsistencyError, 0.0);
+  EXPECT_NEAR(r.RandIndexError, pairsB / (0.5 * n * (n - 1.0)), 1e-14);
 }
 
 TEST(SegmentationMetrics, PolygonsAndTheirTriangulationAgreeUnderAreaWeighting)
@@ -497,16 +497,16 @@ TEST(SegmentationMetrics, PolygonsAndTheirTriangulationAgreeUnderAreaWeighting)
     CompareSegmentations(strip.points, strip.quadOffsets, strip.quadConnectivity, a, b);
   const SegmentationComparison triangles =
     CompareSegmentations(strip.points, strip.triangles, PerTriangle(a), PerTriangle(b));
-  EXPECT_NEAR(quads.partition.missingRate, triangles.partition.missingRate, 1e-15);
-  EXPECT_NEAR(quads.partition.falseAlarmRate, triangles.partition.falseAlarmRate, 1e-15);
-  EXPECT_NEAR(quads.partition.randIndexError, triangles.partition.randIndexError, 1e-15);
-  EXPECT_NEAR(quads.partition.globalConsistencyError, triangles.partition.globalConsistencyError, 1e-15);
-  EXPECT_NEAR(quads.partition.localConsistencyError, triangles.partition.localConsistencyError, 1e-15);
-  EXPECT_DOUBLE_EQ(quads.cut.cutDiscrepancy, triangles.cut.cutDiscrepancy);
-  EXPECT_GT(quads.cut.cutDiscrepancy, 0.0);
+  EXPECT_NEAR(quads.Partition.MissingRate, triangles.Partition.MissingRate, 1e-15);
+  EXPECT_NEAR(quads.Partition.FalseAlarmRate, triangles.Partition.FalseAlarmRate, 1e-15);
+  EXPECT_NEAR(quads.Partition.RandIndexError, triangles.Partition.RandIndexError, 1e-15);
+  EXPECT_NEAR(quads.Partition.GlobalConsistencyError, triangles.Partition.GlobalConsistencyError, 1e-15);
+  EXPECT_NEAR(quads.Partition.LocalConsistencyError, triangles.Partition.LocalConsistencyError, 1e-15);
+  EXPECT_DOUBLE_EQ(quads.Cut.CutDiscrepancy, triangles.Cut.CutDiscrepancy);
+  EXPECT_GT(quads.Cut.CutDiscrepancy, 0.0);
   // Fan diagonals are never cuts: A cuts at x = 2, B at x = 1 and x = 4.
-  EXPECT_EQ(quads.cut.cutEdgeCountA, 1u);
-  EXPECT_EQ(quads.cut.cutEdgeCountB, 2u);
+  EXPECT_EQ(quads.Cut.CutEdgeCountA, 1u);
+  EXPECT_EQ(quads.Cut.CutEdgeCountB, 2u);
   // Face areas of the quads.
   const std::vector<double> areas = ComputeFaceAreas(strip.points, strip.quadOffsets, strip.quadConnectivity);
   ASSERT_EQ(areas.size(), 4u);
@@ -523,7 +523,7 @@ TEST(SegmentationMetrics, DegenerateInputs)
   const TriangleMatrix noTriangles(0, 3);
   const SegmentationComparison empty = CompareSegmentations(noPoints, noTriangles, {}, {});
   ExpectAllZero(empty);
-  EXPECT_TRUE(empty.cut.cutDiscrepancyDefined);
+  EXPECT_TRUE(empty.Cut.CutDiscrepancyDefined);
   ExpectAllZero(CompareSegmentations(noPoints, std::vector<std::int64_t>{}, std::vector<std::int64_t>{}, {}, {}));
 
   // A single face.
@@ -539,16 +539,16 @@ TEST(SegmentationMetrics, DegenerateInputs)
   TriangleMatrix slivers(2, 3);
   slivers << 0, 1, 2, 1, 3, 2;
   const SegmentationComparison sliver = CompareSegmentations(flat, slivers, { 0, 1 }, { 0, 0 });
-  EXPECT_TRUE(sliver.partition.usedUniformWeights);
-  EXPECT_DOUBLE_EQ(sliver.partition.falseAlarmRate, 0.0);
-  EXPECT_DOUBLE_EQ(sliver.partition.missingRate, 0.5);
-  EXPECT_TRUE(std::isfinite(sliver.cut.cutDiscrepancy));
-  EXPECT_DOUBLE_EQ(sliver.cut.averageRadius, 1.0); // vertex fallback: mean |x - 1.5|
+  EXPECT_TRUE(sliver.Partition.UsedUniformWeights);
+  EXPECT_DOUBLE_EQ(sliver.Partition.FalseAlarmRate, 0.0);
+  EXPECT_DOUBLE_EQ(sliver.Partition.MissingRate, 0.5);
+  EXPECT_TRUE(std::isfinite(sliver.Cut.CutDiscrepancy));
+  EXPECT_DOUBLE_EQ(sliver.Cut.AverageRadius, 1.0); // vertex fallback: mean |x - 1.5|
 
   // Polygons with fewer than 3 vertices: no area, label kept.
   const std::vector<std::int64_t> offsets = { 0, 3, 5 }, connectivity = { 0, 1, 2, 0, 1 };
   const SegmentationComparison mixed = CompareSegmentations(points, offsets, connectivity, { 1, 2 }, { 1, 1 });
-  EXPECT_DOUBLE_EQ(mixed.partition.missingRate, 0.0); // the 2-gon has no area
+  EXPECT_DOUBLE_EQ(mixed.Partition.MissingRate, 0.0); // the 2-gon has no area
 }
 
 TEST(SegmentationMetrics, BadInputThrows)

@@ -144,11 +144,11 @@ LabelMatchingResult CompareLabelings(const std::vector<int>& first, const std::v
     if (shared > 0.0)
     {
       matched += shared;
-      result.matching.emplace_back(firstLabels[i], secondLabels[j]);
+      result.Matching.emplace_back(firstLabels[i], secondLabels[j]);
     }
   }
-  result.differentCount = first.size() - static_cast<std::size_t>(matched);
-  result.percentDifferent = 100.0 * static_cast<double>(result.differentCount) / static_cast<double>(first.size());
+  result.DifferentCount = first.size() - static_cast<std::size_t>(matched);
+  result.PercentDifferent = 100.0 * static_cast<double>(result.DifferentCount) / static_cast<double>(first.size());
   return result;
 }
 

@@ -42,11 +42,11 @@ public:
 
 struct LabelMatchingResult
 {
-  double percentDifferent = 0.0; ///< in [0, 100]
-  std::size_t differentCount = 0;  ///< faces not matched
+  double PercentDifferent = 0.0; ///< in [0, 100]
+  std::size_t DifferentCount = 0;  ///< faces not matched
   /// (label in first, label in second) pairs of the optimal matching, sorted by first label;
   /// only pairs sharing at least one face are listed.
-  std::vector<std::pair<int, int>> matching;
+  std::vector<std::pair<int, int>> Matching;
 };
 
 /// Table 2 measure between two labelings of the same faces.

@@ -240,11 +240,11 @@ PartitionComparison ComparePartitions(
   }
 
   PartitionComparison result;
-  std::vector<std::uint32_t> segmentA = CompactLabels(labelsA, result.segmentCountA);
-  std::vector<std::uint32_t> segmentB = CompactLabels(labelsB, result.segmentCountB);
+  std::vector<std::uint32_t> segmentA = CompactLabels(labelsA, result.SegmentCountA);
+  std::vector<std::uint32_t> segmentB = CompactLabels(labelsB, result.SegmentCountB);
   if (faceCount == 0)
   {
-    result.usedUniformWeights = faceWeights.empty();
+    result.UsedUniformWeights = faceWeights.empty();
     return result;
   }
 
@@ -258,7 +258,7 @@ PartitionComparison ComparePartitions(
     }
     uniform = !(total > 0.0);
   }
-  result.usedUniformWeights = uniform;
+  result.UsedUniformWeights = uniform;
   const auto weightOf = [&](std::size_t f) { return uniform ? 1.0 : faceWeights[f]; };
 
   // Cells of the sparse contingency table, sorted by (a, b): two stable counting sorts.
@@ -267,8 +267,8 @@ PartitionComparison ComparePartitions(
   {
     order[f] = f;
   }
-  order = SortByKey(order, segmentB, result.segmentCountB);
-  order = SortByKey(order, segmentA, result.segmentCountA);
+  order = SortByKey(order, segmentB, result.SegmentCountB);
+  order = SortByKey(order, segmentA, result.SegmentCountA);
   std::vector<Cell> cells;
   for (std::size_t i = 0; i < faceCount;)
   {
@@ -284,8 +284,8 @@ PartitionComparison ComparePartitions(
     cells.push_back({ a, b, weight, ChooseTwo(static_cast<double>(count)) });
   }
 
-  const std::size_t kA = result.segmentCountA;
-  const std::size_t kB = result.segmentCountB;
+  const std::size_t kA = result.SegmentCountA;
+  const std::size_t kB = result.SegmentCountB;
   std::vector<double> sizeA(kA, 0.0), sizeB(kB, 0.0), bestA(kA, 0.0), bestB(kB, 0.0);
   for (const Cell& cell : cells)
   {
@@ -310,9 +310,9 @@ PartitionComparison ComparePartitions(
   {
     falseAlarm += sizeA[i] - bestA[i];
   }
-  result.missingRate = Clamp01(missing / total);
-  result.falseAlarmRate = Clamp01(falseAlarm / total);
-  result.hammingDistance = 0.5 * (result.missingRate + result.falseAlarmRate);
+  result.MissingRate = Clamp01(missing / total);
+  result.FalseAlarmRate = Clamp01(falseAlarm / total);
+  result.HammingDistance = 0.5 * (result.MissingRate + result.FalseAlarmRate);
 
   // Rand index: pairs grouped together by A only plus pairs grouped together by B only.
   if (uniform)
@@ -331,7 +331,7 @@ PartitionComparison ComparePartitions(
       sameBoth += cell.pairCount;
     }
     const double pairs = ChooseTwo(static_cast<double>(faceCount));
-    result.randIndexError = pairs > 0.0 ? Clamp01(((sameA - sameBoth) + (sameB - sameBoth)) / pairs) : 0.0;
+    result.RandIndexError = pairs > 0.0 ? Clamp01(((sameA - sameBoth) + (sameB - sameBoth)) / pairs) : 0.0;
   }
   else
   {
@@ -348,7 +348,7 @@ PartitionComparison ComparePartitions(
     {
       squaresBoth += cell.weight * cell.weight;
     }
-    result.randIndexError = Clamp01(((squaresA - squaresBoth) + (squaresB - squaresBoth)) / (total * total));
+    result.RandIndexError = Clamp01(((squaresA - squaresBoth) + (squaresB - squaresBoth)) / (total * total));
   }
 
   // Consistency errors: E(A,B,f) depends only on the cell of f.
@@ -361,8 +361,8 @@ PartitionComparison ComparePartitions(
     refinementBA += cell.weight * errorBA;
     local += cell.weight * std::min(errorAB, errorBA);
   }
-  result.globalConsistencyError = Clamp01(std::min(refinementAB, refinementBA) / total);
-  result.localConsistencyError = Clamp01(local / total);
+  result.GlobalConsistencyError = Clamp01(std::min(refinementAB, refinementBA) / total);
+  result.LocalConsistencyError = Clamp01(local / total);
   return result;
 }
 
@@ -668,20 +668,20 @@ CutDiscrepancyResult CutDiscrepancy(const PointsView& points, const Surface& sur
   CutDiscrepancyResult result;
   const Cuts cuts = FindCuts(points, surface, labelsA, labelsB);
   const EdgeGraph& graph = cuts.graph;
-  result.cutEdgeCountA = cuts.edgesA.size();
-  result.cutEdgeCountB = cuts.edgesB.size();
+  result.CutEdgeCountA = cuts.edgesA.size();
+  result.CutEdgeCountB = cuts.edgesB.size();
   for (std::size_t e : cuts.edgesA)
   {
-    result.cutLengthA += graph.length[e];
+    result.CutLengthA += graph.length[e];
   }
   for (std::size_t e : cuts.edgesB)
   {
-    result.cutLengthB += graph.length[e];
+    result.CutLengthB += graph.length[e];
   }
-  result.averageRadius = AverageRadius(points, surface);
+  result.AverageRadius = AverageRadius(points, surface);
   if (cuts.edgesA.empty() || cuts.edgesB.empty())
   {
-    result.cutDiscrepancyDefined = cuts.edgesA.empty() && cuts.edgesB.empty();
+    result.CutDiscrepancyDefined = cuts.edgesA.empty() && cuts.edgesB.empty();
     return result;
   }
 
@@ -689,23 +689,23 @@ CutDiscrepancyResult CutDiscrepancy(const PointsView& points, const Surface& sur
   const std::vector<std::int64_t> verticesB = CutVertices(graph, cuts.edgesB);
   std::vector<double> distanceToB = DistancesFrom(graph, verticesB);
   std::vector<double> distanceToA = DistancesFrom(graph, verticesA);
-  result.cutPointsWithEuclideanDistance = FillUnreachable(points, verticesA, verticesB, distanceToB) +
+  result.CutPointsWithEuclideanDistance = FillUnreachable(points, verticesA, verticesB, distanceToB) +
     FillUnreachable(points, verticesB, verticesA, distanceToA);
 
   // Cut edges of zero total length (coincident points) cannot weigh by length: count vertices.
-  const bool byLength = options.weighting == SegmentationWeighting::FaceArea && result.cutLengthA > 0.0 &&
-    result.cutLengthB > 0.0;
+  const bool byLength = options.Weighting == SegmentationWeighting::FaceArea && result.CutLengthA > 0.0 &&
+    result.CutLengthB > 0.0;
   const auto [integralA, measureA] = IntegrateOverCut(graph, cuts.edgesA, verticesA, distanceToB, byLength);
   const auto [integralB, measureB] = IntegrateOverCut(graph, cuts.edgesB, verticesB, distanceToA, byLength);
-  const double radius = result.averageRadius;
+  const double radius = result.AverageRadius;
   if (!(radius > 0.0) || !std::isfinite(radius))
   {
     return result; // every point coincides: every distance is 0
   }
   const auto finite = [](double value) { return std::isfinite(value) && value > 0.0 ? value : 0.0; };
-  result.directionalCutDiscrepancyAB = finite(integralA / measureA / radius);
-  result.directionalCutDiscrepancyBA = finite(integralB / measureB / radius);
-  result.cutDiscrepancy = finite((integralA + integralB) / (measureA + measureB) / radius);
+  result.DirectionalCutDiscrepancyAB = finite(integralA / measureA / radius);
+  result.DirectionalCutDiscrepancyBA = finite(integralB / measureB / radius);
+  result.CutDiscrepancy = finite((integralA + integralB) / (measureA + measureB) / radius);
   return result;
 }
 
@@ -727,10 +727,10 @@ SegmentationComparison CompareOnSurface(const PointsView& points, const Surface&
 {
   CheckLabelSizes(surface.faceAreas.size(), labelsA, labelsB);
   SegmentationComparison result;
-  result.cut = CutDiscrepancy(points, surface, labelsA, labelsB, options);
+  result.Cut = CutDiscrepancy(points, surface, labelsA, labelsB, options);
   static const std::vector<double> noWeights;
-  result.partition = ComparePartitions(labelsA, labelsB,
-    options.weighting == SegmentationWeighting::FaceArea ? surface.faceAreas : noWeights);
+  result.Partition = ComparePartitions(labelsA, labelsB,
+    options.Weighting == SegmentationWeighting::FaceArea ? surface.faceAreas : noWeights);
   return result;
 }
 
@@ -765,33 +765,6 @@ namespace
 inline bool IsBlank(char c)
 {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
-
-/// A line's content as it can be shown in a one-line message (non-printable bytes as \xNN).
-std::string Printable(const char* begin, const char* end)
-{
-  constexpr std::size_t limit = 32;
-  std::string out;
-  const std::size_t size = static_cast<std::size_t>(end - begin);
-  for (std::size_t i = 0; i < std::min(size, limit); ++i)
-  {
-    const auto c = static_cast<unsigned char>(begin[i]);
-    if (c >= 0x20 && c < 0x7f)
-    {
-      out += static_cast<char>(c);
-    }
-    else
-    {
-      char escaped[8];
-      std::snprintf(escaped, sizeof(escaped), "\\x%02x", c);
-      out += escaped;
-    }
-  }
-  if (size > limit)
-  {
-    out += "...";
-  }
-  return out;
 }
 
 } // namespace
@@ -853,11 +826,11 @@ std::vector<int> ParseSeg(const char* data, std::size_t size, const std::string&
     const std::from_chars_result parsed = std::from_chars(number, end, value);
     if (parsed.ec == std::errc::result_out_of_range)
     {
-      throw SegFileError(line, "label '" + Printable(begin, end) + "' is outside the int range", source);
+      throw SegFileError(line, "label '" + PrintableText(begin, end) + "' is outside the int range", source);
     }
     if (parsed.ec != std::errc() || parsed.ptr != end)
     {
-      throw SegFileError(line, "expected one integer label, found '" + Printable(begin, end) + "'", source);
+      throw SegFileError(line, "expected one integer label, found '" + PrintableText(begin, end) + "'", source);
     }
     labels.push_back(value);
   }

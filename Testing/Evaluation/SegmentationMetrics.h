@@ -62,14 +62,14 @@
 //   - A cut point from which no cut of the other segmentation is reachable (another connected
 //     component) is given the Euclidean distance to the nearest vertex of the other cut, so
 //     that CD stays finite and still counts the disagreement; the count of such points is
-//     reported (cutPointsWithEuclideanDistance).
+//     reported (CutPointsWithEuclideanDistance).
 //   - Combination of the two directions: the paper writes CD = (DCD(A=>B) + DCD(B=>A)) /
 //     avgRadius; the benchmark's released code, which produced the published numbers, pools
 //     the points of both cuts into one mean (reported by re-implementations). We return the
-//     pooled mean as cutDiscrepancy (comparable with published CD values, within the geodesic
-//     approximation); the paper's sum is directionalCutDiscrepancyAB + ...BA.
+//     pooled mean as CutDiscrepancy (comparable with published CD values, within the geodesic
+//     approximation); the paper's sum is DirectionalCutDiscrepancyAB + ...BA.
 //   - CD is undefined when exactly one segmentation has no cut (a single segment): then
-//     cutDiscrepancyDefined = false and every CD value is 0. No cuts on either side: CD = 0,
+//     CutDiscrepancyDefined = false and every CD value is 0. No cuts on either side: CD = 0,
 //     defined (identical partitions of the cut-free kind).
 //   - avgRadius is integrated with the 7-point degree-5 quadrature of each triangle (Strang &
 //     Fix); the benchmark's code is not specific about it. Zero total area: mean vertex distance
@@ -133,48 +133,48 @@ enum class SegmentationWeighting
 struct SegmentationMetricsOptions
 {
   /// How faces and cut points are counted (see the header comment). Default FaceArea.
-  SegmentationWeighting weighting = SegmentationWeighting::FaceArea;
+  SegmentationWeighting Weighting = SegmentationWeighting::FaceArea;
 };
 
 /// The metrics that only need labels and face weights. All in [0, 1], 0 = identical.
 struct PartitionComparison
 {
-  double missingRate = 0.0;            ///< Rm(A, B)
-  double falseAlarmRate = 0.0;         ///< Rf(A, B)
-  double hammingDistance = 0.0;        ///< H = (Rm + Rf) / 2
-  double randIndexError = 0.0;         ///< 1 - RI
-  double globalConsistencyError = 0.0; ///< GCE
-  double localConsistencyError = 0.0;  ///< LCE
-  std::size_t segmentCountA = 0;       ///< distinct labels in A
-  std::size_t segmentCountB = 0;       ///< distinct labels in B
-  bool usedUniformWeights = false;     ///< true when faces were counted, not weighted
+  double MissingRate = 0.0;            ///< Rm(A, B)
+  double FalseAlarmRate = 0.0;         ///< Rf(A, B)
+  double HammingDistance = 0.0;        ///< H = (Rm + Rf) / 2
+  double RandIndexError = 0.0;         ///< 1 - RI
+  double GlobalConsistencyError = 0.0; ///< GCE
+  double LocalConsistencyError = 0.0;  ///< LCE
+  std::size_t SegmentCountA = 0;       ///< distinct labels in A
+  std::size_t SegmentCountB = 0;       ///< distinct labels in B
+  bool UsedUniformWeights = false;     ///< true when faces were counted, not weighted
 };
 
 struct CutDiscrepancyResult
 {
   /// CD: pooled mean distance over the cut points of both segmentations / avgRadius. >= 0.
-  double cutDiscrepancy = 0.0;
+  double CutDiscrepancy = 0.0;
   /// DCD(A=>B) / avgRadius: from the cuts of A to the nearest cut of B.
-  double directionalCutDiscrepancyAB = 0.0;
+  double DirectionalCutDiscrepancyAB = 0.0;
   /// DCD(B=>A) / avgRadius.
-  double directionalCutDiscrepancyBA = 0.0;
+  double DirectionalCutDiscrepancyBA = 0.0;
   /// false when exactly one segmentation has no cut (then the three values above are 0).
-  bool cutDiscrepancyDefined = true;
+  bool CutDiscrepancyDefined = true;
   /// Mean Euclidean distance of the surface from its area centroid (length units).
-  double averageRadius = 0.0;
-  std::size_t cutEdgeCountA = 0;
-  std::size_t cutEdgeCountB = 0;
+  double AverageRadius = 0.0;
+  std::size_t CutEdgeCountA = 0;
+  std::size_t CutEdgeCountB = 0;
   /// Total length of the cut edges (length units).
-  double cutLengthA = 0.0;
-  double cutLengthB = 0.0;
+  double CutLengthA = 0.0;
+  double CutLengthB = 0.0;
   /// Cut vertices that reach no cut of the other segmentation along edges (see header).
-  std::size_t cutPointsWithEuclideanDistance = 0;
+  std::size_t CutPointsWithEuclideanDistance = 0;
 };
 
 struct SegmentationComparison
 {
-  CutDiscrepancyResult cut;
-  PartitionComparison partition;
+  CutDiscrepancyResult Cut;
+  PartitionComparison Partition;
 };
 
 /// Hamming, Rand, GCE and LCE between two labelings of the same faces.

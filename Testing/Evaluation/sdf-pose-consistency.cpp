@@ -104,7 +104,7 @@ int Run(const std::vector<std::string>& files, bool json)
   {
     for (std::size_t j = i + 1; j < count; ++j)
     {
-      const double value = CompareLabelings(labelings[i], labelings[j]).percentDifferent;
+      const double value = CompareLabelings(labelings[i], labelings[j]).PercentDifferent;
       percent[i][j] = percent[j][i] = value;
       offDiagonalSum += 2.0 * value;
     }

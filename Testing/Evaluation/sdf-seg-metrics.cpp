@@ -146,36 +146,36 @@ int Run(const Arguments& arguments)
   const std::vector<int> labelsB = ReadLabels(arguments.files[2], mesh.FaceCount());
 
   const Eigen::Map<const PointMatrix> points(
-    mesh.points.data(), static_cast<Eigen::Index>(mesh.VertexCount()), 3);
+    mesh.Points.data(), static_cast<Eigen::Index>(mesh.VertexCount()), 3);
   SegmentationMetricsOptions options;
-  options.weighting = arguments.uniform ? SegmentationWeighting::Uniform : SegmentationWeighting::FaceArea;
+  options.Weighting = arguments.uniform ? SegmentationWeighting::Uniform : SegmentationWeighting::FaceArea;
   const SegmentationComparison result =
-    CompareSegmentations(points, mesh.faceOffsets, mesh.faceConnectivity, labelsA, labelsB, options);
-  const PartitionComparison& p = result.partition;
-  const CutDiscrepancyResult& c = result.cut;
+    CompareSegmentations(points, mesh.FaceOffsets, mesh.FaceConnectivity, labelsA, labelsB, options);
+  const PartitionComparison& p = result.Partition;
+  const CutDiscrepancyResult& c = result.Cut;
 
   if (arguments.json)
   {
     const auto number = [](double value) { return Number(value, "%.10g"); };
-    const auto cd = [&](double value) { return c.cutDiscrepancyDefined ? number(value) : std::string("null"); };
+    const auto cd = [&](double value) { return c.CutDiscrepancyDefined ? number(value) : std::string("null"); };
     std::printf("{\n");
     std::printf("  \"mesh\": %s,\n", JsonString(meshPath).c_str());
     std::printf("  \"a\": %s,\n", JsonString(arguments.files[1]).c_str());
     std::printf("  \"b\": %s,\n", JsonString(arguments.files[2]).c_str());
-    std::printf("  \"weighting\": \"%s\",\n", p.usedUniformWeights ? "uniform" : "area");
+    std::printf("  \"weighting\": \"%s\",\n", p.UsedUniformWeights ? "uniform" : "area");
     std::printf("  \"faces\": %zu,\n", mesh.FaceCount());
-    std::printf("  \"segmentsA\": %zu,\n", p.segmentCountA);
-    std::printf("  \"segmentsB\": %zu,\n", p.segmentCountB);
-    std::printf("  \"cutDiscrepancy\": %s,\n", cd(c.cutDiscrepancy).c_str());
-    std::printf("  \"directionalCutDiscrepancyAB\": %s,\n", cd(c.directionalCutDiscrepancyAB).c_str());
-    std::printf("  \"directionalCutDiscrepancyBA\": %s,\n", cd(c.directionalCutDiscrepancyBA).c_str());
-    std::printf("  \"averageRadius\": %s,\n", number(c.averageRadius).c_str());
-    std::printf("  \"missingRate\": %s,\n", number(p.missingRate).c_str());
-    std::printf("  \"falseAlarmRate\": %s,\n", number(p.falseAlarmRate).c_str());
-    std::printf("  \"hammingDistance\": %s,\n", number(p.hammingDistance).c_str());
-    std::printf("  \"randIndexError\": %s,\n", number(p.randIndexError).c_str());
-    std::printf("  \"globalConsistencyError\": %s,\n", number(p.globalConsistencyError).c_str());
-    std::printf("  \"localConsistencyError\": %s\n", number(p.localConsistencyError).c_str());
+    std::printf("  \"segmentsA\": %zu,\n", p.SegmentCountA);
+    std::printf("  \"segmentsB\": %zu,\n", p.SegmentCountB);
+    std::printf("  \"cutDiscrepancy\": %s,\n", cd(c.CutDiscrepancy).c_str());
+    std::printf("  \"directionalCutDiscrepancyAB\": %s,\n", cd(c.DirectionalCutDiscrepancyAB).c_str());
+    std::printf("  \"directionalCutDiscrepancyBA\": %s,\n", cd(c.DirectionalCutDiscrepancyBA).c_str());
+    std::printf("  \"averageRadius\": %s,\n", number(c.AverageRadius).c_str());
+    std::printf("  \"missingRate\": %s,\n", number(p.MissingRate).c_str());
+    std::printf("  \"falseAlarmRate\": %s,\n", number(p.FalseAlarmRate).c_str());
+    std::printf("  \"hammingDistance\": %s,\n", number(p.HammingDistance).c_str());
+    std::printf("  \"randIndexError\": %s,\n", number(p.RandIndexError).c_str());
+    std::printf("  \"globalConsistencyError\": %s,\n", number(p.GlobalConsistencyError).c_str());
+    std::printf("  \"localConsistencyError\": %s\n", number(p.LocalConsistencyError).c_str());
     std::printf("}\n");
   }
   else
@@ -187,9 +187,9 @@ int Run(const Arguments& arguments)
       std::printf("|---:|---:|---:|---:|---:|---:|---:|\n");
     }
     std::printf("| %s | %s | %s | %s | %s | %s | %s |\n",
-      c.cutDiscrepancyDefined ? number(c.cutDiscrepancy).c_str() : "n/a", number(p.missingRate).c_str(),
-      number(p.falseAlarmRate).c_str(), number(p.hammingDistance).c_str(), number(p.randIndexError).c_str(),
-      number(p.globalConsistencyError).c_str(), number(p.localConsistencyError).c_str());
+      c.CutDiscrepancyDefined ? number(c.CutDiscrepancy).c_str() : "n/a", number(p.MissingRate).c_str(),
+      number(p.FalseAlarmRate).c_str(), number(p.HammingDistance).c_str(), number(p.RandIndexError).c_str(),
+      number(p.GlobalConsistencyError).c_str(), number(p.LocalConsistencyError).c_str());
   }
   if (std::fflush(stdout) != 0)
   {

@@ -182,11 +182,11 @@ TEST_F(FigurePartition, TwoPosesAgreeAndTheSharedModelDoesNotHurt)
   {
     const std::vector<int> rest = IntValues(Partition(RestNormalized, nullptr, k, clusterModel), "SDFCluster");
     const std::vector<int> bent = IntValues(Partition(BentNormalized, nullptr, k, clusterModel), "SDFCluster");
-    const double perMesh = shapediameter::CompareLabelings(rest, bent).percentDifferent;
+    const double perMesh = shapediameter::CompareLabelings(rest, bent).PercentDifferent;
     vtkSmartPointer<vtkPolyData> model = Partition(family->GetOutput(), nullptr, k, clusterModel);
     const std::vector<int> restShared = IntValues(Partition(restFamily, model, k, clusterModel), "SDFCluster");
     const std::vector<int> bentShared = IntValues(Partition(bentFamily, model, k, clusterModel), "SDFCluster");
-    const double shared = shapediameter::CompareLabelings(restShared, bentShared).percentDifferent;
+    const double shared = shapediameter::CompareLabelings(restShared, bentShared).PercentDifferent;
     std::printf("Table 2 measure on the figure, ClusterModel %d, k = %d: per-mesh %.3f %%, family %.3f %%\n",
       clusterModel, k, perMesh, shared);
     EXPECT_LE(perMesh, 3.0);
@@ -214,7 +214,7 @@ TEST_F(FigurePartition, DensityModesFollowTheThicknessLevelsInBothPoses)
   {
     EXPECT_NE(MajorityCluster(rest, Rest->FaceParts, limb), torso) << "limb " << limb;
   }
-  const double percent = shapediameter::CompareLabelings(rest, bent).percentDifferent;
+  const double percent = shapediameter::CompareLabelings(rest, bent).PercentDifferent;
   std::printf("density modes: k = %d, Table 2 measure on the figure %.3f %%\n", k, percent);
   EXPECT_LE(percent, 3.0);
 }
@@ -351,7 +351,7 @@ TEST(SDFGMMPartition, ASubdivisionKeepsTheParts)
   for (const std::size_t fine : { 1, 2 })
   {
     ASSERT_EQ(labels[fine].size(), parent.size());
-    const double changed = shapediameter::CompareLabelings(parent, labels[fine]).percentDifferent;
+    const double changed = shapediameter::CompareLabelings(parent, labels[fine]).PercentDifferent;
     std::printf("camel vs its %s subdivision: %.2f %% of the faces change cluster\n", fine == 1 ? "linear" : "Loop", changed);
     EXPECT_LT(changed, 2.0);
   }
@@ -518,7 +518,7 @@ TEST_F(FigureConsistencyAtDefaults, NonRigidPoseKeepsThePartsOfTheRestPose)
   ASSERT_EQ(nonRigid.size(), RestClusters->size());
   const std::vector<double> areas = FaceAreas(*Rest);
   const double areaPercent = PercentOfAreaDifferent(*RestClusters, nonRigid, areas);
-  const double facePercent = shapediameter::CompareLabelings(*RestClusters, nonRigid).percentDifferent;
+  const double facePercent = shapediameter::CompareLabelings(*RestClusters, nonRigid).PercentDifferent;
   std::printf("rest vs non-rigid pose at the defaults: %.3f %% of the area (%.3f %% of the faces) change cluster; "
               "clusters >= 1 %% of the area: %d / %d\n",
     areaPercent, facePercent, ClustersCoveringOnePercent(*RestClusters, areas), ClustersCoveringOnePercent(nonRigid, areas));

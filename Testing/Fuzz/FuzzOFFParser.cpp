@@ -3,7 +3,7 @@
 //
 // Build and run: see Testing/Fuzz/CMakeLists.txt (clang only), or by hand from the
 // repository root:
-//   clang++ -g -O1 -fsanitize=fuzzer,address,undefined -std=c++17 -I Filters/Core \
+//   clang++ -g -O1 -fsanitize=fuzzer,address,undefined -std=c++17 -I Filters/Core -I Testing/Common \
 //     Filters/Core/OFFParser.cpp Testing/Fuzz/FuzzOFFParser.cpp -o /tmp/fuzz_off
 //   /tmp/fuzz_off -max_total_time=60 -rss_limit_mb=512 CORPUS_DIR
 //
@@ -14,6 +14,7 @@
 // vertices, consistent array sizes, a size that is a small multiple of the input, and a
 // lossless round trip (written back as OFF and parsed again, it is identical).
 #include "OFFParser.h"
+#include "OFFTestOracle.h"
 
 #include <cmath>
 #include <cstddef>
@@ -36,105 +37,11 @@ using shapediameter::ParseOFF;
 
 void CheckMesh(const OFFMesh& mesh, std::size_t inputSize)
 {
-  if (mesh.points.size() % 3 != 0)
+  const std::string violation = shapediameter::testing::MeshViolation(mesh, inputSize);
+  if (!violation.empty())
   {
-    Violation("points not a multiple of 3");
+    Violation(violation.c_str());
   }
-  const std::size_t vertices = mesh.VertexCount();
-  for (const double x : mesh.points)
-  {
-    if (!std::isfinite(x))
-    {
-      Violation("non-finite coordinate");
-    }
-  }
-  if (!mesh.vertexNormals.empty() && mesh.vertexNormals.size() != 3 * vertices)
-  {
-    Violation("normals size");
-  }
-  for (const double x : mesh.vertexNormals)
-  {
-    if (!std::isfinite(x))
-    {
-      Violation("non-finite normal");
-    }
-  }
-  if (!mesh.vertexColors.empty() && mesh.vertexColors.size() != 4 * vertices)
-  {
-    Violation("vertex colours size");
-  }
-  if (mesh.faceOffsets.empty() || mesh.faceOffsets.front() != 0 ||
-    mesh.faceOffsets.back() != static_cast<std::int64_t>(mesh.faceConnectivity.size()))
-  {
-    Violation("face offsets do not frame the connectivity");
-  }
-  for (std::size_t f = 0; f + 1 < mesh.faceOffsets.size(); ++f)
-  {
-    if (mesh.faceOffsets[f + 1] - mesh.faceOffsets[f] < 3)
-    {
-      Violation("face with fewer than 3 vertices");
-    }
-  }
-  for (const std::int64_t index : mesh.faceConnectivity)
-  {
-    if (index < 0 || index >= static_cast<std::int64_t>(vertices))
-    {
-      Violation("vertex index out of range");
-    }
-  }
-  if (!mesh.faceColors.empty() && mesh.faceColors.size() != 4 * mesh.FaceCount())
-  {
-    Violation("face colours size");
-  }
-  const std::size_t bytes = 8 * (mesh.points.size() + mesh.vertexNormals.size() + mesh.faceOffsets.size() +
-                                  mesh.faceConnectivity.size()) +
-    mesh.vertexColors.size() + mesh.faceColors.size();
-  if (bytes > 64 * inputSize + 64)
-  {
-    Violation("mesh much larger than its input");
-  }
-}
-
-/// The mesh as OFF text that must parse back to the same mesh.
-std::string WriteOFF(const OFFMesh& mesh)
-{
-  std::string text;
-  text += mesh.vertexColors.empty() ? "" : "C";
-  text += mesh.vertexNormals.empty() ? "" : "N";
-  text += "OFF\n" + std::to_string(mesh.VertexCount()) + " " + std::to_string(mesh.FaceCount()) + " 0\n";
-  char buffer[64];
-  for (std::size_t v = 0; v < mesh.VertexCount(); ++v)
-  {
-    for (std::size_t k = 0; k < 3; ++k)
-    {
-      std::snprintf(buffer, sizeof(buffer), "%.17g ", mesh.points[3 * v + k]);
-      text += buffer;
-    }
-    for (std::size_t k = 0; k < 3 && !mesh.vertexNormals.empty(); ++k)
-    {
-      std::snprintf(buffer, sizeof(buffer), "%.17g ", mesh.vertexNormals[3 * v + k]);
-      text += buffer;
-    }
-    for (std::size_t k = 0; k < 4 && !mesh.vertexColors.empty(); ++k)
-    {
-      text += std::to_string(mesh.vertexColors[4 * v + k]) + " ";
-    }
-    text.back() = '\n';
-  }
-  for (std::size_t f = 0; f < mesh.FaceCount(); ++f)
-  {
-    text += std::to_string(mesh.faceOffsets[f + 1] - mesh.faceOffsets[f]);
-    for (auto i = mesh.faceOffsets[f]; i < mesh.faceOffsets[f + 1]; ++i)
-    {
-      text += " " + std::to_string(mesh.faceConnectivity[static_cast<std::size_t>(i)]);
-    }
-    for (std::size_t k = 0; k < 4 && !mesh.faceColors.empty(); ++k)
-    {
-      text += " " + std::to_string(mesh.faceColors[4 * f + k]);
-    }
-    text += "\n";
-  }
-  return text;
 }
 } // namespace
 
@@ -155,7 +62,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   CheckMesh(mesh, size);
-  const std::string written = WriteOFF(mesh);
+  const std::string written = shapediameter::testing::WriteOFF(mesh);
   OFFMesh again;
   try
   {
@@ -166,9 +73,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::fprintf(stderr, "%s\n", error.what());
     Violation("an accepted mesh written back as OFF does not parse");
   }
-  if (again.points != mesh.points || again.vertexNormals != mesh.vertexNormals ||
-    again.vertexColors != mesh.vertexColors || again.faceOffsets != mesh.faceOffsets ||
-    again.faceConnectivity != mesh.faceConnectivity || again.faceColors != mesh.faceColors)
+  if (!shapediameter::testing::SameMesh(again, mesh))
   {
     Violation("round trip changed the mesh");
   }

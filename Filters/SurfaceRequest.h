@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// What vtkSDFSurfaceAlgorithm hands to a filter's body (ExecuteSurface).
+// Private to the module: not installed, not wrapped.
+#pragma once
+
+#include "Parallel.h"
+
+#include <stdexcept>
+
+class vtkInformationVector;
+class vtkPolyData;
+
+namespace shapediameter::adapter
+{
+
+struct SurfaceRequest
+{
+  /// Input port 0: at least one cell and one polygon (or triangle strip, if accepted).
+  vtkPolyData* Input;
+  /// The surface output port, a shallow copy of Input on entry.
+  vtkPolyData* Output;
+  /// All ports, for the filters with further inputs or outputs.
+  vtkInformationVector** InputVector;
+  vtkInformationVector* OutputVector;
+  /// The core's parallel loop with the filter's NumberOfThreads.
+  ParallelFor Parallel;
+};
+
+/// Bad input found by a filter's body: reported as "Cannot <task>: <reason>." (the period
+/// added), then the pass-through.
+class SurfaceInputError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+} // namespace shapediameter::adapter

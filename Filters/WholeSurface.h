@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The whole-surface assembly and scatter mapping of distributed runs, as pure functions of
+// VTK data: no controller, no MPI. DistributedSupport.cxx moves the pieces between the
+// processes and calls these; Testing/Filters/TestWholeSurface.cxx tests them on one process.
+//
+// Private to the module: not installed, not wrapped.
+#pragma once
+
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkType.h"
+
+#include <utility>
+#include <vector>
+
+class vtkDataObject;
+
+namespace shapediameter::distributed
+{
+
+/// vtkPolyData numbers its cells by group: verts, then lines, then polygons, then strips.
+enum class CellGroup : int
+{
+  Vertices = 0,
+  Lines = 1,
+  Polygons = 2,
+  Strips = 3
+};
+
+/// The group of a VTK cell type (every type that is no vertex, line or strip is a polygon).
+CellGroup CellGroupOf(int cellType);
+
+/// What orders the cells of the whole surface, in order of preference.
+enum class CellOrder : int
+{
+  GlobalCellIds,     ///< the cell GlobalIds attribute, else the reader's `GlobalCellIds`
+  OriginalCellIds,   ///< RedistributeDataSet's `vtkOriginalCellIds` (see AssembleWholeSurface)
+  ProcessOrder       ///< no ids: process by process, each in its own order
+};
+
+/// How the points of the whole surface were merged.
+enum class PointOrder : int
+{
+  GlobalPointIds,    ///< the point GlobalIds attribute, else the reader's `GlobalPointIds`
+  Coordinates        ///< identical coordinates, in order of first use by the ordered cells
+};
+
+const char* ToString(CellOrder order);
+const char* ToString(PointOrder order);
+
+/// The whole surface and where each piece's cells and points went.
+struct WholeSurface
+{
+  vtkSmartPointer<vtkPolyData> Mesh = vtkSmartPointer<vtkPolyData>::New();
+  /// Per piece, per local cell / point: its id in Mesh.
+  std::vector<std::vector<vtkIdType>> CellToWhole, PointToWhole;
+  CellOrder Cells = CellOrder::ProcessOrder;
+  PointOrder Points = PointOrder::Coordinates;
+};
+
+/**
+ * The pieces of a distributed surface (one per process, empty ones allowed) as one mesh:
+ * cells sorted by global id (CellOrder; `vtkOriginalCellIds` only when equal ids always
+ * mean the same corners), a cell present on several pieces kept once (the copy not marked
+ * DUPLICATECELL first); points merged by global id (PointOrder) and sorted by it, else by
+ * identical coordinates; the cell and point arrays that every non-empty piece has, without
+ * ghost-type arrays; the field data of the first non-empty piece.
+ */
+WholeSurface AssembleWholeSurface(const std::vector<vtkPolyData*>& pieces);
+
+/**
+ * What one process gets back from the filter's output on the whole surface: the piece's
+ * geometry, the arrays the filter made (those of `wholeOutput` not passed through from
+ * `wholeInput`) on the piece's cells and points, the whole output's field data, and the
+ * polygons with the whole output's winding when the filter changed it.
+ */
+vtkSmartPointer<vtkPolyData> LocalResult(vtkPolyData* piece, vtkPolyData* wholeInput, vtkPolyData* wholeOutput,
+  const std::vector<vtkIdType>& cellToWhole, const std::vector<vtkIdType>& pointToWhole);
+
+/// A process's output: its own `input` plus the arrays (and winding) of its LocalResult;
+/// just the input when `result` does not match it (nothing usable came back).
+void ApplyResult(vtkPolyData* input, vtkPolyData* result, vtkDataObject* output);
+
+} // namespace shapediameter::distributed

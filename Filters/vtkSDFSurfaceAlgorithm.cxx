@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkSDFSurfaceAlgorithm.h"
+
+#include "DistributedSupport.h"
+#include "SurfaceConversion.h"
+#include "SurfaceRequest.h"
+
+#include "vtkDataObject.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkPolyData.h"
+
+vtkSDFSurfaceAlgorithm::vtkSDFSurfaceAlgorithm(
+  const char* task, const char* emptyNote, int surfacePort, bool acceptStrips)
+  : Task(task)
+  , EmptyNote(emptyNote)
+  , SurfacePort(surfacePort)
+  , AcceptStrips(acceptStrips)
+{
+}
+
+vtkSDFSurfaceAlgorithm::~vtkSDFSurfaceAlgorithm() = default;
+
+int vtkSDFSurfaceAlgorithm::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  using namespace shapediameter;
+  if (distributed::IsDistributedRequest(inputVector, outputVector))
+  {
+    return distributed::RunOnWholeSurface(this, inputVector, outputVector, { this->SurfacePort },
+      [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); });
+  }
+
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, this->SurfacePort);
+  output->ShallowCopy(input);
+  if (input->GetNumberOfCells() == 0)
+  {
+    vtkWarningMacro("The input is empty: " << this->EmptyNote << ".");
+    return 1;
+  }
+  if (input->GetNumberOfPolys() == 0 && !(this->AcceptStrips && input->GetNumberOfStrips() > 0))
+  {
+    vtkErrorMacro("Cannot " << this->Task << ": the input has no polygons"
+                            << (this->AcceptStrips ? " or triangle strips" : "") << ".");
+    return 1;
+  }
+
+  try
+  {
+    const adapter::SurfaceRequest request{ input, output, inputVector, outputVector,
+      adapter::MakeSMPParallelFor(this->NumberOfThreads) };
+    if (!this->ExecuteSurface(request))
+    {
+      this->PassThrough(input, outputVector);
+      return 1;
+    }
+  }
+  catch (const adapter::SurfaceInputError& error)
+  {
+    vtkErrorMacro("Cannot " << this->Task << ": " << error.what() << ".");
+    this->PassThrough(input, outputVector);
+    return 1;
+  }
+  catch (const std::exception& error)
+  {
+    vtkErrorMacro("Cannot " << this->Task << ": " << error.what());
+    this->PassThrough(input, outputVector);
+    return 1;
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkSDFSurfaceAlgorithm::PassThrough(vtkPolyData* input, vtkInformationVector* outputVector)
+{
+  for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
+  {
+    vtkDataObject* output = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
+    if (port == this->SurfacePort)
+    {
+      vtkPolyData::SafeDownCast(output)->ShallowCopy(input);
+    }
+    else if (output)
+    {
+      output->Initialize();
+    }
+  }
+}
+
+void vtkSDFSurfaceAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}

@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class   vtkSDFSurfaceAlgorithm
+ * @brief   Base of the module's surface filters: distributed runs, threads, input checks and
+ *          the error → pass-through policy, once for all four.
+ *
+ * vtkShapeDiameterFilter, vtkSDFBilateralSmooth, vtkSDFGMMPartition and vtkSDFSkeleton read
+ * a surface on input port 0 and pass it through, with new arrays, on one output port (their
+ * surface port; other ports hold a skeleton, a point cloud or a histogram). RequestData runs,
+ * in this order:
+ * 1. Distributed runs (Filters/DistributedSupport.h): under MPI the rest runs once, on
+ *    process 0, on the whole surface gathered in its original order; every process gets its
+ *    own cells back on the surface port.
+ * 2. The surface port starts as a shallow copy of the input.
+ * 3. An input without cells: a warning, and that copy.
+ * 4. An input without polygons (without polygons and triangle strips, for the filters that
+ *    split strips into triangles): an error, and that copy.
+ * 5. The filter's body (ExecuteSurface). A std::exception it throws becomes one
+ *    vtkErrorMacro, "Cannot <task>: <reason>"; after an error or an abort the surface port
+ *    is the pass-through copy of the input and every other output port is empty.
+ *
+ * NumberOfThreads (default 0 = all cores, range [0, 1024]) sets the workers of the body's
+ * parallel loops (vtkSMPTools' STDThread backend, whatever backend the application selected,
+ * because ParaView defaults to Sequential); no output depends on it.
+ *
+ * Not meant to be used on its own (it has no New()); not a ParaView proxy.
+ */
+#ifndef vtkSDFSurfaceAlgorithm_h
+#define vtkSDFSurfaceAlgorithm_h
+
+#include "ShapeDiameterFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+namespace shapediameter
+{
+namespace adapter
+{
+struct SurfaceRequest; // Filters/SurfaceRequest.h (private to the module)
+}
+}
+
+class SHAPEDIAMETERFILTERS_EXPORT vtkSDFSurfaceAlgorithm : public vtkPolyDataAlgorithm
+{
+public:
+  vtkTypeMacro(vtkSDFSurfaceAlgorithm, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Worker threads, 0 = all cores (default 0, range [0, 1024]); the output does not depend
+  /// on it.
+  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
+  vtkGetMacro(NumberOfThreads, int);
+  ///@}
+
+protected:
+  /// `task` completes "Cannot ..." in error messages, `emptyNote` "The input is empty: ...";
+  /// `surfacePort` is the output port that passes the input through; `acceptStrips`: triangle
+  /// strips count as surface (else polygons only).
+  vtkSDFSurfaceAlgorithm(const char* task, const char* emptyNote, int surfacePort, bool acceptStrips);
+  ~vtkSDFSurfaceAlgorithm() override;
+
+  /// Steps 1 to 5 of the class documentation; subclasses implement ExecuteSurface instead.
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) final;
+
+  /**
+   * The filter's own work on a checked input: read what it needs (throwing a
+   * std::exception with a one-line reason on bad input), call the core, write the outputs.
+   * Returns false when the user aborted (the base restores the pass-through).
+   */
+  virtual bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) = 0;
+
+  int NumberOfThreads = 0;
+
+private:
+  vtkSDFSurfaceAlgorithm(const vtkSDFSurfaceAlgorithm&) = delete;
+  void operator=(const vtkSDFSurfaceAlgorithm&) = delete;
+
+  /// Resets every output port to the documented result of a failed or aborted run.
+  void PassThrough(vtkPolyData* input, vtkInformationVector* outputVector);
+
+  const char* Task;
+  const char* EmptyNote;
+  int SurfacePort;
+  bool AcceptStrips;
+};
+
+#endif
