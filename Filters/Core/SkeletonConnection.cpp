@@ -17,9 +17,9 @@ namespace shapediameter
 
 void ValidateConnectionOptions(const SkeletonConnectionOptions& options)
 {
-  if (options.NumberOfNeighbours < 1 || options.NumberOfNeighbours > 64)
+  if (options.NumberOfNeighbors < 1 || options.NumberOfNeighbors > 64)
   {
-    throw SkeletonError("skeleton: NumberOfNeighbours must be in [1, 64]");
+    throw SkeletonError("skeleton: NumberOfNeighbors must be in [1, 64]");
   }
   if (!(options.SeedRadiusFactor >= 0.0 && options.SeedRadiusFactor <= 10.0))
   {
@@ -75,18 +75,18 @@ private:
 using Edge = std::pair<std::int64_t, std::int64_t>;
 
 /// Adjacency in compressed rows; edges are undirected and stored both ways.
-struct NeighbourGraph
+struct NeighborGraph
 {
   std::vector<std::size_t> Offsets;
   std::vector<std::int64_t> Targets;
   std::vector<double> Weights;
 };
 
-NeighbourGraph MakeGraph(const PointMatrix& positions, std::vector<Edge> edges)
+NeighborGraph MakeGraph(const PointMatrix& positions, std::vector<Edge> edges)
 {
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  NeighbourGraph graph;
+  NeighborGraph graph;
   const auto count = static_cast<std::size_t>(positions.rows());
   std::vector<std::size_t> degree(count, 0);
   for (const auto& [a, b] : edges)
@@ -322,10 +322,10 @@ void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
           adjacency.erase(vertex);
           removed.insert(vertex);
         }
-        const std::set<std::int64_t> mergedNeighbours = adjacency[merged];
+        const std::set<std::int64_t> mergedNeighbors = adjacency[merged];
         adjacency.erase(merged);
         mergedInto[merged] = survivor;
-        for (const std::int64_t neighbour : mergedNeighbours)
+        for (const std::int64_t neighbour : mergedNeighbors)
         {
           const auto found = adjacency.find(neighbour);
           if (found == adjacency.end())
@@ -418,14 +418,14 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
   };
 
   // 1. k-nearest-neighbour graph on P, restricted to surface components.
-  const auto k = static_cast<std::size_t>(options.NumberOfNeighbours);
+  const auto k = static_cast<std::size_t>(options.NumberOfNeighbors);
   std::vector<std::int64_t> nearest(count * k, -1);
   parallelFor(count, [&](std::size_t begin, std::size_t end) {
     std::vector<std::int64_t> indices;
     std::vector<double> squaredDistances;
     for (std::size_t i = begin; i < end; ++i)
     {
-      tree.NearestNeighbours(positions.row(static_cast<Eigen::Index>(i)).transpose(), k + 1,
+      tree.NearestNeighbors(positions.row(static_cast<Eigen::Index>(i)).transpose(), k + 1,
         indices, squaredDistances);
       std::size_t slot = 0;
       for (const std::int64_t j : indices)
@@ -479,7 +479,7 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
     return {};
   }
   BridgeGraphPieces(tree, positions, component, edges);
-  const NeighbourGraph neighbours = MakeGraph(positions, std::move(edges));
+  const NeighborGraph neighbours = MakeGraph(positions, std::move(edges));
   if (!report(0.5))
   {
     return {};

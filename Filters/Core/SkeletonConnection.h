@@ -4,7 +4,7 @@
 // What it computes
 //   The poly-segments S of step 3 are joined by shortest paths through the projected cloud P
 //   (whose points lie near the medial axis, hence good candidates for connecting paths):
-//   1. Neighbour graph on P: each point linked to its NumberOfNeighbours nearest points of the
+//   1. Neighbour graph on P: each point linked to its NumberOfNeighbors nearest points of the
 //      same surface component, edge weight = Euclidean length; when a volume is given (as
 //      ComputeSkeleton does), an edge whose straight segment meets the surface is left out
 //      (SegmentCrossesSurface, RayCaster.h), so that paths run through one part of the volume,
@@ -51,7 +51,7 @@
 //   the multi-terminal growth; the paper leaves the order open.
 //
 // Parameters (SkeletonConnectionOptions)
-//   NumberOfNeighbours  k of the neighbour graph on P. Default 8; [1, 64].
+//   NumberOfNeighbors  k of the neighbour graph on P. Default 8; [1, 64].
 //   SeedRadiusFactor    growth seeds within factor * radius(node) of a segment node. Default
 //                       0.5; [0, 10] (0: only the nearest point of P to each node).
 //   SpacingFactor       node spacing along connecting paths, * radius. Default 0.25 (the
@@ -87,7 +87,7 @@ namespace shapediameter
 struct SkeletonConnectionOptions
 {
   /// k of the k-nearest-neighbour graph on P. [1, 64].
-  int NumberOfNeighbours = 8;
+  int NumberOfNeighbors = 8;
   /// Growth seeds lie within SeedRadiusFactor * radius of a segment node. [0, 10].
   double SeedRadiusFactor = 0.5;
   /// Node spacing along connecting paths, * radius. [0, 10].

@@ -305,7 +305,7 @@ void SkeletonPointTree::RadiusSearch(
   std::sort(indices.begin(), indices.end());
 }
 
-void SkeletonPointTree::NearestNeighbours(const Eigen::Vector3d& centre, std::size_t k,
+void SkeletonPointTree::NearestNeighbors(const Eigen::Vector3d& centre, std::size_t k,
   std::vector<std::int64_t>& indices, std::vector<double>& squaredDistances) const
 {
   indices.clear();
@@ -436,9 +436,9 @@ void ValidateThinningOptions(const SkeletonThinningOptions& options)
   {
     throw SkeletonError("skeleton: NumberOfIterations must be in [1, 100]");
   }
-  if (!(options.NeighbourhoodScale > 0.0 && options.NeighbourhoodScale <= 10.0))
+  if (!(options.NeighborhoodScale > 0.0 && options.NeighborhoodScale <= 10.0))
   {
-    throw SkeletonError("skeleton: NeighbourhoodScale must be in (0, 10]");
+    throw SkeletonError("skeleton: NeighborhoodScale must be in (0, 10]");
   }
   if (!(options.ConfidenceThreshold >= 0.0 && options.ConfidenceThreshold <= 1.0))
   {
@@ -452,9 +452,9 @@ void ValidateThinningOptions(const SkeletonThinningOptions& options)
   {
     throw SkeletonError("skeleton: thinning SpacingFactor must be in [0, 10]");
   }
-  if (options.MinimumNeighbours < 2 || options.MinimumNeighbours > 1000)
+  if (options.MinimumNeighbors < 2 || options.MinimumNeighbors > 1000)
   {
-    throw SkeletonError("skeleton: MinimumNeighbours must be in [2, 1000]");
+    throw SkeletonError("skeleton: MinimumNeighbors must be in [2, 1000]");
   }
 }
 
@@ -470,7 +470,7 @@ struct Projection
 
 /// One MLS step for a point at `position` with neighbourhood radius h.
 Projection ProjectOntoRegressionLine(const SkeletonPointTree& tree,
-  const Eigen::Vector3d& position, double h, double minimumNeighbours)
+  const Eigen::Vector3d& position, double h, double minimumNeighbors)
 {
   const Projection unchanged{ position, Eigen::Vector3d::Zero(), 0.0 };
   if (!(h > 0.0))
@@ -478,7 +478,7 @@ Projection ProjectOntoRegressionLine(const SkeletonPointTree& tree,
     return unchanged;
   }
   const SkeletonPointTree::Moments moments = tree.BallMoments(position, h);
-  if (moments.Count < minimumNeighbours)
+  if (moments.Count < minimumNeighbors)
   {
     return unchanged;
   }
@@ -545,7 +545,7 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
   PointMatrix nextPositions(rows, 3);
   const std::size_t blocks = std::min<std::size_t>(16, count);
   const std::size_t blockSize = (count + blocks - 1) / blocks;
-  const auto minimumNeighbours = static_cast<double>(options.MinimumNeighbours);
+  const auto minimumNeighbors = static_cast<double>(options.MinimumNeighbors);
   for (int iteration = 0; iteration < options.NumberOfIterations; ++iteration)
   {
     if (options.ContractCloud && iteration > 0)
@@ -560,8 +560,8 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
         {
           const auto i = static_cast<Eigen::Index>(k);
           const Projection projection = ProjectOntoRegressionLine(*tree,
-            result.Positions.row(i).transpose(), options.NeighbourhoodScale * cloud.Radius[k],
-            minimumNeighbours);
+            result.Positions.row(i).transpose(), options.NeighborhoodScale * cloud.Radius[k],
+            minimumNeighbors);
           nextPositions.row(i) = projection.Position.transpose();
           result.Axis.row(i) = projection.Axis.transpose();
           result.Confidence[k] = projection.Confidence;

@@ -3,7 +3,7 @@
 //
 // What it computes
 //   For every point p of P: the principal component analysis (PCA) of the points of P within
-//   h(p) = NeighbourhoodScale * radius(p) of p, the projection of p onto the regression line
+//   h(p) = NeighborhoodScale * radius(p) of p, the projection of p onto the regression line
 //   (the line through the neighbourhood centroid along the first principal axis), and
 //       confidence(p) = max(e1, e2, e3) / (e1 + e2 + e3)
 //   from the three eigenvalues. The projection is repeated NumberOfIterations times, each
@@ -19,7 +19,7 @@
 //
 // Parameters (SkeletonThinningOptions), all lengths relative to the local radius(p)
 //   NumberOfIterations   "2 to 4" in the paper; default 3; valid [1, 100].
-//   NeighbourhoodScale   h = scale * radius(p); paper: radius(p), i.e. 1; default 1; (0, 10].
+//   NeighborhoodScale   h = scale * radius(p); paper: radius(p), i.e. 1; default 1; (0, 10].
 //   ConfidenceThreshold  keep points with confidence >= threshold; the paper gives no value.
 //                        Default 0.8: a straight tube whose cloud scatters by sigma across
 //                        the axis has confidence (h^2/3) / (h^2/3 + 2 sigma^2), so 0.8 keeps
@@ -47,7 +47,7 @@
 //                        tube twice as long as its radius); valid [0, 10]. The paper uses one
 //                        constant epsilon; a radius-relative one keeps thin parts (fingers)
 //                        as finely sampled as thick ones (torso).
-//   MinimumNeighbours    a neighbourhood with fewer points (the point included) has no
+//   MinimumNeighbors    a neighbourhood with fewer points (the point included) has no
 //                        defined regression line: confidence 0 and the point does not move.
 //                        Default 5; valid [2, 1000].
 //   ContractCloud        false (default): the regression line is always fitted to the
@@ -111,7 +111,7 @@ public:
     const Eigen::Vector3d& centre, double radius, std::vector<std::int64_t>& indices) const;
 
   /// The k nearest points, ordered by (distance, index); fewer if the tree is smaller.
-  void NearestNeighbours(const Eigen::Vector3d& centre, std::size_t k,
+  void NearestNeighbors(const Eigen::Vector3d& centre, std::size_t k,
     std::vector<std::int64_t>& indices, std::vector<double>& squaredDistances) const;
 
   /// The nearest point for which accept(index) is true (an empty accept takes every point),
@@ -158,8 +158,8 @@ struct SkeletonThinningOptions
 {
   /// Projection iterations (paper: "2 to 4"). Valid [1, 100].
   int NumberOfIterations = 3;
-  /// Neighbourhood radius h = NeighbourhoodScale * radius(p) (paper: radius(p)). (0, 10].
-  double NeighbourhoodScale = 1.0;
+  /// Neighbourhood radius h = NeighborhoodScale * radius(p) (paper: radius(p)). (0, 10].
+  double NeighborhoodScale = 1.0;
   /// Points of T have confidence >= ConfidenceThreshold (lowered by MinimumConfidentShare). [0, 1].
   double ConfidenceThreshold = 0.8;
   /// At least this share of the defined points is eligible for T (see header). [0, 1].
@@ -167,7 +167,7 @@ struct SkeletonThinningOptions
   /// Minimal spacing epsilon = SpacingFactor * radius(p) between points of T. [0, 10].
   double SpacingFactor = 0.25;
   /// Smallest neighbourhood (point included) with a defined regression line. [2, 1000].
-  int MinimumNeighbours = 5;
+  int MinimumNeighbors = 5;
   /// Fit each iteration to the moved cloud instead of the original P (see header). Off.
   bool ContractCloud = false;
 };

@@ -139,7 +139,7 @@ void ExpectAllFinite(const FaceGraph& graph)
 
 } // namespace
 
-TEST(FaceGraph, CubeQuadsHaveFourNeighboursAtRightAnglesAllConvex)
+TEST(FaceGraph, CubeQuadsHaveFourNeighborsAtRightAnglesAllConvex)
 {
   const FaceGraph graph = UnitCubeQuads().Build();
   ASSERT_EQ(graph.FaceCount(), 6u);
@@ -382,7 +382,7 @@ TEST(FaceGraph, BadInputThrows)
   EXPECT_NO_THROW(BuildFaceGraph(withNaN, std::vector<std::int64_t>{ 0, 3 }, std::vector<std::int64_t>{ 0, 1, 3 }));
 }
 
-TEST(FaceGraph, FlatGridInteriorFacesHaveThreeNeighboursAndComponentsSeparate)
+TEST(FaceGraph, FlatGridInteriorFacesHaveThreeNeighborsAndComponentsSeparate)
 {
   Polygons grid = FlatGrid(10);
   // A second, disjoint copy of the tetrahedron appended as another component.

@@ -394,7 +394,7 @@ TEST(SkeletonPointTree, MatchesBruteForce)
     tree.RadiusSearch(centre, radius, found);
     EXPECT_EQ(found, inside);
     std::sort(all.begin(), all.end());
-    tree.NearestNeighbours(centre, 9, found, distances);
+    tree.NearestNeighbors(centre, 9, found, distances);
     ASSERT_EQ(found.size(), 9u);
     for (std::size_t k = 0; k < 9; ++k)
     {
@@ -411,7 +411,7 @@ TEST(SkeletonPointTree, MatchesBruteForce)
     blob.row(i) << unit(), unit(), unit();
   }
   const SkeletonPointTree blobTree(blob);
-  blobTree.NearestNeighbours(Eigen::Vector3d::Constant(2.0), 5, found, distances);
+  blobTree.NearestNeighbors(Eigen::Vector3d::Constant(2.0), 5, found, distances);
   EXPECT_EQ(found, (std::vector<std::int64_t>{ 1, 3, 5, 7, 9 }));
   EXPECT_EQ(blobTree.NearestAccepted(Eigen::Vector3d::Constant(2.0),
               [](std::int64_t i) { return i > 100; }),
@@ -582,7 +582,7 @@ TEST(SkeletonThinning, InvalidOptionsThrow)
   options.ConfidenceThreshold = std::nan("");
   EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), SkeletonError);
   options = {};
-  options.NeighbourhoodScale = 0.0;
+  options.NeighborhoodScale = 0.0;
   EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), SkeletonError);
 }
 
@@ -1239,7 +1239,7 @@ TEST(Skeleton, InvalidInputThrows)
   options.Segments.AngularToleranceDegrees = 90.0;
   EXPECT_THROW(RunSkeleton(capsule, options), SkeletonError);
   options = {};
-  options.Connection.NumberOfNeighbours = 0;
+  options.Connection.NumberOfNeighbors = 0;
   EXPECT_THROW(RunSkeleton(capsule, options), SkeletonError);
 }
 
