@@ -215,9 +215,22 @@ int vtkShapeDiameterFilter::RequestData(
     options.NumberOfRays = this->NumberOfRays;
     options.ConeAngleDegrees = this->ConeAngle;
     options.Rule = this->HitRule == 1 ? shapediameter::HitRule::SkipSameFacing : shapediameter::HitRule::FirstHitLeaving;
-    const RayOrigins origins = this->PerPoint
+    options.Mode = this->Mode == ADAPTIVE ? ShapeDiameterMode::Adaptive : ShapeDiameterMode::Exact;
+    options.Tolerance = this->Tolerance;
+    RayOrigins origins = this->PerPoint
       ? MakeVertexOrigins(surface.Points, VertexNormals(surface))
       : MakeFaceOrigins(surface.Points, surface.Triangles);
+    std::vector<std::int64_t> pointOffsets, pointNeighbours;
+    if (this->PerPoint)
+    {
+      PointAdjacency(surface, pointOffsets, pointNeighbours);
+    }
+    if (options.Mode == ShapeDiameterMode::Adaptive)
+    {
+      // The adaptive mode interpolates over the surface: the same graph as the fill below.
+      origins.NeighbourOffsets = this->PerPoint ? pointOffsets : triangleAdjacency().Offsets;
+      origins.Neighbours = this->PerPoint ? pointNeighbours : triangleAdjacency().Neighbours;
+    }
     ShapeDiameterResult result = ComputeShapeDiameter(
       caster, origins, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.9));
     if (result.aborted)
@@ -228,9 +241,7 @@ int vtkShapeDiameterFilter::RequestData(
 
     if (this->PerPoint)
     {
-      std::vector<std::int64_t> offsets, neighbours;
-      PointAdjacency(surface, offsets, neighbours);
-      FillFromNeighbours(result.values, result.validRays, offsets, neighbours);
+      FillFromNeighbours(result.values, result.validRays, pointOffsets, pointNeighbours);
       output->GetPointData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SDF_ARRAY_NAME, result.values));
       output->GetPointData()->AddArray(adapter::MakeArray<vtkIntArray>(VALID_RAYS_ARRAY_NAME, result.validRays));
       output->GetPointData()->SetActiveScalars(SDF_ARRAY_NAME);
@@ -294,4 +305,6 @@ void vtkShapeDiameterFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "HitRule: " << this->HitRule << "\n";
   os << indent << "AutoOrient: " << this->AutoOrient << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "Mode: " << (this->Mode == ADAPTIVE ? "Adaptive" : "Exact") << "\n";
+  os << indent << "Tolerance: " << this->Tolerance << "\n";
 }
