@@ -21,8 +21,10 @@ constexpr int kSmoothingIterations = 8;
 constexpr double kCreaseAngleDegrees = 60.0;
 /// Refinement rounds after the coarse level is reached, beyond K.
 constexpr int kExtraRounds = 8;
-/// Step 4b: the lowest and highest fraction of the cast values whose regions are cast completely.
+/// Step 4b: the lowest and highest fraction of the cast values whose regions are refined.
 constexpr double kExtremeFraction = 0.01;
+/// Step 4b: the extreme regions are selected again this many levels finer.
+constexpr int kExtremeLevels = 2;
 /// Origins per task of the sweeps.
 constexpr std::size_t kSweepChunk = 4096;
 
@@ -247,6 +249,13 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
   }
   const double spacingFraction = options.SpacingFraction;
   const double tolerance = options.Tolerance;
+  if (coarseLevel == 0)
+  {
+    // The coarsest cell is no larger than the spacing of the origins: every origin would be
+    // cast, so the Exact mode runs (same values, none of the bookkeeping).
+    result.aborted = !CastShapeDiameterCones(caster, origins, options, nullptr, result, parallelFor, progress);
+    return result;
+  }
   const auto levelFor = [&](double sdf) {
     const double spacing = spacingFraction * sdf;
     if (!(spacing >= 2 * cellUnit))
@@ -389,8 +398,10 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
 
   // Step 4b: the extremes. The normalisation maps the smoothed SDF's minimum and maximum to 0
   // and 1, so a missed extreme shifts every normalised value: the regions whose value is in
-  // the lowest or highest ExtremeFraction of the cast values are cast completely.
+  // the lowest or highest kExtremeFraction of the cast values are selected again
+  // kExtremeLevels levels finer.
   const double extremeFraction = kExtremeFraction;
+  const int extremeDrop = kExtremeLevels;
   if (!owner.empty() && extremeFraction > 0)
   {
     std::vector<double> castValues;
@@ -419,6 +430,13 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
           }
         }
       }
+      for (const std::size_t i : chosen)
+      {
+        level[i] = std::max(0, level[i] - extremeDrop);
+      }
+      chosen = Select(chosen, level, origins.Points, normals, minCorner, cellUnit);
+      chosen.erase(std::remove_if(chosen.begin(), chosen.end(), [&](std::size_t i) { return cast[i] != 0; }),
+        chosen.end());
       if (!chosen.empty())
       {
         const double span = 0.5 * (0.95 - progressDone);
@@ -460,9 +478,9 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
       result.validRays[i] = result.validRays[a];
     }
   }
+  const std::size_t chunks = (n + kSweepChunk - 1) / kSweepChunk;
   const double creaseCos = std::cos(kCreaseAngleDegrees * 3.14159265358979323846 / 180.0);
   std::vector<double> next(result.values);
-  const std::size_t chunks = (n + kSweepChunk - 1) / kSweepChunk;
   const int sweeps = kSmoothingIterations;
   for (int sweep = 0; sweep < sweeps && !owner.empty(); ++sweep)
   {
