@@ -167,6 +167,42 @@ void Regions(const Graph& graph, const std::vector<std::uint8_t>& source,
     layer.swap(next);
   }
 }
+/// Step 2 after new casts: the regions of the sources added since the last call take over
+/// every origin they are strictly closer to (in hops); the rest keep their owner. The same
+/// hop distances as a search from all sources, at the cost of the origins that change.
+void UpdateRegions(const Graph& graph, const std::vector<std::size_t>& added,
+  const std::vector<std::uint8_t>& source, std::vector<std::int64_t>& owner, std::vector<int>& depth)
+{
+  std::vector<std::size_t> layer, next;
+  for (const std::size_t s : added)
+  {
+    if (source[s])
+    {
+      owner[s] = static_cast<std::int64_t>(s);
+      depth[s] = 0;
+      layer.push_back(s);
+    }
+  }
+  while (!layer.empty())
+  {
+    next.clear();
+    for (const std::size_t f : layer)
+    {
+      const int d = depth[f] + 1;
+      for (std::size_t k = graph.Begin(f); k < graph.End(f); ++k)
+      {
+        const std::size_t g = graph.At(k);
+        if (depth[g] < 0 || d < depth[g])
+        {
+          owner[g] = owner[f];
+          depth[g] = d;
+          next.push_back(g);
+        }
+      }
+    }
+    layer.swap(next);
+  }
+}
 } // namespace
 
 ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
@@ -367,7 +403,14 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
       cast[i] = 1;
       source[i] = result.validRays[i] > 0 ? 1 : 0;
     }
-    Regions(graph, source, owner, depth);
+    if (round == 0)
+    {
+      Regions(graph, source, owner, depth);
+    }
+    else
+    {
+      UpdateRegions(graph, chosen, source, owner, depth);
+    }
 
     if (round == 0)
     {
@@ -456,7 +499,7 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
           cast[i] = 1;
           source[i] = result.validRays[i] > 0 ? 1 : 0;
         }
-        Regions(graph, source, owner, depth);
+        UpdateRegions(graph, chosen, source, owner, depth);
       }
     }
   }

@@ -20,7 +20,9 @@
 //      cell centre is cast (ties: lowest index). At level 0 every candidate is cast.
 //   2. Regions: a breadth-first search over the neighbour graph from all cast origins with a
 //      valid value gives every origin its owner (the cast origin that reached it first, layer
-//      by layer, in a fixed order) and its depth in hops.
+//      by layer, in a fixed order) and its depth in hops. After later casts only the origins
+//      that a new cast reaches in strictly fewer hops change owner (a search from the new
+//      casts alone: the same hop distances, a cost that follows the change).
 //   3. Spacing from the estimate: after the coarse pass each origin's level becomes the
 //      largest k with h_k <= SpacingFraction x (its owner's SDF), and at least 2 E; origins
 //      whose level dropped are selected again (step 1, among them only).
@@ -65,6 +67,8 @@
 //     remaining error is where the exact field has structure finer than the spacing.
 //   - Piecewise-constant fill (owner value only, 0 sweeps) against 8 or 32 sweeps: mean
 //     0.0063 / 0.0055 / 0.0054 and p99 0.050 / 0.039 / 0.038; 8 sweeps.
+//   - Recomputing the regions from all casts every round took 0.58 s of a 4.7 s run at 208k
+//     (14 rounds over all faces); the incremental update above roughly halved the run.
 //   - Selection by a hashed grid per level (this file) rather than geodesic farthest-point
 //     sampling: one sort per round, deterministic and independent of the thread count.
 //   - Not tried: fewer rays per cone where the first rays agree (the cast origins would no
