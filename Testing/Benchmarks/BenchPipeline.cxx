@@ -6,7 +6,8 @@
 //   BenchPipeline [Google Benchmark flags] [MESH.off ...]
 //   BenchPipeline --chain-once MESH.off    read + the whole chain once, stage times on stdout
 //                                          (for /usr/bin/time -v: peak RSS of the chain)
-//   BenchPipeline --accuracy MESH...       the chain with the exact and the adaptive SDF once
+//   BenchPipeline --accuracy [--tolerance T] MESH...
+//                                          the chain with the exact and the adaptive SDF once
 //                                          per mesh: times, |dSDFNormalized| (mean, p99, max),
 //                                          SDFCluster area agreement after the best label
 //                                          matching, skeleton points; a Markdown table
@@ -1110,8 +1111,14 @@ std::vector<double> CellAreas(vtkPolyData* mesh)
 
 /// --accuracy: the chain with the exact and the adaptive SDF on each mesh; a Markdown row
 /// per mesh with the times and the differences the adaptive mode's bar is about.
-int RunAccuracy(const std::vector<std::string>& paths)
+int RunAccuracy(std::vector<std::string> paths)
 {
+  double tolerance = -1; // the filter's default
+  if (paths.size() >= 2 && paths[0] == "--tolerance")
+  {
+    tolerance = std::stod(paths[1]);
+    paths.erase(paths.begin(), paths.begin() + 2);
+  }
   std::printf("| mesh | faces | SDF exact | SDF adaptive | adaptive/exact | mean abs dSDFNormalized | "
               "p99 | max | SDFCluster same area | k exact/adaptive | skeleton points exact/adaptive | "
               "chain exact | chain adaptive |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
@@ -1119,6 +1126,10 @@ int RunAccuracy(const std::vector<std::string>& paths)
   {
     vtkSmartPointer<vtkPolyData> surface = ReadMesh(path);
     Chain exact(surface), adaptive(surface, vtkShapeDiameterFilter::ADAPTIVE);
+    if (tolerance > 0)
+    {
+      adaptive.SDF->SetTolerance(tolerance);
+    }
     const std::vector<double> exactMs = exact.Run();
     const std::vector<double> adaptiveMs = adaptive.Run();
     auto* e = vtkDataArray::SafeDownCast(
