@@ -35,7 +35,7 @@
  *   (Filters/Core/AdaptiveShapeDiameter.h; accuracy and speed: README, "Adaptive SDF").
  *   Cast faces get exactly the Exact value; SDFValidRays of an interpolated face is that of
  *   the cast face its value comes from.
- * - Tolerance, default 0.2, range [0.001, 1]: Adaptive only, relative SDF difference between
+ * - Tolerance, default 0.15, range [0.001, 1]: Adaptive only, relative SDF difference between
  *   neighbouring cast faces above which more faces are cast.
  * - NumberOfThreads, default 0 = all cores (vtkSMPTools' STDThread backend is used
  *   whatever backend the application selected, because ParaView defaults to Sequential).
@@ -143,7 +143,7 @@ public:
 
   ///@{
   /// Adaptive mode: relative SDF difference between neighbouring cast faces above which more
-  /// faces are cast (default 0.2, range [0.001, 1]).
+  /// faces are cast (default 0.15, range [0.001, 1]).
   vtkSetClampMacro(Tolerance, double, 0.001, 1.0);
   vtkGetMacro(Tolerance, double);
   ///@}
@@ -167,7 +167,7 @@ protected:
   vtkTypeBool AutoOrient = true;
   int NumberOfThreads = 0;
   int Mode = EXACT;
-  double Tolerance = 0.2;
+  double Tolerance = 0.15;
 
 private:
   vtkShapeDiameterFilter(const vtkShapeDiameterFilter&) = delete;

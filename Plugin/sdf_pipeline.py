@@ -49,7 +49,7 @@ def parse_arguments(argv):
                              "count; README, 'Adaptive SDF')")
     parser.add_argument("--sdf-tolerance", type=float, default=argparse.SUPPRESS,
                         help="SDF, adaptive mode: relative difference between neighbouring cast faces "
-                             "above which more faces are cast, in [0.001, 1] (default: the filter's, 0.2)")
+                             "above which more faces are cast, in [0.001, 1] (default: the filter's, 0.15)")
     parser.add_argument("--cluster-model", choices=("em", "modes"), default=argparse.SUPPRESS,
                         help="partition: 'em' = k Gaussians fitted by EM (the paper), 'modes' = at most k "
                              "clusters from the modes of the SDF density (more pose-consistent) "

@@ -33,7 +33,7 @@
 //                     a subset whose spacing follows the local SDF and interpolates the
 //                     rest over the surface (AdaptiveShapeDiameter.h); it needs the origins'
 //                     neighbours (RayOrigins::NeighbourOffsets / Neighbours).
-//   Tolerance         default 0.2, range (0, 1]: Adaptive only, relative SDF difference
+//   Tolerance         default 0.15, range (0, 1]: Adaptive only, relative SDF difference
 //                     between neighbouring cast origins above which more origins are cast.
 //   SpacingFraction   default 0.5, range (0, 8]: Adaptive only, spacing of the cast
 //                     origins as a fraction of the local SDF.
@@ -116,7 +116,7 @@ struct ShapeDiameterOptions
   ShapeDiameterMode Mode = ShapeDiameterMode::Exact;
   /// Adaptive: relative SDF difference between neighbouring cast origins that triggers
   /// refinement, (0, 1].
-  double Tolerance = 0.2;
+  double Tolerance = 0.15;
   /// Adaptive: spacing of cast origins as a fraction of the local SDF, (0, 8].
   double SpacingFraction = 0.5;
 };

@@ -426,7 +426,7 @@ TEST(ShapeDiameterFilter, AdaptiveModeAgreesWithExactOnTheCamelWithFewerCasts)
 
   vtkNew<vtkShapeDiameterFilter> filter;
   EXPECT_EQ(filter->GetMode(), vtkShapeDiameterFilter::EXACT);
-  EXPECT_DOUBLE_EQ(filter->GetTolerance(), 0.2);
+  EXPECT_DOUBLE_EQ(filter->GetTolerance(), 0.15);
   filter->SetModeToAdaptive();
   EXPECT_EQ(filter->GetMode(), vtkShapeDiameterFilter::ADAPTIVE);
   filter->SetMode(5);
