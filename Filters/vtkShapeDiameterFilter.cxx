@@ -127,6 +127,8 @@ vtkShapeDiameterFilter::vtkShapeDiameterFilter()
   this->NumberOfRays = defaults.NumberOfRays;
   this->ConeAngle = defaults.ConeAngleDegrees;
   this->HitRule = defaults.Rule == shapediameter::HitRule::SkipSameFacing ? 1 : 0;
+  this->Mode = defaults.Mode == ShapeDiameterMode::Adaptive ? ADAPTIVE : EXACT;
+  this->Tolerance = defaults.Tolerance;
 }
 
 vtkShapeDiameterFilter::~vtkShapeDiameterFilter() = default;
@@ -199,9 +201,22 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
   options.NumberOfRays = this->NumberOfRays;
   options.ConeAngleDegrees = this->ConeAngle;
   options.Rule = this->HitRule == 1 ? shapediameter::HitRule::SkipSameFacing : shapediameter::HitRule::FirstHitLeaving;
-  const RayOrigins origins = this->PerPoint
+  options.Mode = this->Mode == ADAPTIVE ? ShapeDiameterMode::Adaptive : ShapeDiameterMode::Exact;
+  options.Tolerance = this->Tolerance;
+  RayOrigins origins = this->PerPoint
     ? MakeVertexOrigins(surface.Points, VertexNormals(surface))
     : MakeFaceOrigins(surface.Points, surface.Triangles);
+  std::vector<std::int64_t> pointOffsets, pointNeighbors;
+  if (this->PerPoint)
+  {
+    PointAdjacency(surface, pointOffsets, pointNeighbors);
+  }
+  if (options.Mode == ShapeDiameterMode::Adaptive)
+  {
+    // The adaptive mode interpolates over the surface: the same graph as the fill below.
+    origins.NeighbourOffsets = this->PerPoint ? pointOffsets : triangleAdjacency().Offsets;
+    origins.Neighbours = this->PerPoint ? pointNeighbors : triangleAdjacency().Neighbors;
+  }
   ShapeDiameterResult result = ComputeShapeDiameter(
     caster, origins, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.9));
   if (result.aborted)
@@ -211,9 +226,7 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
 
   if (this->PerPoint)
   {
-    std::vector<std::int64_t> offsets, neighbours;
-    PointAdjacency(surface, offsets, neighbours);
-    FillFromNeighbours(result.values, result.validRays, offsets, neighbours);
+    FillFromNeighbours(result.values, result.validRays, pointOffsets, pointNeighbors);
     output->GetPointData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SDF_ARRAY_NAME, result.values));
     output->GetPointData()->AddArray(adapter::MakeArray<vtkIntArray>(VALID_RAYS_ARRAY_NAME, result.validRays));
     output->GetPointData()->SetActiveScalars(SDF_ARRAY_NAME);
@@ -268,4 +281,6 @@ void vtkShapeDiameterFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PerPoint: " << this->PerPoint << "\n";
   os << indent << "HitRule: " << this->HitRule << "\n";
   os << indent << "AutoOrient: " << this->AutoOrient << "\n";
+  os << indent << "Mode: " << (this->Mode == ADAPTIVE ? "Adaptive" : "Exact") << "\n";
+  os << indent << "Tolerance: " << this->Tolerance << "\n";
 }

@@ -28,6 +28,15 @@
  *   connected component before casting (inward or mixed winding would send the cones out
  *   of the object). The output polygons carry the repaired winding and a warning says
  *   how many were flipped. Triangle strips are cast correctly but keep their winding.
+ * - Mode, default 0 = Exact: every face casts its cone (the paper). 1 = Adaptive: cones are
+ *   cast from a subset of faces spaced at half the local SDF, refined where neighbouring cast
+ *   values differ by more than Tolerance, and the other faces are interpolated over the
+ *   surface (not across concave creases); the cost follows the shape, not the face count
+ *   (Filters/Core/AdaptiveShapeDiameter.h; accuracy and speed: README, "Adaptive SDF").
+ *   Cast faces get exactly the Exact value; SDFValidRays of an interpolated face is that of
+ *   the cast face its value comes from.
+ * - Tolerance, default 0.15, range [0.001, 1]: Adaptive only, relative SDF difference between
+ *   neighbouring cast faces above which more faces are cast.
  * - NumberOfThreads, default 0 = all cores (vtkSMPTools' STDThread backend is used
  *   whatever backend the application selected, because ParaView defaults to Sequential).
  *   The output does not depend on the thread count.
@@ -116,6 +125,29 @@ public:
   vtkBooleanMacro(AutoOrient, vtkTypeBool);
   ///@}
 
+  /// Values of Mode.
+  enum ModeType
+  {
+    EXACT = 0,
+    ADAPTIVE = 1
+  };
+
+  ///@{
+  /// Evaluation mode: 0 = Exact (default, every face casts), 1 = Adaptive (a subset casts,
+  /// the rest is interpolated; cost follows the shape).
+  vtkSetClampMacro(Mode, int, EXACT, ADAPTIVE);
+  vtkGetMacro(Mode, int);
+  void SetModeToExact() { this->SetMode(EXACT); }
+  void SetModeToAdaptive() { this->SetMode(ADAPTIVE); }
+  ///@}
+
+  ///@{
+  /// Adaptive mode: relative SDF difference between neighbouring cast faces above which more
+  /// faces are cast (default 0.15, range [0.001, 1]).
+  vtkSetClampMacro(Tolerance, double, 0.001, 1.0);
+  vtkGetMacro(Tolerance, double);
+  ///@}
+
 protected:
   vtkShapeDiameterFilter();
   ~vtkShapeDiameterFilter() override;
@@ -127,6 +159,8 @@ protected:
   vtkTypeBool PerPoint = false;
   int HitRule;
   vtkTypeBool AutoOrient = true;
+  int Mode;
+  double Tolerance;
 
 private:
   vtkShapeDiameterFilter(const vtkShapeDiameterFilter&) = delete;

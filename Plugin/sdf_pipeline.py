@@ -42,6 +42,14 @@ def parse_arguments(argv):
                         help="SDF: 0 = a ray's first hit, dropped unless the ray leaves the object there "
                              "(more pose-consistent); 1 = skip hits on faces turned like the origin's "
                              "(default: the filter's, 0)")
+    parser.add_argument("--sdf-mode", choices=("exact", "adaptive"), default="exact",
+                        help="SDF: 'exact' = every face casts its cone (the paper); 'adaptive' = a subset "
+                             "of faces spaced at half the local SDF casts, refined where neighbours "
+                             "disagree, the rest is interpolated (cost follows the shape, not the face "
+                             "count; README, 'Adaptive SDF')")
+    parser.add_argument("--sdf-tolerance", type=float, default=argparse.SUPPRESS,
+                        help="SDF, adaptive mode: relative difference between neighbouring cast faces "
+                             "above which more faces are cast, in [0.001, 1] (default: the filter's, 0.15)")
     parser.add_argument("--cluster-model", choices=("em", "modes"), default=argparse.SUPPRESS,
                         help="partition: 'em' = k Gaussians fitted by EM (the paper), 'modes' = at most k "
                              "clusters from the modes of the SDF density (more pose-consistent) "
@@ -70,6 +78,8 @@ def parse_arguments(argv):
         parser.error("--rays must be >= 1")
     if not 0.0 < arguments.cone_angle < 180.0:
         parser.error("--cone-angle must be in (0, 180)")
+    if hasattr(arguments, "sdf_tolerance") and not 0.001 <= arguments.sdf_tolerance <= 1.0:
+        parser.error("--sdf-tolerance must be in [0.001, 1]")
     return arguments
 
 
@@ -245,6 +255,9 @@ class Pipeline:
                                                 NumberOfThreads=arguments.threads)
             if hasattr(arguments, "hit_rule"):
                 current.HitRule = arguments.hit_rule
+            current.Mode = 1 if arguments.sdf_mode == "adaptive" else 0
+            if hasattr(arguments, "sdf_tolerance"):
+                current.Tolerance = arguments.sdf_tolerance
             self.show_progress(current, "sdf")
             self.timed(timings, "sdf", current.UpdatePipeline)
         if self.has("SDFBilateralSmooth"):

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ShapeDiameter.h"
 
+#include "AdaptiveShapeDiameter.h"
 #include "ConeSampling.h"
 #include "EmbreeRayCaster.h"
+#include "Orientation.h"
 
 #include <Eigen/Geometry>
 
@@ -104,6 +106,20 @@ void CheckOptions(const ShapeDiameterOptions& options)
   if (options.OriginsPerChunk < 1)
   {
     throw ShapeDiameterError("shape diameter: OriginsPerChunk must be >= 1");
+  }
+  if (options.Mode != ShapeDiameterMode::Exact && options.Mode != ShapeDiameterMode::Adaptive)
+  {
+    throw ShapeDiameterError("shape diameter: unknown Mode");
+  }
+  if (!(options.Tolerance > 0 && options.Tolerance <= 1))
+  {
+    throw ShapeDiameterError("shape diameter: Tolerance must be in (0, 1], got " +
+      std::to_string(options.Tolerance));
+  }
+  if (!(options.SpacingFraction > 0 && options.SpacingFraction <= 8))
+  {
+    throw ShapeDiameterError("shape diameter: SpacingFraction must be in (0, 8], got " +
+      std::to_string(options.SpacingFraction));
   }
 }
 
@@ -242,12 +258,10 @@ RayOrigins MakeVertexOrigins(const PointsView& points, const PointsView& normals
   return origins;
 }
 
-ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigins& origins,
-  const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress)
+bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
+  const ShapeDiameterOptions& options, const std::vector<std::size_t>* subset,
+  ShapeDiameterResult& result, const ParallelFor& parallelFor, const ProgressCallback& progress)
 {
-  CheckOptions(options);
-  CheckOrigins(origins);
   ConePattern pattern;
   try
   {
@@ -258,13 +272,10 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
     throw ShapeDiameterError(error.what());
   }
 
-  const auto originCount = static_cast<std::size_t>(origins.Points.rows());
-  ShapeDiameterResult result;
-  result.values.assign(originCount, 0.0);
-  result.validRays.assign(originCount, 0);
+  const std::size_t originCount = subset ? subset->size() : static_cast<std::size_t>(origins.Points.rows());
   if (originCount == 0)
   {
-    return result;
+    return true;
   }
 
   const std::size_t chunkSize = options.OriginsPerChunk;
@@ -274,6 +285,7 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
   const int rayCount = pattern.GetNumberOfRays();
 
   std::atomic<bool> aborted{ false };
+  std::atomic<std::size_t> castCount{ 0 };
   std::mutex progressMutex;
   std::size_t chunksDone = 0;
 
@@ -282,16 +294,18 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
     std::vector<double> directions(3 * static_cast<std::size_t>(rayCount));
     std::vector<double> distances(static_cast<std::size_t>(rayCount));
     std::vector<double> scratch(static_cast<std::size_t>(rayCount));
+    std::size_t rangeCasts = 0;
     for (std::size_t chunk = chunkBegin; chunk < chunkEnd; ++chunk)
     {
       if (aborted.load(std::memory_order_relaxed))
       {
-        return;
+        break;
       }
       const std::size_t begin = chunk * chunkSize;
       const std::size_t end = begin + std::min(chunkSize, originCount - begin);
-      for (std::size_t o = begin; o < end; ++o)
+      for (std::size_t k = begin; k < end; ++k)
       {
+        const std::size_t o = subset ? (*subset)[k] : k;
         const auto row = static_cast<Eigen::Index>(o);
         RayOrigin origin;
         if ((!origins.Skip.empty() && origins.Skip[o]) ||
@@ -319,6 +333,7 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
 
         caster.CastCone(origin, directions.data(), static_cast<std::size_t>(rayCount),
           distances.data());
+        ++rangeCasts;
         int kept = 0;
         const double value = RobustWeightedMeanOf(
           distances.data(), pattern.Weights.data(), rayCount, scratch.data(), kept);
@@ -336,8 +351,37 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
         }
       }
     }
+    castCount.fetch_add(rangeCasts, std::memory_order_relaxed);
   });
-  result.aborted = aborted.load();
+  result.castCount += castCount.load();
+  return !aborted.load();
+}
+
+ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigins& origins,
+  const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
+  const ProgressCallback& progress)
+{
+  CheckOptions(options);
+  CheckOrigins(origins);
+  if (options.Mode == ShapeDiameterMode::Adaptive)
+  {
+    return ComputeAdaptiveShapeDiameter(caster, origins, options, parallelFor, progress);
+  }
+  // Pattern errors before any work, also for an empty input.
+  try
+  {
+    MakeConePattern(options.NumberOfRays, options.ConeAngleDegrees);
+  }
+  catch (const ConeSamplingError& error)
+  {
+    throw ShapeDiameterError(error.what());
+  }
+
+  const auto originCount = static_cast<std::size_t>(origins.Points.rows());
+  ShapeDiameterResult result;
+  result.values.assign(originCount, 0.0);
+  result.validRays.assign(originCount, 0);
+  result.aborted = !CastShapeDiameterCones(caster, origins, options, nullptr, result, parallelFor, progress);
   return result;
 }
 
@@ -347,8 +391,14 @@ ShapeDiameterResult ComputeFaceShapeDiameter(const PointsView& points,
 {
   CheckOptions(options);
   const EmbreeRayCaster caster(points, triangles);
-  return ComputeShapeDiameter(
-    caster, MakeFaceOrigins(points, triangles), options, parallelFor, progress);
+  RayOrigins origins = MakeFaceOrigins(points, triangles);
+  if (options.Mode == ShapeDiameterMode::Adaptive)
+  {
+    TriangleAdjacency adjacency = BuildTriangleAdjacency(triangles);
+    origins.NeighbourOffsets = std::move(adjacency.Offsets);
+    origins.Neighbours = std::move(adjacency.Neighbours);
+  }
+  return ComputeShapeDiameter(caster, origins, options, parallelFor, progress);
 }
 
 FillFromNeighboursSummary FillFromNeighbours(std::vector<double>& values,

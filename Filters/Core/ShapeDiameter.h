@@ -29,6 +29,14 @@
 //                     their own triangle is excluded by index instead.
 //   OriginsPerChunk   default 256, >= 1: unit of work given to the ParallelFor and of
 //                     progress/abort checks. Does not change any result.
+//   Mode              default Exact: every origin casts its cone (the paper). Adaptive casts
+//                     a subset whose spacing follows the local SDF and interpolates the
+//                     rest over the surface (AdaptiveShapeDiameter.h); it needs the origins'
+//                     neighbours (RayOrigins::NeighbourOffsets / Neighbours).
+//   Tolerance         default 0.15, range (0, 1]: Adaptive only, relative SDF difference
+//                     between neighbouring cast origins above which more origins are cast.
+//   SpacingFraction   default 0.5, range (0, 8]: Adaptive only, spacing of the cast
+//                     origins as a fraction of the local SDF.
 //
 // Consequences of the paper's validity rule worth knowing
 //   The rule compares the hit normal with the ORIGIN normal (not with the ray). On a round
@@ -89,6 +97,13 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/// How ComputeShapeDiameter evaluates the origins.
+enum class ShapeDiameterMode
+{
+  Exact,   ///< every origin casts its cone (the paper)
+  Adaptive ///< a subset casts, the rest is interpolated (AdaptiveShapeDiameter.h)
+};
+
 struct ShapeDiameterOptions
 {
   int NumberOfRays = 30;            ///< rays per cone (paper: 30)
@@ -98,6 +113,12 @@ struct ShapeDiameterOptions
   /// of the normalised SDF on the elephant poses against SkipSameFacing (README, "Consistency").
   HitRule Rule = HitRule::FirstHitLeaving;
   std::size_t OriginsPerChunk = 256;
+  ShapeDiameterMode Mode = ShapeDiameterMode::Exact;
+  /// Adaptive: relative SDF difference between neighbouring cast origins that triggers
+  /// refinement, (0, 1].
+  double Tolerance = 0.15;
+  /// Adaptive: spacing of cast origins as a fraction of the local SDF, (0, 8].
+  double SpacingFraction = 0.5;
 };
 
 /// Where the cones start. All matrices have one row per origin (n rows), except FirstAxes and
@@ -115,6 +136,11 @@ struct RayOrigins
   std::vector<std::int64_t> SourceTriangles;
   /// Nonzero = do not cast from this origin (value 0, validRays 0); empty = cast from all.
   std::vector<std::uint8_t> Skip;
+  /// Neighbours of each origin over the surface, CSR (neighbours of i: Neighbours[
+  /// NeighbourOffsets[i] .. NeighbourOffsets[i + 1])), e.g. the triangle adjacency of face
+  /// origins. Needed by ShapeDiameterMode::Adaptive only; empty otherwise.
+  std::vector<std::int64_t> NeighbourOffsets;
+  std::vector<std::int64_t> Neighbours;
 };
 
 /// One origin per triangle: centroid, unit right-hand-rule normal, first edge (v1 - v0) as
@@ -130,8 +156,11 @@ RayOrigins MakeVertexOrigins(const PointsView& points, const PointsView& normals
 struct ShapeDiameterResult
 {
   std::vector<double> values; ///< SDF per origin, finite; 0 where validRays == 0
-  std::vector<int> validRays; ///< rays kept by the median +- sigma filter; 0 = no value
+  /// Rays kept by the median +- sigma filter; 0 = no value. In Adaptive mode an origin that
+  /// was not cast carries the count of the cast origin its value comes from.
+  std::vector<int> validRays;
   bool aborted = false;       ///< the ProgressCallback asked to stop
+  std::size_t castCount = 0;  ///< origins whose cone was cast (all castable ones in Exact mode)
 };
 
 /// The SDF of every origin. Throws ShapeDiameterError on bad options or inconsistent sizes.
@@ -139,8 +168,16 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
   const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
   const ProgressCallback& progress = ProgressCallback());
 
+/// Casts the cones of the origins listed in `subset` (distinct indices; nullptr = all) into
+/// result.values / validRays (sized by the caller), as ComputeShapeDiameter's Exact mode does
+/// for each of them; adds the casts to result.castCount. Progress as ComputeShapeDiameter's,
+/// over the listed origins. Returns false when aborted. Used by the Adaptive mode.
+bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
+  const ShapeDiameterOptions& options, const std::vector<std::size_t>* subset,
+  ShapeDiameterResult& result, const ParallelFor& parallelFor, const ProgressCallback& progress);
+
 /// Convenience for the default per-face SDF: builds an EmbreeRayCaster over the mesh and
-/// MakeFaceOrigins, then ComputeShapeDiameter. Throws RayCasterError / ShapeDiameterError.
+/// MakeFaceOrigins (plus the triangle adjacency in Adaptive mode), then ComputeShapeDiameter. Throws RayCasterError / ShapeDiameterError.
 ShapeDiameterResult ComputeFaceShapeDiameter(const PointsView& points,
   const TrianglesView& triangles, const ShapeDiameterOptions& options,
   const ParallelFor& parallelFor, const ProgressCallback& progress = ProgressCallback());

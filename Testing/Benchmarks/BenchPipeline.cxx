@@ -6,6 +6,11 @@
 //   BenchPipeline [Google Benchmark flags] [MESH.off ...]
 //   BenchPipeline --chain-once MESH.off    read + the whole chain once, stage times on stdout
 //                                          (for /usr/bin/time -v: peak RSS of the chain)
+//   BenchPipeline --accuracy [--tolerance T] MESH...
+//                                          the chain with the exact and the adaptive SDF once
+//                                          per mesh: times, |dSDFNormalized| (mean, p99, max),
+//                                          SDFCluster area agreement after the best label
+//                                          matching, skeleton points; a Markdown table
 // Meshes: the positional arguments, else SHAPEDIAMETER_BENCH_MESH (one path, or several
 // separated by ':'), else Data/armadillo.off. Each benchmark is named <Stage>/<mesh file stem>.
 // Environment: SHAPEDIAMETER_BENCH_REPEATS (default 5) timed repeats per benchmark,
@@ -32,6 +37,10 @@
 //   PartitionBreakdown   vtkSDFGMMPartition's conversion and its one core call
 //                 (PartitionBySDF), whose per-step timings are the counters: face graph, cluster
 //                 model ("gmm"), posteriors, energy, alpha-expansion, segments, histogram.
+//   AdaptivePaired raw Embree (the exact mode's rays), the exact and the adaptive SDF filter,
+//                 order rotated every iteration: adaptive_over_raw_*, adaptive_over_exact_*.
+//   AdaptiveChain the chain with the exact and with the adaptive SDF, alternating:
+//                 chain_ratio_* (adaptive / exact).
 //   SDFAbort      abort requested from a ProgressEvent observer at progress 0.5: the time until
 //                 Update() returns (abort_latency_*), the largest gap between progress events.
 // Every *_min_ms / *_median_ms counter is also in --benchmark_out JSON; Paired and Chain add
@@ -48,6 +57,7 @@
 #include "BilateralSmoothing.h"
 #include "EmbreeRayCaster.h"
 #include "FaceGraph.h"
+#include "LabelMatching.h"
 #include "Normalization.h"
 #include "Orientation.h"
 #include "Partition.h"
@@ -56,6 +66,7 @@
 
 #include "vtkCallbackCommand.h"
 #include "vtkCellData.h"
+#include "vtkIdList.h"
 #include "vtkDataArray.h"
 #include "vtkNew.h"
 #include "vtkSDFOFFReader.h"
@@ -70,6 +81,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -200,9 +212,10 @@ struct Chain
   vtkNew<vtkSDFGMMPartition> Partition;
   vtkNew<vtkSDFSkeleton> Skeleton;
 
-  explicit Chain(vtkPolyData* surface)
+  explicit Chain(vtkPolyData* surface, int sdfMode = vtkShapeDiameterFilter::EXACT)
   {
     this->SDF->SetInputData(surface);
+    this->SDF->SetMode(sdfMode);
     this->SDF->SetNumberOfThreads(Threads());
     this->Smooth->SetInputConnection(this->SDF->GetOutputPort());
     this->Smooth->SetNumberOfThreads(Threads());
@@ -607,6 +620,113 @@ void BM_Chain(benchmark::State& state, const std::string& path)
   });
 }
 
+/// Times `filter` (re-executed) after the steps of one iteration; returns its time in ms.
+double TimeOnce(vtkAlgorithm* filter)
+{
+  filter->Modified();
+  const auto t0 = Clock::now();
+  filter->Update();
+  return Milliseconds(t0, Clock::now());
+}
+
+/// Raw Embree (the exact mode's rays), the exact SDF filter and the adaptive one, in an order
+/// that rotates every iteration so that all three see the same machine load.
+void BM_AdaptivePaired(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    const ParallelFor parallelFor = adapter::MakeSMPParallelFor(Threads());
+    vtkNew<vtkShapeDiameterFilter> exact, adaptive;
+    for (vtkShapeDiameterFilter* sdf : { exact.Get(), adaptive.Get() })
+    {
+      sdf->SetInputData(mesh.Surface);
+      sdf->SetNumberOfThreads(Threads());
+    }
+    adaptive->SetModeToAdaptive();
+    Rays(mesh);
+    Samples raw, exactTimes, adaptiveTimes, overRaw, overExact;
+    int iteration = 0;
+    for (auto _ : state)
+    {
+      double rawMs = 0, exactMs = 0, adaptiveMs = 0;
+      const std::function<void()> steps[3] = {
+        [&] {
+          const auto r = RunRaw(mesh, parallelFor);
+          rawMs = r.first + r.second;
+        },
+        [&] { exactMs = TimeOnce(exact); },
+        [&] { adaptiveMs = TimeOnce(adaptive); } };
+      for (int k = 0; k < 3; ++k)
+      {
+        steps[(iteration + k) % 3]();
+      }
+      ++iteration;
+      RequireCellArray(adaptive->GetOutput(), vtkShapeDiameterFilter::SDF_ARRAY_NAME, "vtkShapeDiameterFilter (adaptive)");
+      raw.Add(rawMs);
+      exactTimes.Add(exactMs);
+      adaptiveTimes.Add(adaptiveMs);
+      overRaw.Add(adaptiveMs / rawMs);
+      overExact.Add(adaptiveMs / exactMs);
+      state.SetIterationTime((rawMs + exactMs + adaptiveMs) / 1000.0);
+    }
+    SetCounters(state, "raw_", raw);
+    SetCounters(state, "exact_", exactTimes);
+    SetCounters(state, "adaptive_", adaptiveTimes);
+    state.counters["adaptive_over_raw_min"] = adaptiveTimes.Min() / raw.Min();
+    state.counters["adaptive_over_raw_median"] = overRaw.Median();
+    state.counters["adaptive_over_exact_min"] = adaptiveTimes.Min() / exactTimes.Min();
+    state.counters["adaptive_over_exact_median"] = overExact.Median();
+    state.counters["faces"] = static_cast<double>(mesh.Surface->GetNumberOfPolys());
+  });
+}
+
+/// The whole chain with the exact and with the adaptive SDF, alternating.
+void BM_AdaptiveChain(benchmark::State& state, const std::string& path)
+{
+  Guarded(state, [&] {
+    MeshData& mesh = Mesh(path);
+    Chain exact(mesh.Surface), adaptive(mesh.Surface, vtkShapeDiameterFilter::ADAPTIVE);
+    Samples exactTotal, adaptiveTotal, ratio;
+    std::vector<Samples> stages(4);
+    int iteration = 0;
+    for (auto _ : state)
+    {
+      std::vector<double> exactMs, adaptiveMs;
+      if (iteration++ % 2 == 0)
+      {
+        exactMs = exact.Run();
+        adaptiveMs = adaptive.Run();
+      }
+      else
+      {
+        adaptiveMs = adaptive.Run();
+        exactMs = exact.Run();
+      }
+      double e = 0, a = 0;
+      for (std::size_t s = 0; s < 4; ++s)
+      {
+        e += exactMs[s];
+        a += adaptiveMs[s];
+        stages[s].Add(adaptiveMs[s]);
+      }
+      exactTotal.Add(e);
+      adaptiveTotal.Add(a);
+      ratio.Add(a / e);
+      state.SetIterationTime((a + e) / 1000.0);
+    }
+    SetCounters(state, "exact_chain_", exactTotal);
+    SetCounters(state, "adaptive_chain_", adaptiveTotal);
+    const std::string names[] = { "sdf_", "smooth_", "partition_", "skeleton_" };
+    for (std::size_t s = 0; s < stages.size(); ++s)
+    {
+      SetCounters(state, "adaptive_" + names[s], stages[s]);
+    }
+    state.counters["chain_ratio_min"] = adaptiveTotal.Min() / exactTotal.Min();
+    state.counters["chain_ratio_median"] = ratio.Median();
+    state.counters["faces"] = static_cast<double>(mesh.Surface->GetNumberOfPolys());
+  });
+}
+
 /// Named steps timed one after the other within an iteration (fastest repeat per step).
 class Laps
 {
@@ -669,14 +789,6 @@ private:
   Clock::time_point Last;
 };
 
-/// Times `filter` (re-executed) after the steps of one iteration; returns its time in ms.
-double TimeOnce(vtkAlgorithm* filter)
-{
-  filter->Modified();
-  const auto t0 = Clock::now();
-  filter->Update();
-  return Milliseconds(t0, Clock::now());
-}
 
 /// vtkShapeDiameterFilter::RequestData's steps, each timed, next to the filter itself.
 void BM_SDFBreakdown(benchmark::State& state, const std::string& path)
@@ -922,7 +1034,8 @@ void RegisterMesh(const std::string& path)
     { "RawEmbree", BM_RawEmbree }, { "Smooth", BM_Smooth }, { "Partition", BM_Partition },
     { "Skeleton", BM_Skeleton }, { "Paired", BM_Paired }, { "Chain", BM_Chain },
     { "SDFBreakdown", BM_SDFBreakdown }, { "SmoothBreakdown", BM_SmoothBreakdown },
-    { "PartitionBreakdown", BM_PartitionBreakdown }, { "SDFAbort", BM_SDFAbort } };
+    { "PartitionBreakdown", BM_PartitionBreakdown }, { "SDFAbort", BM_SDFAbort },
+    { "AdaptivePaired", BM_AdaptivePaired }, { "AdaptiveChain", BM_AdaptiveChain } };
   for (const auto& [stage, function] : stages)
   {
     const std::string name = std::string(stage) + "/" + Stem(path);
@@ -969,6 +1082,111 @@ int RunChainOnce(const std::string& path)
   return 0;
 }
 
+/// Area of every cell (fan triangulation of polygons; 0 for vertices and lines).
+std::vector<double> CellAreas(vtkPolyData* mesh)
+{
+  std::vector<double> areas(static_cast<std::size_t>(mesh->GetNumberOfCells()), 0.0);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType cell = 0; cell < mesh->GetNumberOfCells(); ++cell)
+  {
+    mesh->GetCellPoints(cell, ids);
+    if (ids->GetNumberOfIds() < 3)
+    {
+      continue;
+    }
+    double a[3], b[3], c[3];
+    mesh->GetPoint(ids->GetId(0), a);
+    for (vtkIdType k = 1; k + 1 < ids->GetNumberOfIds(); ++k)
+    {
+      mesh->GetPoint(ids->GetId(k), b);
+      mesh->GetPoint(ids->GetId(k + 1), c);
+      const double u[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+      const double v[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+      const double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
+      areas[static_cast<std::size_t>(cell)] += 0.5 * std::sqrt(x * x + y * y + z * z);
+    }
+  }
+  return areas;
+}
+
+/// --accuracy: the chain with the exact and the adaptive SDF on each mesh; a Markdown row
+/// per mesh with the times and the differences the adaptive mode's bar is about.
+int RunAccuracy(std::vector<std::string> paths)
+{
+  double tolerance = -1; // the filter's default
+  if (paths.size() >= 2 && paths[0] == "--tolerance")
+  {
+    tolerance = std::stod(paths[1]);
+    paths.erase(paths.begin(), paths.begin() + 2);
+  }
+  std::printf("| mesh | faces | SDF exact | SDF adaptive | adaptive/exact | mean abs dSDFNormalized | "
+              "p99 | max | SDFCluster same area | k exact/adaptive | skeleton points exact/adaptive | "
+              "chain exact | chain adaptive |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const std::string& path : paths)
+  {
+    vtkSmartPointer<vtkPolyData> surface = ReadMesh(path);
+    Chain exact(surface), adaptive(surface, vtkShapeDiameterFilter::ADAPTIVE);
+    if (tolerance > 0)
+    {
+      adaptive.SDF->SetTolerance(tolerance);
+    }
+    const std::vector<double> exactMs = exact.Run();
+    const std::vector<double> adaptiveMs = adaptive.Run();
+    auto* e = vtkDataArray::SafeDownCast(
+      exact.Smooth->GetOutput()->GetCellData()->GetArray(vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME));
+    auto* a = vtkDataArray::SafeDownCast(
+      adaptive.Smooth->GetOutput()->GetCellData()->GetArray(vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME));
+    std::vector<double> differences;
+    double sum = 0;
+    for (vtkIdType c = 0; c < e->GetNumberOfTuples(); ++c)
+    {
+      differences.push_back(std::abs(e->GetTuple1(c) - a->GetTuple1(c)));
+      sum += differences.back();
+    }
+    std::sort(differences.begin(), differences.end());
+    const double mean = differences.empty() ? 0 : sum / static_cast<double>(differences.size());
+    const double p99 = differences.empty() ? 0 : differences[std::min(differences.size() - 1,
+      static_cast<std::size_t>(std::ceil(0.99 * static_cast<double>(differences.size()))) - 1)];
+    auto labels = [](vtkPolyData* data) {
+      auto* array = data->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME);
+      std::vector<int> values(static_cast<std::size_t>(array->GetNumberOfTuples()));
+      for (std::size_t c = 0; c < values.size(); ++c)
+      {
+        values[c] = static_cast<int>(array->GetTuple1(static_cast<vtkIdType>(c)));
+      }
+      return values;
+    };
+    const std::vector<int> exactLabels = labels(exact.Partition->GetOutput());
+    const std::vector<int> adaptiveLabels = labels(adaptive.Partition->GetOutput());
+    const LabelMatchingResult matching = CompareLabelings(exactLabels, adaptiveLabels);
+    std::map<int, int> matched(matching.matching.begin(), matching.matching.end());
+    const std::vector<double> areas = CellAreas(surface);
+    double same = 0, total = 0;
+    for (std::size_t c = 0; c < areas.size(); ++c)
+    {
+      total += areas[c];
+      const auto it = matched.find(exactLabels[c]);
+      if (it != matched.end() && it->second == adaptiveLabels[c])
+      {
+        same += areas[c];
+      }
+    }
+    const auto clusters = [](const std::vector<int>& values) {
+      return values.empty() ? 0 : *std::max_element(values.begin(), values.end()) + 1;
+    };
+    std::printf("| %s | %lld | %.3f s | %.3f s | %.3f | %.4f | %.4f | %.4f | %.2f %% | %d/%d | %lld/%lld | %.3f s | %.3f s |\n",
+      Stem(path).c_str(), static_cast<long long>(surface->GetNumberOfPolys()), exactMs[0] / 1000,
+      adaptiveMs[0] / 1000, adaptiveMs[0] / exactMs[0], mean, p99, differences.empty() ? 0 : differences.back(),
+      total > 0 ? 100 * same / total : 100.0, clusters(exactLabels), clusters(adaptiveLabels),
+      static_cast<long long>(exact.Skeleton->GetSkeleton()->GetNumberOfPoints()),
+      static_cast<long long>(adaptive.Skeleton->GetSkeleton()->GetNumberOfPoints()),
+      (exactMs[0] + exactMs[1] + exactMs[2] + exactMs[3]) / 1000,
+      (adaptiveMs[0] + adaptiveMs[1] + adaptiveMs[2] + adaptiveMs[3]) / 1000);
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -983,6 +1201,10 @@ int main(int argc, char** argv)
         return 2;
       }
       return RunChainOnce(argv[2]);
+    }
+    if (argc >= 2 && std::strcmp(argv[1], "--accuracy") == 0)
+    {
+      return RunAccuracy(std::vector<std::string>(argv + 2, argv + argc));
     }
 
     benchmark::Initialize(&argc, argv);

@@ -1146,13 +1146,14 @@ struct StageRun
   std::string Messages;
 };
 
-StageRun RunStage(Stage stage, vtkPolyData* input, int clusters)
+StageRun RunStage(Stage stage, vtkPolyData* input, int clusters, int sdfMode = vtkShapeDiameterFilter::EXACT)
 {
   vtkSmartPointer<vtkPolyDataAlgorithm> filter;
   if (stage == Stage::SDF)
   {
     auto sdf = vtkSmartPointer<vtkShapeDiameterFilter>::New();
     sdf->SetNumberOfThreads(2);
+    sdf->SetMode(sdfMode);
     filter = sdf;
   }
   else if (stage == Stage::Smooth)
@@ -1307,7 +1308,7 @@ void CheckOutcome(Expect expect, Stage stage, vtkPolyData* input, const StageRun
 /// The SDF filter on a closed sphere wound inward or inconsistently: one warning saying how
 /// many triangles AutoOrient reversed (exactly those reversed in the output), a closed and
 /// outward result, and the SDF of the outward-wound Sphere() the input was made from.
-void RepairedLikeTheOutwardSphere(vtkPolyData* input, const StageRun& run)
+void RepairedLikeTheOutwardSphere(vtkPolyData* input, const StageRun& run, int sdfMode)
 {
   SCOPED_TRACE(run.Messages);
   const ClosedComponentWinding winding = WindingOfClosedComponents(run.Output);
@@ -1333,7 +1334,7 @@ void RepairedLikeTheOutwardSphere(vtkPolyData* input, const StageRun& run)
   // leaves room for a different summation order only. Casting on the unrepaired winding
   // (the flip skipped, output polygons still repaired) was measured 17-100 % off.
   vtkSmartPointer<vtkPolyData> outward = Sphere();
-  const StageRun reference = RunStage(Stage::SDF, outward, 5);
+  const StageRun reference = RunStage(Stage::SDF, outward, 5, sdfMode);
   ASSERT_EQ(reference.Errors + reference.Warnings, 0) << "the outward sphere needs no repair";
   vtkDataArray* repaired = run.Output->GetCellData()->GetArray(vtkShapeDiameterFilter::SDF_ARRAY_NAME);
   vtkDataArray* expected = reference.Output->GetCellData()->GetArray(vtkShapeDiameterFilter::SDF_ARRAY_NAME);
@@ -1352,15 +1353,15 @@ void RepairedLikeTheOutwardSphere(vtkPolyData* input, const StageRun& run)
 class BadInputMatrix : public ::testing::TestWithParam<BadInputCase>
 {
 protected:
-  void RunOne(Stage stage, Expect expect)
+  void RunOne(Stage stage, Expect expect, int sdfMode = vtkShapeDiameterFilter::EXACT)
   {
     const BadInputCase& testCase = this->GetParam();
     vtkSmartPointer<vtkPolyData> input = MakeInput(testCase);
-    const StageRun run = RunStage(stage, input, testCase.Clusters);
+    const StageRun run = RunStage(stage, input, testCase.Clusters, sdfMode);
     CheckOutcome(expect, stage, input, run, testCase.Clusters, testCase.Outward);
     if (stage == Stage::SDF && testCase.MustReorient)
     {
-      RepairedLikeTheOutwardSphere(input, run);
+      RepairedLikeTheOutwardSphere(input, run, sdfMode);
     }
     if (stage == Stage::Skeleton && testCase.MustReorient)
     {
@@ -1392,6 +1393,12 @@ protected:
 TEST_P(BadInputMatrix, ShapeDiameter)
 {
   this->RunOne(Stage::SDF, this->GetParam().SDF);
+}
+
+/// The same expectations with the adaptive SDF (a subset of faces cast, the rest interpolated).
+TEST_P(BadInputMatrix, ShapeDiameterAdaptive)
+{
+  this->RunOne(Stage::SDF, this->GetParam().SDF, vtkShapeDiameterFilter::ADAPTIVE);
 }
 
 TEST_P(BadInputMatrix, BilateralSmooth)

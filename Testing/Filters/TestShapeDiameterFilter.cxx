@@ -389,3 +389,48 @@ TEST(ShapeDiameterFilter, ProgressIsSteadyOnTheCallingThreadAndAbortStopsTheLoop
     EXPECT_TRUE(p <= 0.01 || p == 1.0) << "a step after the abort reported " << p;
   }
 }
+
+TEST(ShapeDiameterFilter, AdaptiveModeAgreesWithExactOnTheCamelWithFewerCasts)
+{
+  vtkNew<vtkSDFOFFReader> reader;
+  reader->SetFileName(DataFile("camel.off").c_str());
+  reader->Update();
+  auto run = [&](int mode, int threads) {
+    vtkNew<vtkShapeDiameterFilter> filter;
+    filter->SetInputData(reader->GetOutput());
+    filter->SetMode(mode);
+    filter->SetNumberOfThreads(threads);
+    filter->Update();
+    return std::make_pair(Values(filter->GetOutput()), Values(filter->GetOutput(), "SDFValidRays"));
+  };
+  const auto exact = run(vtkShapeDiameterFilter::EXACT, 2);
+  const auto adaptive = run(vtkShapeDiameterFilter::ADAPTIVE, 2);
+  ASSERT_EQ(adaptive.first.size(), exact.first.size());
+  EXPECT_TRUE(AllFinite(adaptive.first));
+  std::vector<double> relative;
+  std::size_t equal = 0;
+  for (std::size_t f = 0; f < exact.first.size(); ++f)
+  {
+    relative.push_back(std::abs(adaptive.first[f] - exact.first[f]) / exact.first[f]);
+    equal += adaptive.first[f] == exact.first[f];
+  }
+  std::sort(relative.begin(), relative.end());
+  // Measured: mean 0.0093, median 0, p90 0.033; 66 % of the faces bit-identical (cast faces).
+  EXPECT_LT(Mean(relative), 0.02);
+  EXPECT_LT(relative[relative.size() * 9 / 10], 0.07);
+  EXPECT_LT(relative[relative.size() / 2], 0.01);
+  EXPECT_LT(equal, exact.first.size()); // some faces were interpolated
+  EXPECT_GT(equal, exact.first.size() / 4);
+  // The thread count does not change the adaptive output.
+  EXPECT_TRUE(run(vtkShapeDiameterFilter::ADAPTIVE, 1) == adaptive);
+
+  vtkNew<vtkShapeDiameterFilter> filter;
+  EXPECT_EQ(filter->GetMode(), vtkShapeDiameterFilter::EXACT);
+  EXPECT_DOUBLE_EQ(filter->GetTolerance(), 0.15);
+  filter->SetModeToAdaptive();
+  EXPECT_EQ(filter->GetMode(), vtkShapeDiameterFilter::ADAPTIVE);
+  filter->SetMode(5);
+  EXPECT_EQ(filter->GetMode(), vtkShapeDiameterFilter::ADAPTIVE);
+  filter->SetTolerance(0);
+  EXPECT_DOUBLE_EQ(filter->GetTolerance(), 0.001);
+}
