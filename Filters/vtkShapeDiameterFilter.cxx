@@ -214,29 +214,29 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
   if (options.Mode == ShapeDiameterMode::Adaptive)
   {
     // The adaptive mode interpolates over the surface: the same graph as the fill below.
-    origins.NeighbourOffsets = this->PerPoint ? pointOffsets : triangleAdjacency().Offsets;
-    origins.Neighbours = this->PerPoint ? pointNeighbors : triangleAdjacency().Neighbors;
+    origins.NeighborOffsets = this->PerPoint ? pointOffsets : triangleAdjacency().Offsets;
+    origins.Neighbors = this->PerPoint ? pointNeighbors : triangleAdjacency().Neighbors;
   }
   ShapeDiameterResult result = ComputeShapeDiameter(
     caster, origins, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.9));
-  if (result.aborted)
+  if (result.Aborted)
   {
     return false;
   }
 
   if (this->PerPoint)
   {
-    FillFromNeighbours(result.values, result.validRays, pointOffsets, pointNeighbors);
-    output->GetPointData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SDF_ARRAY_NAME, result.values));
-    output->GetPointData()->AddArray(adapter::MakeArray<vtkIntArray>(VALID_RAYS_ARRAY_NAME, result.validRays));
+    FillFromNeighbors(result.Values, result.ValidRays, pointOffsets, pointNeighbors);
+    output->GetPointData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SDF_ARRAY_NAME, result.Values));
+    output->GetPointData()->AddArray(adapter::MakeArray<vtkIntArray>(VALID_RAYS_ARRAY_NAME, result.ValidRays));
     output->GetPointData()->SetActiveScalars(SDF_ARRAY_NAME);
   }
   else
   {
-    if (std::find(result.validRays.begin(), result.validRays.end(), 0) != result.validRays.end())
+    if (std::find(result.ValidRays.begin(), result.ValidRays.end(), 0) != result.ValidRays.end())
     {
-      FillFromNeighbours(
-        result.values, result.validRays, triangleAdjacency().Offsets, triangleAdjacency().Neighbors);
+      FillFromNeighbors(
+        result.Values, result.ValidRays, triangleAdjacency().Offsets, triangleAdjacency().Neighbors);
     }
     auto triangleArea = [&surface](std::size_t t) {
       const Eigen::RowVector3d a = surface.Points.row(surface.Triangles(t, 0));
@@ -256,10 +256,10 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
       {
         // A cell of one triangle (the common case) needs no area.
         const double triangleWeight = end - begin > 1 ? triangleArea(t) : 1.0;
-        weighted += triangleWeight * result.values[t];
+        weighted += triangleWeight * result.Values[t];
         area += triangleWeight;
-        plain += result.values[t];
-        rayCount += result.validRays[t];
+        plain += result.Values[t];
+        rayCount += result.ValidRays[t];
       }
       // Vertices and lines own no triangle: 0 (documented); zero-area cells: plain mean.
       const double value = end == begin ? 0.0 : area > 0.0 ? weighted / area : plain / double(end - begin);

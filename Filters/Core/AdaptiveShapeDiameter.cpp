@@ -37,10 +37,10 @@ struct Graph
   std::size_t At(std::size_t k) const { return static_cast<std::size_t>(this->Indices[k]); }
 };
 
-void CheckNeighbours(const RayOrigins& origins, std::size_t n)
+void CheckNeighbors(const RayOrigins& origins, std::size_t n)
 {
-  const auto& offsets = origins.NeighbourOffsets;
-  const auto& indices = origins.Neighbours;
+  const auto& offsets = origins.NeighborOffsets;
+  const auto& indices = origins.Neighbors;
   if (n == 0 && offsets.empty())
   {
     return;
@@ -48,13 +48,13 @@ void CheckNeighbours(const RayOrigins& origins, std::size_t n)
   if (offsets.size() != n + 1)
   {
     throw ShapeDiameterError("adaptive shape diameter: the origins need a neighbour graph "
-                             "(NeighbourOffsets with " + std::to_string(n + 1) + " entries, got " +
+                             "(NeighborOffsets with " + std::to_string(n + 1) + " entries, got " +
       std::to_string(offsets.size()) + ")");
   }
   if (offsets.front() != 0 || offsets.back() != static_cast<std::int64_t>(indices.size()) ||
     !std::is_sorted(offsets.begin(), offsets.end()))
   {
-    throw ShapeDiameterError("adaptive shape diameter: NeighbourOffsets is not a valid CSR "
+    throw ShapeDiameterError("adaptive shape diameter: NeighborOffsets is not a valid CSR "
                              "offset array (0, non-decreasing, ends at the neighbour count)");
   }
   for (const std::int64_t j : indices)
@@ -211,9 +211,9 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
 {
   const auto n = static_cast<std::size_t>(origins.Points.rows());
   ShapeDiameterResult result;
-  result.values.assign(n, 0.0);
-  result.validRays.assign(n, 0);
-  CheckNeighbours(origins, n);
+  result.Values.assign(n, 0.0);
+  result.ValidRays.assign(n, 0);
+  CheckNeighbors(origins, n);
   if (n == 0)
   {
     // Bad ray options are reported for an empty input too.
@@ -221,7 +221,7 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
     CastShapeDiameterCones(caster, origins, options, &none, result, parallelFor, ProgressCallback());
     return result;
   }
-  const Graph graph{ origins.NeighbourOffsets, origins.Neighbours };
+  const Graph graph{ origins.NeighborOffsets, origins.Neighbors };
 
   // Origins that may be cast (the others keep 0 / 0, as in the Exact mode), unit normals.
   std::vector<std::uint8_t> eligible(n, 0);
@@ -289,7 +289,7 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
   {
     // The coarsest cell is no larger than the spacing of the origins: every origin would be
     // cast, so the Exact mode runs (same values, none of the bookkeeping).
-    result.aborted = !CastShapeDiameterCones(caster, origins, options, nullptr, result, parallelFor, progress);
+    result.Aborted = !CastShapeDiameterCones(caster, origins, options, nullptr, result, parallelFor, progress);
     return result;
   }
   const auto levelFor = [&](double sdf) {
@@ -324,13 +324,13 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
       {
         continue;
       }
-      const double va = result.values[static_cast<std::size_t>(a)];
+      const double va = result.Values[static_cast<std::size_t>(a)];
       for (std::size_t k = graph.Begin(i); k < graph.End(i); ++k)
       {
         const std::int64_t b = owner[graph.At(k)];
         if (b > a) // each pair of regions once per edge direction is enough
         {
-          const double vb = result.values[static_cast<std::size_t>(b)];
+          const double vb = result.Values[static_cast<std::size_t>(b)];
           if (std::abs(va - vb) > tolerance * std::max(va, vb))
           {
             refine[static_cast<std::size_t>(a)] = 1;
@@ -395,13 +395,13 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
     progressDone += span;
     if (!completed)
     {
-      result.aborted = true;
+      result.Aborted = true;
       return result;
     }
     for (const std::size_t i : chosen)
     {
       cast[i] = 1;
-      source[i] = result.validRays[i] > 0 ? 1 : 0;
+      source[i] = result.ValidRays[i] > 0 ? 1 : 0;
     }
     if (round == 0)
     {
@@ -423,7 +423,7 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
           continue;
         }
         const int wanted = owner[i] < 0 ? std::max(0, level[i] - 1)
-                                        : levelFor(result.values[static_cast<std::size_t>(owner[i])]);
+                                        : levelFor(result.Values[static_cast<std::size_t>(owner[i])]);
         if (wanted < level[i] || owner[i] < 0)
         {
           level[i] = std::min(level[i], wanted);
@@ -452,7 +452,7 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
     {
       if (source[i])
       {
-        castValues.push_back(result.values[i]);
+        castValues.push_back(result.Values[i]);
       }
     }
     if (!castValues.empty())
@@ -466,7 +466,7 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
       {
         if (eligible[i] && !cast[i] && owner[i] >= 0)
         {
-          const double v = result.values[static_cast<std::size_t>(owner[i])];
+          const double v = result.Values[static_cast<std::size_t>(owner[i])];
           if (v <= low || v >= high)
           {
             chosen.push_back(i);
@@ -490,14 +490,14 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
         }
         if (!CastShapeDiameterCones(caster, origins, options, &chosen, result, parallelFor, roundProgress))
         {
-          result.aborted = true;
+          result.Aborted = true;
           return result;
         }
         progressDone += span;
         for (const std::size_t i : chosen)
         {
           cast[i] = 1;
-          source[i] = result.validRays[i] > 0 ? 1 : 0;
+          source[i] = result.ValidRays[i] > 0 ? 1 : 0;
         }
         UpdateRegions(graph, chosen, source, owner, depth);
       }
@@ -517,13 +517,13 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
     {
       free[i] = 1;
       const auto a = static_cast<std::size_t>(owner[i]);
-      result.values[i] = result.values[a];
-      result.validRays[i] = result.validRays[a];
+      result.Values[i] = result.Values[a];
+      result.ValidRays[i] = result.ValidRays[a];
     }
   }
   const std::size_t chunks = (n + kSweepChunk - 1) / kSweepChunk;
   const double creaseCos = std::cos(kCreaseAngleDegrees * 3.14159265358979323846 / 180.0);
-  std::vector<double> next(result.values);
+  std::vector<double> next(result.Values);
   const int sweeps = kSmoothingIterations;
   for (int sweep = 0; sweep < sweeps && !owner.empty(); ++sweep)
   {
@@ -532,10 +532,10 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
       {
         if (!free[i])
         {
-          next[i] = result.values[i];
+          next[i] = result.Values[i];
           continue;
         }
-        double sum = result.values[i];
+        double sum = result.Values[i];
         int count = 1;
         const double* ni = normals.data() + 3 * i;
         for (std::size_t k = graph.Begin(i); k < graph.End(i); ++k)
@@ -560,17 +560,17 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
               continue; // concave crease
             }
           }
-          sum += result.values[j];
+          sum += result.Values[j];
           ++count;
         }
         next[i] = sum / count;
       }
     });
-    result.values.swap(next);
+    result.Values.swap(next);
   }
   if (progress && !progress(1.0))
   {
-    result.aborted = true;
+    result.Aborted = true;
   }
   return result;
 }

@@ -42,7 +42,7 @@
 //      fixed), not across concave creases: an edge where the normals differ by more than 60
 //      degrees and the neighbour lies on the outer side of the origin's tangent plane (where
 //      the partition cuts). validRays of such an origin is its owner's. Origins no region
-//      reached keep value 0 / validRays 0 (the adapter's FillFromNeighbours fills them).
+//      reached keep value 0 / validRays 0 (the adapter's FillFromNeighbors fills them).
 //
 // Options: Tolerance and SpacingFraction are in ShapeDiameterOptions (defaults 0.15 and 0.5);
 //   the rest are fixed here: K from a coarse cell of 1/32 of the bounding-box diagonal, 8

@@ -42,7 +42,7 @@
 //   - Repeated consecutive vertices (zero-length sides) are skipped; a face is never its own
 //     neighbour.
 //   - Isolated faces and several components: faces simply have no / disjoint neighbours.
-//   Neighbours of each face are sorted by face index (deterministic, split-independent).
+//   Neighbors of each face are sorted by face index (deterministic, split-independent).
 //
 // Bad input (throws FaceGraphError): malformed offsets, point index out of range,
 // non-finite coordinates of a referenced point.

@@ -45,7 +45,7 @@ struct OrientationResult
 };
 
 /// Triangles sharing a manifold edge (exactly two triangles), CSR: the neighbours of t are
-/// Neighbours[Offsets[t] .. Offsets[t + 1]), sorted. SameDirection tells, per entry, whether
+/// Neighbors[Offsets[t] .. Offsets[t + 1]), sorted. SameDirection tells, per entry, whether
 /// the two triangles run the shared edge the same way (inconsistent winding).
 struct TriangleAdjacency
 {

@@ -337,8 +337,8 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
         int kept = 0;
         const double value = RobustWeightedMeanOf(
           distances.data(), pattern.Weights.data(), rayCount, scratch.data(), kept);
-        result.values[o] = value;
-        result.validRays[o] = kept;
+        result.Values[o] = value;
+        result.ValidRays[o] = kept;
       }
       if (progress)
       {
@@ -353,7 +353,7 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
     }
     castCount.fetch_add(rangeCasts, std::memory_order_relaxed);
   });
-  result.castCount += castCount.load();
+  result.CastCount += castCount.load();
   return !aborted.load();
 }
 
@@ -379,9 +379,9 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
 
   const auto originCount = static_cast<std::size_t>(origins.Points.rows());
   ShapeDiameterResult result;
-  result.values.assign(originCount, 0.0);
-  result.validRays.assign(originCount, 0);
-  result.aborted = !CastShapeDiameterCones(caster, origins, options, nullptr, result, parallelFor, progress);
+  result.Values.assign(originCount, 0.0);
+  result.ValidRays.assign(originCount, 0);
+  result.Aborted = !CastShapeDiameterCones(caster, origins, options, nullptr, result, parallelFor, progress);
   return result;
 }
 
@@ -395,13 +395,13 @@ ShapeDiameterResult ComputeFaceShapeDiameter(const PointsView& points,
   if (options.Mode == ShapeDiameterMode::Adaptive)
   {
     TriangleAdjacency adjacency = BuildTriangleAdjacency(triangles);
-    origins.NeighbourOffsets = std::move(adjacency.Offsets);
-    origins.Neighbours = std::move(adjacency.Neighbours);
+    origins.NeighborOffsets = std::move(adjacency.Offsets);
+    origins.Neighbors = std::move(adjacency.Neighbors);
   }
   return ComputeShapeDiameter(caster, origins, options, parallelFor, progress);
 }
 
-FillFromNeighboursSummary FillFromNeighbours(std::vector<double>& values,
+FillFromNeighborsSummary FillFromNeighbors(std::vector<double>& values,
   const std::vector<int>& validRays, const std::vector<std::int64_t>& adjacencyOffsets,
   const std::vector<std::int64_t>& adjacencyIndices)
 {
@@ -434,7 +434,7 @@ FillFromNeighboursSummary FillFromNeighbours(std::vector<double>& values,
     }
   }
 
-  FillFromNeighboursSummary summary;
+  FillFromNeighborsSummary summary;
   std::vector<std::uint8_t> known(n, 0);
   std::vector<double> validValues;
   for (std::size_t i = 0; i < n; ++i)
@@ -495,7 +495,7 @@ FillFromNeighboursSummary FillFromNeighbours(std::vector<double>& values,
       values[layer[k]] = layerValues[k];
       known[layer[k]] = 1;
     }
-    summary.FilledFromNeighbours += layer.size();
+    summary.FilledFromNeighbors += layer.size();
     for (const std::size_t i : layer)
     {
       const auto [first, last] = neighboursOf(i);

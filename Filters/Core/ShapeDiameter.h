@@ -32,7 +32,7 @@
 //   Mode              default Exact: every origin casts its cone (the paper). Adaptive casts
 //                     a subset whose spacing follows the local SDF and interpolates the
 //                     rest over the surface (AdaptiveShapeDiameter.h); it needs the origins'
-//                     neighbours (RayOrigins::NeighbourOffsets / Neighbours).
+//                     neighbours (RayOrigins::NeighborOffsets / Neighbors).
 //   Tolerance         default 0.15, range (0, 1]: Adaptive only, relative SDF difference
 //                     between neighbouring cast origins above which more origins are cast.
 //   SpacingFraction   default 0.5, range (0, 8]: Adaptive only, spacing of the cast
@@ -58,16 +58,16 @@
 //     that walls exactly perpendicular to the origin face are rejected whatever the rounding
 //     (RayCaster.h); this keeps symmetric meshes invariant under rigid motions.
 //   - The paper computes f_v at face centres and says nothing about faces without a valid
-//     ray; FillFromNeighbours is our documented fill. Vertex origins are an option.
+//     ray; FillFromNeighbors is our documented fill. Vertex origins are an option.
 //
 // Degenerate cases
 //   - An origin listed in Skip, or with a non-finite point or a zero/non-finite normal, is not
 //     cast: value 0, validRays 0. MakeFaceOrigins marks zero-area faces this way.
 //   - An origin whose rays all miss (open mesh, inverted orientation, ...) gets value 0 and
-//     validRays 0. FillFromNeighbours then replaces every validRays == 0 value (see below).
+//     validRays 0. FillFromNeighbors then replaces every validRays == 0 value (see below).
 //   - Inverted (inward-facing) triangles: the cone points outward. On a convex component no
 //     ray hits anything, the whole component becomes invalid and receives the fallback of
-//     FillFromNeighbours; on a non-convex one the rays measure the gaps between parts. The
+//     FillFromNeighbors; on a non-convex one the rays measure the gaps between parts. The
 //     core does not re-orient meshes; the adapter does (AutoOrient).
 //   - No NaN or Inf is ever written to values.
 //
@@ -136,11 +136,11 @@ struct RayOrigins
   std::vector<std::int64_t> SourceTriangles;
   /// Nonzero = do not cast from this origin (value 0, validRays 0); empty = cast from all.
   std::vector<std::uint8_t> Skip;
-  /// Neighbours of each origin over the surface, CSR (neighbours of i: Neighbours[
-  /// NeighbourOffsets[i] .. NeighbourOffsets[i + 1])), e.g. the triangle adjacency of face
+  /// Neighbors of each origin over the surface, CSR (neighbours of i: Neighbors[
+  /// NeighborOffsets[i] .. NeighborOffsets[i + 1])), e.g. the triangle adjacency of face
   /// origins. Needed by ShapeDiameterMode::Adaptive only; empty otherwise.
-  std::vector<std::int64_t> NeighbourOffsets;
-  std::vector<std::int64_t> Neighbours;
+  std::vector<std::int64_t> NeighborOffsets;
+  std::vector<std::int64_t> Neighbors;
 };
 
 /// One origin per triangle: centroid, unit right-hand-rule normal, first edge (v1 - v0) as
@@ -155,12 +155,12 @@ RayOrigins MakeVertexOrigins(const PointsView& points, const PointsView& normals
 
 struct ShapeDiameterResult
 {
-  std::vector<double> values; ///< SDF per origin, finite; 0 where validRays == 0
+  std::vector<double> Values; ///< SDF per origin, finite; 0 where ValidRays == 0
   /// Rays kept by the median +- sigma filter; 0 = no value. In Adaptive mode an origin that
   /// was not cast carries the count of the cast origin its value comes from.
-  std::vector<int> validRays;
-  bool aborted = false;       ///< the ProgressCallback asked to stop
-  std::size_t castCount = 0;  ///< origins whose cone was cast (all castable ones in Exact mode)
+  std::vector<int> ValidRays;
+  bool Aborted = false;       ///< the ProgressCallback asked to stop
+  std::size_t CastCount = 0;  ///< origins whose cone was cast (all castable ones in Exact mode)
 };
 
 /// The SDF of every origin. Throws ShapeDiameterError on bad options or inconsistent sizes.
@@ -170,7 +170,7 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
 
 /// Casts the cones of the origins listed in `subset` (distinct indices; nullptr = all) into
 /// result.values / validRays (sized by the caller), as ComputeShapeDiameter's Exact mode does
-/// for each of them; adds the casts to result.castCount. Progress as ComputeShapeDiameter's,
+/// for each of them; adds the casts to result.CastCount. Progress as ComputeShapeDiameter's,
 /// over the listed origins. Returns false when aborted. Used by the Adaptive mode.
 bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
   const ShapeDiameterOptions& options, const std::vector<std::size_t>* subset,
@@ -188,9 +188,9 @@ ShapeDiameterResult ComputeFaceShapeDiameter(const PointsView& points,
 double RobustWeightedMean(
   const std::vector<double>& lengths, const std::vector<double>& weights, int& keptCount);
 
-struct FillFromNeighboursSummary
+struct FillFromNeighborsSummary
 {
-  std::size_t FilledFromNeighbours = 0; ///< invalid entries reached from a valid one
+  std::size_t FilledFromNeighbors = 0; ///< invalid entries reached from a valid one
   std::size_t FilledWithFallback = 0;   ///< entries in components with no valid value
   double FallbackValue = 0;             ///< median of all valid values, 0 when there is none
 };
@@ -206,7 +206,7 @@ struct FillFromNeighboursSummary
 /// validRays is not modified (0 still marks a filled value). Self-loops and duplicate
 /// neighbours are allowed. Throws ShapeDiameterError on inconsistent sizes or an index out of
 /// range.
-FillFromNeighboursSummary FillFromNeighbours(std::vector<double>& values,
+FillFromNeighborsSummary FillFromNeighbors(std::vector<double>& values,
   const std::vector<int>& validRays, const std::vector<std::int64_t>& adjacencyOffsets,
   const std::vector<std::int64_t>& adjacencyIndices);
 

@@ -86,7 +86,7 @@ RecordedExpansionRun RecordRun(const std::string& name)
   const ParallelFor parallelFor = ThreadedFor(2);
   const ShapeDiameterResult sdf = ComputeFaceShapeDiameter(points, triangles, ShapeDiameterOptions(), parallelFor);
   const FaceGraph graph = BuildFaceGraph(points, triangles, parallelFor);
-  const BilateralSmoothingResult smoothed = SmoothBilateral(graph, sdf.values, {}, parallelFor);
+  const BilateralSmoothingResult smoothed = SmoothBilateral(graph, sdf.Values, {}, parallelFor);
   const std::vector<double> normalized = NormalizeLogarithmic(smoothed.Values);
   const Eigen::Map<const Eigen::VectorXd> values(normalized.data(), static_cast<Eigen::Index>(normalized.size()));
   const GaussianMixtureModel model = FitGaussianMixture(values, 5);

@@ -822,10 +822,10 @@ void BM_SDFBreakdown(benchmark::State& state, const std::string& path)
       laps.Lap();
       const FaceGraph graph = BuildFaceGraph(surface.Points, surface.Triangles, parallelFor);
       laps.Lap();
-      FillFromNeighbours(result.values, result.validRays, graph.Offsets, graph.Neighbors);
+      FillFromNeighbors(result.Values, result.ValidRays, graph.Offsets, graph.Neighbors);
       laps.Lap();
       laps.Finish();
-      benchmark::DoNotOptimize(result.values.data());
+      benchmark::DoNotOptimize(result.Values.data());
 
       const double filterMs = TimeOnce(sdf);
       filterTimes.Add(filterMs);
@@ -1159,7 +1159,7 @@ int RunAccuracy(std::vector<std::string> paths)
     const std::vector<int> exactLabels = labels(exact.Partition->GetOutput());
     const std::vector<int> adaptiveLabels = labels(adaptive.Partition->GetOutput());
     const LabelMatchingResult matching = CompareLabelings(exactLabels, adaptiveLabels);
-    std::map<int, int> matched(matching.matching.begin(), matching.matching.end());
+    std::map<int, int> matched(matching.Matching.begin(), matching.Matching.end());
     const std::vector<double> areas = CellAreas(surface);
     double same = 0, total = 0;
     for (std::size_t c = 0; c < areas.size(); ++c)

@@ -170,7 +170,7 @@ void BM_ShapeDiameter(benchmark::State& state)
   {
     const ShapeDiameterResult result =
       ComputeShapeDiameter(caster, origins, ShapeDiameterOptions(), parallelFor);
-    benchmark::DoNotOptimize(result.values.data());
+    benchmark::DoNotOptimize(result.Values.data());
   }
   state.counters["rays/s"] = benchmark::Counter(static_cast<double>(mesh.Triangles.rows()) * 30,
     benchmark::Counter::kIsIterationInvariantRate);
@@ -184,7 +184,7 @@ void BM_ShapeDiameterWithBuild(benchmark::State& state)
   {
     const ShapeDiameterResult result =
       ComputeFaceShapeDiameter(mesh.Points, mesh.Triangles, ShapeDiameterOptions(), parallelFor);
-    benchmark::DoNotOptimize(result.values.data());
+    benchmark::DoNotOptimize(result.Values.data());
   }
 }
 
@@ -209,7 +209,7 @@ void BM_PairedRatio(benchmark::State& state)
     const auto t1 = Clock::now();
     const ShapeDiameterResult result =
       ComputeShapeDiameter(caster, origins, ShapeDiameterOptions(), parallelFor);
-    benchmark::DoNotOptimize(result.values.data());
+    benchmark::DoNotOptimize(result.Values.data());
     const auto t2 = Clock::now();
     fastestRaw = std::min(fastestRaw, std::chrono::duration<double, std::milli>(t1 - t0).count());
     fastestSDF = std::min(fastestSDF, std::chrono::duration<double, std::milli>(t2 - t1).count());

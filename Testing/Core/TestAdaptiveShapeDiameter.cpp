@@ -42,13 +42,13 @@ Comparison Compare(const PointMatrix& points, const TriangleMatrix& triangles,
 {
   Comparison c;
   std::vector<double> relative;
-  for (std::size_t f = 0; f < exact.values.size(); ++f)
+  for (std::size_t f = 0; f < exact.Values.size(); ++f)
   {
-    if (exact.validRays[f] == 0 || (only && !(*only)[f]))
+    if (exact.ValidRays[f] == 0 || (only && !(*only)[f]))
     {
       continue;
     }
-    relative.push_back(std::abs(adaptive.values[f] - exact.values[f]) / exact.values[f]);
+    relative.push_back(std::abs(adaptive.Values[f] - exact.Values[f]) / exact.Values[f]);
   }
   std::sort(relative.begin(), relative.end());
   double sum = 0;
@@ -58,7 +58,7 @@ Comparison Compare(const PointMatrix& points, const TriangleMatrix& triangles,
   }
   c.MeanRelative = relative.empty() ? 0 : sum / static_cast<double>(relative.size());
   c.P99Relative = relative.empty() ? 0 : relative[static_cast<std::size_t>(0.99 * static_cast<double>(relative.size() - 1))];
-  c.CastFraction = static_cast<double>(adaptive.castCount) / static_cast<double>(triangles.rows());
+  c.CastFraction = static_cast<double>(adaptive.CastCount) / static_cast<double>(triangles.rows());
   (void)points;
   return c;
 }
@@ -158,16 +158,16 @@ TEST(AdaptiveShapeDiameter, SphereAgreesWithExactAndCastsFewFaces)
   EXPECT_LT(c.MeanRelative, 0.002);
   EXPECT_LT(c.P99Relative, 0.01);
   EXPECT_LT(c.CastFraction, 0.2);
-  EXPECT_GT(adaptive.castCount, 0u);
+  EXPECT_GT(adaptive.CastCount, 0u);
   // Every cast face has exactly the Exact value; no face is left without a value.
   std::size_t equal = 0;
-  for (std::size_t f = 0; f < exact.values.size(); ++f)
+  for (std::size_t f = 0; f < exact.Values.size(); ++f)
   {
-    equal += adaptive.values[f] == exact.values[f];
-    EXPECT_GT(adaptive.validRays[f], 0);
-    EXPECT_TRUE(std::isfinite(adaptive.values[f]));
+    equal += adaptive.Values[f] == exact.Values[f];
+    EXPECT_GT(adaptive.ValidRays[f], 0);
+    EXPECT_TRUE(std::isfinite(adaptive.Values[f]));
   }
-  EXPECT_GE(equal, adaptive.castCount / 2); // the Jacobi sweeps leave cast faces unchanged
+  EXPECT_GE(equal, adaptive.CastCount / 2); // the Jacobi sweeps leave cast faces unchanged
 }
 
 TEST(AdaptiveShapeDiameter, CapsuleAgreesWithExact)
@@ -192,10 +192,10 @@ TEST(AdaptiveShapeDiameter, ArticulatedFigureAgreesWithExact)
   EXPECT_LT(c.CastFraction, 0.25);
   // Per part: the mean SDF of each limb, the head and the torso within 2 %.
   std::vector<double> exactSum(FigurePartCount), adaptiveSum(FigurePartCount);
-  for (std::size_t f = 0; f < exact.values.size(); ++f)
+  for (std::size_t f = 0; f < exact.Values.size(); ++f)
   {
-    exactSum[static_cast<std::size_t>(figure.FaceParts[f])] += exact.values[f];
-    adaptiveSum[static_cast<std::size_t>(figure.FaceParts[f])] += adaptive.values[f];
+    exactSum[static_cast<std::size_t>(figure.FaceParts[f])] += exact.Values[f];
+    adaptiveSum[static_cast<std::size_t>(figure.FaceParts[f])] += adaptive.Values[f];
   }
   for (int part = 0; part < FigurePartCount; ++part)
   {
@@ -218,7 +218,7 @@ TEST(AdaptiveShapeDiameter, RefinementFindsTheThicknessJumpOfAThinPlateOnABlock)
   const TriangleMesh mesh = VoxelSurface(voxels, 0.1, 4);
   const auto [exact, adaptive] = BothModes(mesh.Points, mesh.Triangles);
 
-  std::vector<std::uint8_t> plate(exact.values.size()), block(exact.values.size());
+  std::vector<std::uint8_t> plate(exact.Values.size()), block(exact.Values.size());
   for (Eigen::Index t = 0; t < mesh.Triangles.rows(); ++t)
   {
     const Eigen::Vector3d c = Centroid(mesh.Points, mesh.Triangles, t);
@@ -239,13 +239,13 @@ TEST(AdaptiveShapeDiameter, RefinementFindsTheThicknessJumpOfAThinPlateOnABlock)
   {
     const Eigen::Vector3d c = Centroid(mesh.Points, mesh.Triangles, t);
     const auto f = static_cast<std::size_t>(t);
-    if (c.x() > 1.05 && c.x() < 1.3 && std::abs(c.z() - 0.55) < 0.06 && exact.validRays[f] > 0 &&
-      exact.values[f] < 0.2)
+    if (c.x() > 1.05 && c.x() < 1.3 && std::abs(c.z() - 0.55) < 0.06 && exact.ValidRays[f] > 0 &&
+      exact.Values[f] < 0.2)
     {
-      EXPECT_LT(adaptive.values[f], 0.2) << "face " << t << " at x " << c.x();
+      EXPECT_LT(adaptive.Values[f], 0.2) << "face " << t << " at x " << c.x();
     }
   }
-  EXPECT_LT(static_cast<double>(adaptive.castCount), 0.7 * static_cast<double>(mesh.Triangles.rows()));
+  EXPECT_LT(static_cast<double>(adaptive.CastCount), 0.7 * static_cast<double>(mesh.Triangles.rows()));
 }
 
 TEST(AdaptiveShapeDiameter, IdenticalForAnyThreadCountAndChunkSize)
@@ -259,9 +259,9 @@ TEST(AdaptiveShapeDiameter, IdenticalForAnyThreadCountAndChunkSize)
     options.OriginsPerChunk = threads * 5;
     const ShapeDiameterResult threaded =
       ComputeFaceShapeDiameter(capsule.Points, capsule.Triangles, options, ThreadedFor(threads));
-    EXPECT_EQ(threaded.values, serial.values) << threads << " threads";
-    EXPECT_EQ(threaded.validRays, serial.validRays);
-    EXPECT_EQ(threaded.castCount, serial.castCount);
+    EXPECT_EQ(threaded.Values, serial.Values) << threads << " threads";
+    EXPECT_EQ(threaded.ValidRays, serial.ValidRays);
+    EXPECT_EQ(threaded.CastCount, serial.CastCount);
   }
 }
 
@@ -274,7 +274,7 @@ TEST(AdaptiveShapeDiameter, ProgressIsMonotoneAndAbortStops)
       fractions.push_back(f);
       return true;
     });
-  EXPECT_FALSE(complete.aborted);
+  EXPECT_FALSE(complete.Aborted);
   ASSERT_FALSE(fractions.empty());
   EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
   EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
@@ -282,8 +282,8 @@ TEST(AdaptiveShapeDiameter, ProgressIsMonotoneAndAbortStops)
   int calls = 0;
   const ShapeDiameterResult aborted = ComputeFaceShapeDiameter(sphere.Points, sphere.Triangles,
     AdaptiveOptions(), SerialFor, [&](double) { return ++calls < 2; });
-  EXPECT_TRUE(aborted.aborted);
-  EXPECT_LT(aborted.castCount, complete.castCount);
+  EXPECT_TRUE(aborted.Aborted);
+  EXPECT_LT(aborted.CastCount, complete.CastCount);
 }
 
 TEST(AdaptiveShapeDiameter, BadInputIsRejected)
@@ -293,10 +293,10 @@ TEST(AdaptiveShapeDiameter, BadInputIsRejected)
   RayOrigins origins = MakeFaceOrigins(sphere.Points, sphere.Triangles);
   // No neighbour graph.
   EXPECT_THROW(ComputeShapeDiameter(caster, origins, AdaptiveOptions(), SerialFor), ShapeDiameterError);
-  testshapes::EdgeAdjacency(sphere.Triangles, origins.NeighbourOffsets, origins.Neighbours);
-  origins.Neighbours[0] = static_cast<std::int64_t>(sphere.Triangles.rows()); // out of range
+  testshapes::EdgeAdjacency(sphere.Triangles, origins.NeighborOffsets, origins.Neighbors);
+  origins.Neighbors[0] = static_cast<std::int64_t>(sphere.Triangles.rows()); // out of range
   EXPECT_THROW(ComputeShapeDiameter(caster, origins, AdaptiveOptions(), SerialFor), ShapeDiameterError);
-  origins.Neighbours[0] = 1;
+  origins.Neighbors[0] = 1;
   ShapeDiameterOptions options = AdaptiveOptions();
   options.Tolerance = 0;
   EXPECT_THROW(ComputeShapeDiameter(caster, origins, options, SerialFor), ShapeDiameterError);
@@ -307,9 +307,9 @@ TEST(AdaptiveShapeDiameter, BadInputIsRejected)
   origins.Skip.assign(static_cast<std::size_t>(sphere.Triangles.rows()), 0);
   origins.Skip[3] = 1;
   const ShapeDiameterResult result = ComputeShapeDiameter(caster, origins, AdaptiveOptions(), SerialFor);
-  EXPECT_EQ(result.values[3], 0.0);
-  EXPECT_EQ(result.validRays[3], 0);
-  EXPECT_GT(result.values[4], 0.0);
+  EXPECT_EQ(result.Values[3], 0.0);
+  EXPECT_EQ(result.ValidRays[3], 0);
+  EXPECT_GT(result.Values[4], 0.0);
 }
 
 TEST(AdaptiveShapeDiameter, ExactModeIsUnchangedAndCastsEveryFace)
@@ -317,7 +317,7 @@ TEST(AdaptiveShapeDiameter, ExactModeIsUnchangedAndCastsEveryFace)
   const TriangleMesh sphere = testshapes::MakeIcosphere(6, 1.0);
   const ShapeDiameterResult exact =
     ComputeFaceShapeDiameter(sphere.Points, sphere.Triangles, ShapeDiameterOptions(), SerialFor);
-  EXPECT_EQ(exact.castCount, static_cast<std::size_t>(sphere.Triangles.rows()));
+  EXPECT_EQ(exact.CastCount, static_cast<std::size_t>(sphere.Triangles.rows()));
 }
 
 } // namespace

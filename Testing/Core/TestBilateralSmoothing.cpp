@@ -102,7 +102,7 @@ TEST(BilateralSmoothing, ConstantFieldStaysBitExactlyConstant)
   EXPECT_EQ(halves.Values, half);
 }
 
-TEST(BilateralSmoothing, FollowsThePaperUpdateWithOriginalNeighbourValues)
+TEST(BilateralSmoothing, FollowsThePaperUpdateWithOriginalNeighborValues)
 {
   // Two triangles sharing an edge: f = (0, 1), t large enough to include the neighbour.
   PointMatrix points(4, 3);

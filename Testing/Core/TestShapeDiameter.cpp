@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Tests of the shape diameter function core: cone pattern, robust statistics, SDF on
-// analytic shapes, invariances, threading, abort, degenerate input and FillFromNeighbours.
+// analytic shapes, invariances, threading, abort, degenerate input and FillFromNeighbors.
 #include "BruteForceRayCaster.h"
 #include "ConeSampling.h"
 #include "EmbreeRayCaster.h"
@@ -253,8 +253,8 @@ TEST(ShapeDiameter, SphereMatchesTheAnalyticValue)
   const double radius = 2.0;
   const TriangleMesh mesh = testshapes::MakeIcosphere(32, radius); // 20480 faces
   const ShapeDiameterResult result = FaceSDF(mesh);
-  ASSERT_EQ(result.values.size(), 20480u);
-  EXPECT_FALSE(result.aborted);
+  ASSERT_EQ(result.Values.size(), 20480u);
+  EXPECT_FALSE(result.Aborted);
   // FirstHitLeaving (the default) keeps every ray (7-60 degrees off the normal): about 0.77 of
   // the diameter; SkipSameFacing only the rays 7-45 degrees off: 0.86.
   const double expected = ExpectedSphereSDF(radius, MakeConePattern(30, 120));
@@ -264,13 +264,13 @@ TEST(ShapeDiameter, SphereMatchesTheAnalyticValue)
   ShapeDiameterOptions skipping;
   skipping.Rule = HitRule::SkipSameFacing;
   const ShapeDiameterResult skippingResult = FaceSDF(mesh, skipping);
-  EXPECT_NEAR(Mean(skippingResult.values), expectedSkipping, 0.03 * expectedSkipping);
+  EXPECT_NEAR(Mean(skippingResult.Values), expectedSkipping, 0.03 * expectedSkipping);
   EXPECT_TRUE(std::all_of(
-    skippingResult.validRays.begin(), skippingResult.validRays.end(), [](int rays) { return rays >= 5; }));
-  EXPECT_NEAR(Mean(result.values), expected, 0.03 * expected);
-  EXPECT_LT(CoefficientOfVariation(result.values), 0.01);
+    skippingResult.ValidRays.begin(), skippingResult.ValidRays.end(), [](int rays) { return rays >= 5; }));
+  EXPECT_NEAR(Mean(result.Values), expected, 0.03 * expected);
+  EXPECT_LT(CoefficientOfVariation(result.Values), 0.01);
   EXPECT_TRUE(std::all_of(
-    result.validRays.begin(), result.validRays.end(), [](int rays) { return rays >= 5; }));
+    result.ValidRays.begin(), result.ValidRays.end(), [](int rays) { return rays >= 5; }));
 }
 
 TEST(ShapeDiameter, OtherRayCountsAndConeAngles)
@@ -285,8 +285,8 @@ TEST(ShapeDiameter, OtherRayCountsAndConeAngles)
     options.ConeAngleDegrees = angle;
     const ShapeDiameterResult result = FaceSDF(mesh, options);
     const double expected = ExpectedSphereSDF(radius, MakeConePattern(rays, angle));
-    EXPECT_NEAR(Mean(result.values), expected, 0.03 * expected) << rays << " rays, " << angle;
-    EXPECT_TRUE(AllFinite(result.values));
+    EXPECT_NEAR(Mean(result.Values), expected, 0.03 * expected) << rays << " rays, " << angle;
+    EXPECT_TRUE(AllFinite(result.Values));
   }
 }
 
@@ -310,7 +310,7 @@ TEST(ShapeDiameter, SlabMatchesTheAnalyticValueExactly)
     const Eigen::RowVector3d p = origins.Points.row(f);
     if (std::abs(p.z() - 1) < 1e-12 && (p.head<2>().array() - 5).abs().maxCoeff() < 2.5)
     {
-      EXPECT_NEAR(result.values[static_cast<std::size_t>(f)], expected, 1e-12);
+      EXPECT_NEAR(result.Values[static_cast<std::size_t>(f)], expected, 1e-12);
       ++checked;
     }
   }
@@ -328,10 +328,10 @@ TEST(ShapeDiameter, VertexOriginsOnASphere)
   const ShapeDiameterResult result =
     ComputeShapeDiameter(caster, origins, ShapeDiameterOptions(), SerialFor);
   const double expected = ExpectedSphereSDF(radius, MakeConePattern(30, 120));
-  EXPECT_NEAR(Mean(result.values), expected, 0.03 * expected);
-  EXPECT_LT(CoefficientOfVariation(result.values), 0.01);
+  EXPECT_NEAR(Mean(result.Values), expected, 0.03 * expected);
+  EXPECT_LT(CoefficientOfVariation(result.Values), 0.01);
   EXPECT_TRUE(std::all_of(
-    result.validRays.begin(), result.validRays.end(), [](int rays) { return rays > 0; }));
+    result.ValidRays.begin(), result.ValidRays.end(), [](int rays) { return rays > 0; }));
 }
 
 TEST(ShapeDiameter, ScalesWithTheMesh)
@@ -341,11 +341,11 @@ TEST(ShapeDiameter, ScalesWithTheMesh)
   scaled.Points *= 4;
   const ShapeDiameterResult a = FaceSDF(mesh);
   const ShapeDiameterResult b = FaceSDF(scaled);
-  EXPECT_NEAR(Median(b.values) / Median(a.values), 4.0, 4e-5);
-  for (std::size_t f = 0; f < a.values.size(); ++f)
+  EXPECT_NEAR(Median(b.Values) / Median(a.Values), 4.0, 4e-5);
+  for (std::size_t f = 0; f < a.Values.size(); ++f)
   {
-    ASSERT_NEAR(b.values[f], 4 * a.values[f], 1e-9 * b.values[f]);
-    ASSERT_EQ(a.validRays[f], b.validRays[f]);
+    ASSERT_NEAR(b.Values[f], 4 * a.Values[f], 1e-9 * b.Values[f]);
+    ASSERT_EQ(a.ValidRays[f], b.ValidRays[f]);
   }
 }
 
@@ -359,9 +359,9 @@ TEST(ShapeDiameter, InvariantToRigidMotion)
   const ShapeDiameterResult a = FaceSDF(mesh);
   const ShapeDiameterResult b = FaceSDF(moved);
   std::vector<double> relativeDifferences;
-  for (std::size_t f = 0; f < a.values.size(); ++f)
+  for (std::size_t f = 0; f < a.Values.size(); ++f)
   {
-    relativeDifferences.push_back(std::abs(b.values[f] - a.values[f]) / a.values[f]);
+    relativeDifferences.push_back(std::abs(b.Values[f] - a.Values[f]) / a.Values[f]);
   }
   EXPECT_LT(Median(relativeDifferences), 0.005);
   // The rays move with the faces, so the values agree far better than the requirement.
@@ -385,15 +385,15 @@ TEST(ShapeDiameter, OpenSphereStaysFiniteAndUnchangedAwayFromTheHole)
       return true;
     });
     const ShapeDiameterResult result = FaceSDF(open);
-    EXPECT_TRUE(AllFinite(result.values));
+    EXPECT_TRUE(AllFinite(result.Values));
     const double holeDegrees = std::acos(holeZ) * 180 / kPi;
     int nearHole = 0, farFromHole = 0;
     for (std::size_t i = 0; i < kept.size(); ++i)
     {
       const Eigen::Index f = kept[i];
-      EXPECT_GT(result.validRays[i], 0);
-      const double closedValue = closed.values[static_cast<std::size_t>(f)];
-      const double relative = std::abs(result.values[i] - closedValue) / closedValue;
+      EXPECT_GT(result.ValidRays[i], 0);
+      const double closedValue = closed.Values[static_cast<std::size_t>(f)];
+      const double relative = std::abs(result.Values[i] - closedValue) / closedValue;
       const double polarDegrees =
         std::acos(sphereOrigins.Points(f, 2) / sphereOrigins.Points.row(f).norm()) * 180 / kPi;
       // Valid rays are at most 60 degrees off the normal (FirstHitLeaving), so they land within
@@ -419,21 +419,21 @@ TEST(ShapeDiameter, OpenSphereStaysFiniteAndUnchangedAwayFromTheHole)
 TEST(ShapeDiameter, InvertedSphereHasNoValidRayAndGetsTheFallback)
 {
   // Flipped triangles: the cone points outward, no ray hits anything, the whole mesh is
-  // invalid; FillFromNeighbours finds no valid value anywhere and writes 0 everywhere. (The
+  // invalid; FillFromNeighbors finds no valid value anywhere and writes 0 everywhere. (The
   // VTK adapter orients meshes first; the core does not.)
   const TriangleMesh mesh = testshapes::Flipped(testshapes::MakeIcosphere(8, 1.0));
   ShapeDiameterResult result = FaceSDF(mesh);
   EXPECT_TRUE(std::all_of(
-    result.validRays.begin(), result.validRays.end(), [](int rays) { return rays == 0; }));
-  EXPECT_TRUE(AllFinite(result.values));
+    result.ValidRays.begin(), result.ValidRays.end(), [](int rays) { return rays == 0; }));
+  EXPECT_TRUE(AllFinite(result.Values));
   std::vector<std::int64_t> offsets, indices;
   testshapes::EdgeAdjacency(mesh.Triangles, offsets, indices);
-  const FillFromNeighboursSummary summary =
-    FillFromNeighbours(result.values, result.validRays, offsets, indices);
-  EXPECT_EQ(summary.FilledWithFallback, result.values.size());
+  const FillFromNeighborsSummary summary =
+    FillFromNeighbors(result.Values, result.ValidRays, offsets, indices);
+  EXPECT_EQ(summary.FilledWithFallback, result.Values.size());
   EXPECT_EQ(summary.FallbackValue, 0.0);
   EXPECT_TRUE(std::all_of(
-    result.values.begin(), result.values.end(), [](double v) { return v == 0.0; }));
+    result.Values.begin(), result.Values.end(), [](double v) { return v == 0.0; }));
 }
 
 TEST(ShapeDiameter, TwoDisjointSpheresEachGetTheirOwnDiameter)
@@ -444,8 +444,8 @@ TEST(ShapeDiameter, TwoDisjointSpheresEachGetTheirOwnDiameter)
   const ShapeDiameterResult result = FaceSDF(both);
   const ConePattern pattern = MakeConePattern(30, 120);
   const auto smallFaces = static_cast<std::size_t>(small.Triangles.rows());
-  const std::vector<double> smallValues(result.values.begin(), result.values.begin() + smallFaces);
-  const std::vector<double> largeValues(result.values.begin() + smallFaces, result.values.end());
+  const std::vector<double> smallValues(result.Values.begin(), result.Values.begin() + smallFaces);
+  const std::vector<double> largeValues(result.Values.begin() + smallFaces, result.Values.end());
   // Rays more than 45 degrees off the normal leave their own sphere through a rejected
   // ("same direction") wall, may reach the far wall of the other sphere, which is valid, and
   // then widen the median +- sigma window. That cross-talk is part of the paper's definition:
@@ -480,9 +480,9 @@ TEST(ShapeDiameter, ThreadSplitsGiveBitIdenticalResults)
       options.OriginsPerChunk = chunk;
       const ShapeDiameterResult threaded =
         ComputeShapeDiameter(caster, origins, options, ThreadedFor(threads));
-      EXPECT_EQ(threaded.values, serial.values) << threads << " threads, chunk " << chunk;
-      EXPECT_EQ(threaded.validRays, serial.validRays);
-      EXPECT_FALSE(threaded.aborted);
+      EXPECT_EQ(threaded.Values, serial.Values) << threads << " threads, chunk " << chunk;
+      EXPECT_EQ(threaded.ValidRays, serial.ValidRays);
+      EXPECT_FALSE(threaded.Aborted);
     }
   }
 }
@@ -500,7 +500,7 @@ TEST(ShapeDiameter, ProgressIsMonotoneAndAbortStopsEarly)
         fractions.push_back(fraction);
         return true;
       });
-    EXPECT_FALSE(complete.aborted);
+    EXPECT_FALSE(complete.Aborted);
     ASSERT_EQ(fractions.size(), 20u);
     EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
     EXPECT_EQ(fractions.back(), 1.0);
@@ -508,10 +508,10 @@ TEST(ShapeDiameter, ProgressIsMonotoneAndAbortStopsEarly)
     int calls = 0;
     const ShapeDiameterResult aborted = ComputeShapeDiameter(caster, origins,
       ShapeDiameterOptions(), ThreadedFor(threads), [&](double) { return ++calls < 3; });
-    EXPECT_TRUE(aborted.aborted);
-    EXPECT_TRUE(AllFinite(aborted.values));
+    EXPECT_TRUE(aborted.Aborted);
+    EXPECT_TRUE(AllFinite(aborted.Values));
     const auto processed = std::count_if(
-      aborted.validRays.begin(), aborted.validRays.end(), [](int rays) { return rays > 0; });
+      aborted.ValidRays.begin(), aborted.ValidRays.end(), [](int rays) { return rays > 0; });
     EXPECT_GE(processed, 3 * 256);
     EXPECT_LE(processed, static_cast<long>(3 + threads) * 256);
   }
@@ -531,18 +531,18 @@ TEST(ShapeDiameter, DegenerateFacesAndSkippedOriginsAreLeftForFilling)
   ShapeDiameterResult result = ComputeShapeDiameter(caster, origins, {}, SerialFor);
   for (const std::size_t f : { 5u, 9u, 11u })
   {
-    EXPECT_EQ(result.validRays[f], 0);
-    EXPECT_EQ(result.values[f], 0.0);
+    EXPECT_EQ(result.ValidRays[f], 0);
+    EXPECT_EQ(result.Values[f], 0.0);
   }
-  EXPECT_GT(result.validRays[10], 0);
+  EXPECT_GT(result.ValidRays[10], 0);
   std::vector<std::int64_t> offsets, indices;
   testshapes::EdgeAdjacency(mesh.Triangles, offsets, indices);
-  FillFromNeighbours(result.values, result.validRays, offsets, indices);
-  EXPECT_TRUE(AllFinite(result.values));
+  FillFromNeighbors(result.Values, result.ValidRays, offsets, indices);
+  EXPECT_TRUE(AllFinite(result.Values));
   const double expected = ExpectedSphereSDF(1.0, MakeConePattern(30, 120));
   for (const std::size_t f : { 5u, 9u, 11u })
   {
-    EXPECT_NEAR(result.values[f], expected, 0.05 * expected);
+    EXPECT_NEAR(result.Values[f], expected, 0.05 * expected);
   }
 }
 
@@ -554,10 +554,10 @@ TEST(ShapeDiameter, BruteForceCasterGivesTheSameSDF)
     EmbreeRayCaster(mesh.Points, mesh.Triangles), origins, ShapeDiameterOptions(), SerialFor);
   const ShapeDiameterResult bruteForce = ComputeShapeDiameter(
     BruteForceRayCaster(mesh.Points, mesh.Triangles), origins, ShapeDiameterOptions(), SerialFor);
-  EXPECT_EQ(embree.validRays, bruteForce.validRays);
-  for (std::size_t f = 0; f < embree.values.size(); ++f)
+  EXPECT_EQ(embree.ValidRays, bruteForce.ValidRays);
+  for (std::size_t f = 0; f < embree.Values.size(); ++f)
   {
-    EXPECT_NEAR(embree.values[f], bruteForce.values[f], 1e-9 * bruteForce.values[f]);
+    EXPECT_NEAR(embree.Values[f], bruteForce.Values[f], 1e-9 * bruteForce.Values[f]);
   }
 }
 
@@ -567,9 +567,9 @@ TEST(ShapeDiameter, EmptyMeshesAndBadOptions)
   empty.Points.resize(0, 3);
   empty.Triangles.resize(0, 3);
   const ShapeDiameterResult result = FaceSDF(empty);
-  EXPECT_TRUE(result.values.empty());
-  EXPECT_TRUE(result.validRays.empty());
-  EXPECT_FALSE(result.aborted);
+  EXPECT_TRUE(result.Values.empty());
+  EXPECT_TRUE(result.ValidRays.empty());
+  EXPECT_FALSE(result.Aborted);
 
   // A single triangle: the only possible hit is itself, so nothing is valid.
   TriangleMesh single;
@@ -578,9 +578,9 @@ TEST(ShapeDiameter, EmptyMeshesAndBadOptions)
   single.Triangles.resize(1, 3);
   single.Triangles << 0, 1, 2;
   const ShapeDiameterResult one = FaceSDF(single);
-  ASSERT_EQ(one.values.size(), 1u);
-  EXPECT_EQ(one.validRays[0], 0);
-  EXPECT_EQ(one.values[0], 0.0);
+  ASSERT_EQ(one.Values.size(), 1u);
+  EXPECT_EQ(one.ValidRays[0], 0);
+  EXPECT_EQ(one.Values[0], 0.0);
 
   const TriangleMesh mesh = testshapes::MakeIcosphere(2);
   auto withOptions = [&](auto change) {
@@ -613,23 +613,23 @@ TEST(ShapeDiameter, EmptyMeshesAndBadOptions)
 }
 
 // ---------------------------------------------------------------------------------------
-// FillFromNeighbours
+// FillFromNeighbors
 
-TEST(FillFromNeighbours, ChainIsFilledLayerByLayer)
+TEST(FillFromNeighbors, ChainIsFilledLayerByLayer)
 {
   // 0 - 1 - 2 - 3 - 4, valid at both ends.
   std::vector<double> values = { 1, 0, 0, 0, 5 };
   const std::vector<int> validRays = { 7, 0, 0, 0, 9 };
   const std::vector<std::int64_t> offsets = { 0, 1, 3, 5, 7, 8 };
   const std::vector<std::int64_t> indices = { 1, 0, 2, 1, 3, 2, 4, 3 };
-  const FillFromNeighboursSummary summary = FillFromNeighbours(values, validRays, offsets, indices);
+  const FillFromNeighborsSummary summary = FillFromNeighbors(values, validRays, offsets, indices);
   EXPECT_EQ(values, (std::vector<double>{ 1, 1, 3, 5, 5 }));
-  EXPECT_EQ(summary.FilledFromNeighbours, 3u);
+  EXPECT_EQ(summary.FilledFromNeighbors, 3u);
   EXPECT_EQ(summary.FilledWithFallback, 0u);
   EXPECT_EQ(summary.FallbackValue, 3.0);
 }
 
-TEST(FillFromNeighbours, IsolatedFaceAndInvalidComponentGetTheMedian)
+TEST(FillFromNeighbors, IsolatedFaceAndInvalidComponentGetTheMedian)
 {
   // Component {0, 1, 2} valid; face 3 isolated; component {4, 5} all invalid; face 6 has a
   // non-finite value although marked valid, and a self-loop.
@@ -638,42 +638,42 @@ TEST(FillFromNeighbours, IsolatedFaceAndInvalidComponentGetTheMedian)
   const std::vector<std::int64_t> offsets = { 0, 2, 4, 7, 7, 8, 9, 10 };
   const std::vector<std::int64_t> indices = { 1, 2, 0, 2, 0, 1, 6, 5, 4, 6 };
   // Face 2 lists 6 as a neighbour but 6 does not list 2: one-sided edges are allowed.
-  const FillFromNeighboursSummary summary = FillFromNeighbours(values, validRays, offsets, indices);
+  const FillFromNeighborsSummary summary = FillFromNeighbors(values, validRays, offsets, indices);
   EXPECT_EQ(summary.FallbackValue, 4.0);
   EXPECT_EQ(summary.FilledWithFallback, 4u); // 3, 4, 5, 6 (6 only sees itself)
-  EXPECT_EQ(summary.FilledFromNeighbours, 0u);
+  EXPECT_EQ(summary.FilledFromNeighbors, 0u);
   EXPECT_EQ(values, (std::vector<double>{ 2, 10, 4, 4, 4, 4, 4 }));
 }
 
-TEST(FillFromNeighbours, AverageOfSeveralValidNeighboursAndEdgeCases)
+TEST(FillFromNeighbors, AverageOfSeveralValidNeighborsAndEdgeCases)
 {
   // Star: centre 0 invalid, leaves 1..3 valid.
   std::vector<double> values = { 0, 1, 2, 6 };
   const std::vector<int> validRays = { 0, 1, 1, 1 };
   const std::vector<std::int64_t> offsets = { 0, 3, 4, 5, 6 };
   const std::vector<std::int64_t> indices = { 1, 2, 3, 0, 0, 0 };
-  FillFromNeighbours(values, validRays, offsets, indices);
+  FillFromNeighbors(values, validRays, offsets, indices);
   EXPECT_DOUBLE_EQ(values[0], 3.0);
 
   std::vector<double> none;
-  EXPECT_NO_THROW(FillFromNeighbours(none, {}, {}, {}));
-  EXPECT_NO_THROW(FillFromNeighbours(none, {}, { 0 }, {}));
+  EXPECT_NO_THROW(FillFromNeighbors(none, {}, {}, {}));
+  EXPECT_NO_THROW(FillFromNeighbors(none, {}, { 0 }, {}));
 
   std::vector<double> allInvalid = { 0, 0 };
-  const FillFromNeighboursSummary summary =
-    FillFromNeighbours(allInvalid, { 0, 0 }, { 0, 1, 2 }, { 1, 0 });
+  const FillFromNeighborsSummary summary =
+    FillFromNeighbors(allInvalid, { 0, 0 }, { 0, 1, 2 }, { 1, 0 });
   EXPECT_EQ(allInvalid, (std::vector<double>{ 0, 0 }));
   EXPECT_EQ(summary.FilledWithFallback, 2u);
 
   std::vector<double> two = { 1, 2 };
-  EXPECT_THROW(FillFromNeighbours(two, { 1 }, { 0, 0, 0 }, {}), ShapeDiameterError);
-  EXPECT_THROW(FillFromNeighbours(two, { 1, 1 }, { 0, 0 }, {}), ShapeDiameterError);
-  EXPECT_THROW(FillFromNeighbours(two, { 1, 1 }, { 0, 1, 2 }, { 1, 2 }), ShapeDiameterError);
-  EXPECT_THROW(FillFromNeighbours(two, { 1, 1 }, { 0, 2, 1 }, { 1, 0 }), ShapeDiameterError);
-  EXPECT_THROW(FillFromNeighbours(two, { 1, 1 }, { 0, 1, 3 }, { 1, 0 }), ShapeDiameterError);
+  EXPECT_THROW(FillFromNeighbors(two, { 1 }, { 0, 0, 0 }, {}), ShapeDiameterError);
+  EXPECT_THROW(FillFromNeighbors(two, { 1, 1 }, { 0, 0 }, {}), ShapeDiameterError);
+  EXPECT_THROW(FillFromNeighbors(two, { 1, 1 }, { 0, 1, 2 }, { 1, 2 }), ShapeDiameterError);
+  EXPECT_THROW(FillFromNeighbors(two, { 1, 1 }, { 0, 2, 1 }, { 1, 0 }), ShapeDiameterError);
+  EXPECT_THROW(FillFromNeighbors(two, { 1, 1 }, { 0, 1, 3 }, { 1, 0 }), ShapeDiameterError);
 }
 
-TEST(FillFromNeighbours, ResultDoesNotDependOnNumbering)
+TEST(FillFromNeighbors, ResultDoesNotDependOnNumbering)
 {
   // A ring of 8 faces, valid at 0 (value 0) and 3 (value 8); renumber with a permutation and
   // compare.
@@ -709,8 +709,8 @@ TEST(FillFromNeighbours, ResultDoesNotDependOnNumbering)
   std::vector<std::int64_t> offsetsA, indicesA, offsetsB, indicesB;
   ring(identity, a, validA, offsetsA, indicesA);
   ring(permutation, b, validB, offsetsB, indicesB);
-  FillFromNeighbours(a, validA, offsetsA, indicesA);
-  FillFromNeighbours(b, validB, offsetsB, indicesB);
+  FillFromNeighbors(a, validA, offsetsA, indicesA);
+  FillFromNeighbors(b, validB, offsetsB, indicesB);
   for (int i = 0; i < n; ++i)
   {
     EXPECT_EQ(a[static_cast<std::size_t>(i)], b[static_cast<std::size_t>(permutation[i])]);

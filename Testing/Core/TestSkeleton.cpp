@@ -1072,7 +1072,7 @@ FigureSkeleton SkeletonOfFigure(const shapediameter::testing::ArticulatedFigureT
   const ShapeDiameterResult sdf =
     ComputeFaceShapeDiameter(points, triangles, ShapeDiameterOptions{}, ThreadedFor(2));
   const std::vector<double> smoothed =
-    SmoothBilateral(BuildFaceGraph(points, triangles), sdf.values).Values;
+    SmoothBilateral(BuildFaceGraph(points, triangles), sdf.Values).Values;
   result.Skeleton = ComputeSkeleton(points, triangles, smoothed, {}, ThreadedFor(2));
   return result;
 }

@@ -251,7 +251,7 @@ TEST(ShapeDiameterFilter, QuadsStripsAndLinesKeepTheirCells)
   }
 }
 
-TEST(ShapeDiameterFilter, DegenerateFacesAreFilledFromNeighbours)
+TEST(ShapeDiameterFilter, DegenerateFacesAreFilledFromNeighbors)
 {
   vtkSmartPointer<vtkPolyData> sphere = Sphere(1.0, 32);
   vtkNew<vtkPolyData> mesh;
