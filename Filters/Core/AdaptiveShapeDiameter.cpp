@@ -131,45 +131,11 @@ std::vector<std::size_t> Select(const std::vector<std::size_t>& candidates,
   return chosen;
 }
 
-/// Step 2: breadth-first regions of the cast origins with a valid value.
-void Regions(const Graph& graph, const std::vector<std::uint8_t>& source,
-  std::vector<std::int64_t>& owner, std::vector<int>& depth)
-{
-  const std::size_t n = source.size();
-  owner.assign(n, -1);
-  depth.assign(n, -1);
-  std::vector<std::size_t> layer, next;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    if (source[i])
-    {
-      owner[i] = static_cast<std::int64_t>(i);
-      depth[i] = 0;
-      layer.push_back(i);
-    }
-  }
-  while (!layer.empty())
-  {
-    next.clear();
-    for (const std::size_t f : layer)
-    {
-      for (std::size_t k = graph.Begin(f); k < graph.End(f); ++k)
-      {
-        const std::size_t g = graph.At(k);
-        if (owner[g] < 0)
-        {
-          owner[g] = owner[f];
-          depth[g] = depth[f] + 1;
-          next.push_back(g);
-        }
-      }
-    }
-    layer.swap(next);
-  }
-}
-/// Step 2 after new casts: the regions of the sources added since the last call take over
-/// every origin they are strictly closer to (in hops); the rest keep their owner. The same
-/// hop distances as a search from all sources, at the cost of the origins that change.
+/// Step 2: breadth-first regions of the cast origins with a valid value. After new casts, the
+/// regions of the sources added since the last call take over every origin they are strictly
+/// closer to (in hops); the rest keep their owner. The same hop distances as a search from all
+/// sources, at the cost of the origins that change. The first call starts from owner and depth
+/// all -1 with every source in `added` (ascending, so ties go to the lower source index).
 void UpdateRegions(const Graph& graph, const std::vector<std::size_t>& added,
   const std::vector<std::uint8_t>& source, std::vector<std::int64_t>& owner, std::vector<int>& depth)
 {
@@ -368,16 +334,19 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
   bool checked = true; // the current regions went through refinementCandidates
   for (int round = 0; round <= coarseLevel + kExtraRounds; ++round)
   {
-    std::vector<std::size_t> chosen = Select(candidates, level, origins.Points, normals, minCorner, cellUnit);
-    chosen.erase(std::remove_if(chosen.begin(), chosen.end(), [&](std::size_t i) { return cast[i] != 0; }),
-      chosen.end());
+    const auto selectUncast = [&]() {
+      std::vector<std::size_t> selected = Select(candidates, level, origins.Points, normals, minCorner, cellUnit);
+      selected.erase(
+        std::remove_if(selected.begin(), selected.end(), [&](std::size_t i) { return cast[i] != 0; }),
+        selected.end());
+      return selected;
+    };
+    std::vector<std::size_t> chosen = selectUncast();
     if (chosen.empty() && !checked)
     {
       candidates = refinementCandidates();
       checked = true;
-      chosen = Select(candidates, level, origins.Points, normals, minCorner, cellUnit);
-      chosen.erase(std::remove_if(chosen.begin(), chosen.end(), [&](std::size_t i) { return cast[i] != 0; }),
-        chosen.end());
+      chosen = selectUncast();
     }
     if (chosen.empty())
     {
@@ -405,12 +374,10 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
     }
     if (round == 0)
     {
-      Regions(graph, source, owner, depth);
+      owner.assign(n, -1);
+      depth.assign(n, -1);
     }
-    else
-    {
-      UpdateRegions(graph, chosen, source, owner, depth);
-    }
+    UpdateRegions(graph, chosen, source, owner, depth);
 
     if (round == 0)
     {
