@@ -24,6 +24,7 @@
 #include "vtkPolyData.h"
 
 #include <algorithm>
+#include <cmath>
 
 vtkStandardNewMacro(vtkSDFSkeleton);
 
@@ -85,6 +86,35 @@ void WriteSkeleton(const SkeletonResult& skeleton, vtkPolyData* output)
   output->GetCellData()->SetActiveScalars(vtkSDFSkeleton::BONE_ID_ARRAY_NAME); // default colouring
   output->GetCellData()->AddArray(
     adapter::MakeArray<vtkIntArray>(vtkSDFSkeleton::IS_CONNECTION_ARRAY_NAME, isConnection));
+}
+/// SDFSegment per triangle, or empty (nearest-node link) when the input has no usable array.
+std::vector<std::int64_t> TriangleSegments(vtkObject* self, vtkPolyData* input,
+  const shapediameter::adapter::TriangulatedSurface& surface)
+{
+  vtkDataArray* segments = input->GetCellData()->GetArray(vtkSDFGMMPartition::SEGMENT_ARRAY_NAME);
+  if (!segments)
+  {
+    return {};
+  }
+  if (segments->GetNumberOfComponents() != 1 || segments->GetNumberOfTuples() != input->GetNumberOfCells())
+  {
+    vtkWarningWithObjectMacro(self, "The cell array '" << vtkSDFGMMPartition::SEGMENT_ARRAY_NAME
+                                       << "' does not have one value per cell: faces are linked to their nearest node.");
+    return {};
+  }
+  std::vector<std::int64_t> triangleSegments(surface.TriangleCell.size());
+  for (std::size_t t = 0; t < triangleSegments.size(); ++t)
+  {
+    const double value = segments->GetComponent(surface.TriangleCell[t], 0);
+    if (!(std::abs(value) < 9e15)) // NaN, infinite, or not an integer label
+    {
+      vtkWarningWithObjectMacro(self, "The cell array '" << vtkSDFGMMPartition::SEGMENT_ARRAY_NAME
+        << "' has non-finite or huge values: faces are linked to their nearest node.");
+      return {};
+    }
+    triangleSegments[t] = static_cast<std::int64_t>(value);
+  }
+  return triangleSegments;
 }
 } // namespace
 
@@ -156,8 +186,8 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   options.Thinning.MinimumConfidentShare = this->MinimumConfidentShare;
   options.Thinning.SpacingFactor = this->SpacingFactor;
   const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
-    PointMatrix(0, 3), {}, options, request.Parallel,
-    adapter::MakeProgress(this, 0.0, 0.95));
+    PointMatrix(0, 3), {}, options, request.Parallel, adapter::MakeProgress(this, 0.0, 0.95),
+    this->LinkBySegment ? TriangleSegments(this, input, surface) : std::vector<std::int64_t>());
   if (skeleton.Aborted)
   {
     return false;
@@ -232,5 +262,6 @@ void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ConfidenceThreshold: " << this->ConfidenceThreshold << "\n";
   os << indent << "MinimumConfidentShare: " << this->MinimumConfidentShare << "\n";
   os << indent << "SpacingFactor: " << this->SpacingFactor << "\n";
+  os << indent << "LinkBySegment: " << this->LinkBySegment << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <utility>
 
 namespace shapediameter
 {
@@ -47,6 +48,34 @@ ProgressCallback SubProgress(const ProgressCallback& progress, double begin, dou
   };
 }
 
+/// The bone of every face's part: each part (faces with one label within one surface
+/// component) takes the bone that holds the largest area of it under the nearest-node link
+/// (ties: the lowest bone id). Returns that bone per face.
+std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& faceParts,
+  const std::vector<std::int64_t>& faceComponent, const std::vector<double>& faceArea,
+  const std::vector<std::int64_t>& nearestBone)
+{
+  std::map<std::pair<std::int64_t, std::int64_t>, std::map<std::int64_t, double>> areaByBone;
+  for (std::size_t f = 0; f < faceParts.size(); ++f)
+  {
+    areaByBone[{ faceComponent[f], faceParts[f] }][nearestBone[f]] += faceArea[f];
+  }
+  std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t> bestBone;
+  for (const auto& [part, areas] : areaByBone)
+  {
+    // std::max_element keeps the first of equal areas, i.e. the lowest bone id.
+    bestBone[part] = std::max_element(areas.begin(), areas.end(), [](const auto& a, const auto& b) {
+      return a.second < b.second;
+    })->first;
+  }
+  std::vector<std::int64_t> faceBone(faceParts.size());
+  for (std::size_t f = 0; f < faceParts.size(); ++f)
+  {
+    faceBone[f] = bestBone[{ faceComponent[f], faceParts[f] }];
+  }
+  return faceBone;
+}
+
 SkeletonResult AbortedResult()
 {
   SkeletonResult result;
@@ -59,10 +88,15 @@ SkeletonResult AbortedResult()
 SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   const std::vector<double>& faceSdf, PointsView faceNormals,
   const std::vector<std::int64_t>& faceComponents, const SkeletonOptions& options,
-  const ParallelFor& parallelFor, const ProgressCallback& progress)
+  const ParallelFor& parallelFor, const ProgressCallback& progress,
+  const std::vector<std::int64_t>& faceParts)
 {
   ValidateSkeletonOptions(options);
   ValidateSkeletonInput(points, triangles, faceSdf, faceNormals, faceComponents);
+  if (!faceParts.empty() && faceParts.size() != static_cast<std::size_t>(triangles.rows()))
+  {
+    throw SkeletonError("skeleton: face part labels must be empty or one per triangle");
+  }
   SkeletonResult result;
   const auto faces = static_cast<std::size_t>(triangles.rows());
   if (faces == 0)
@@ -170,7 +204,8 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     AssignBranchBones(graph); // the fallback nodes become bones of their own
   }
 
-  // Surface link: nearest node of the same component to each projected face centre.
+  // Surface link: nearest node of the same component to each projected face centre; with part
+  // labels, every part then takes one bone (see LinkPartsToBones).
   result.FaceNodeId.assign(faces, 0);
   result.FaceBoneId.assign(faces, 0);
   const SkeletonPointTree nodeTree(graph.NodePositions);
@@ -187,6 +222,25 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
       result.FaceBoneId[f] = graph.NodeBone[node];
     }
   });
+  if (!faceParts.empty())
+  {
+    const std::vector<std::int64_t> partBone =
+      LinkPartsToBones(faceParts, faceComponent, faceArea, result.FaceBoneId);
+    parallelFor(faces, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t f = begin; f < end; ++f)
+      {
+        const std::int64_t bone = partBone[f];
+        if (bone == result.FaceBoneId[f])
+        {
+          continue;
+        }
+        result.FaceNodeId[f] = nodeTree.NearestAccepted(
+          projectedCentres.row(static_cast<Eigen::Index>(f)).transpose(),
+          [&](std::int64_t n) { return graph.NodeBone[n] == bone; });
+        result.FaceBoneId[f] = bone;
+      }
+    });
+  }
 
   result.NodePositions = std::move(graph.NodePositions);
   result.NodeRadius = std::move(graph.NodeRadius);

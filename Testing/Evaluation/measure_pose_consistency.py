@@ -3,7 +3,8 @@
 
     pvpython Testing/Evaluation/measure_pose_consistency.py FOLDER [--hit-rule 0|1]
              [--cluster-model 0|1] [--clusters K] [--lambda L] [--family]
-             [--expect-at-most PERCENT] [--skeleton [--expect-bone-change-at-most PERCENT]]
+             [--expect-at-most PERCENT] [--skeleton [--skeleton-link segment|nearest]
+             [--expect-bone-change-at-most PERCENT]]
 
 FOLDER holds the poses as .obj, .obj.gz, .off, .ply, .stl or .vtp files with identical
 connectivity (face i is the same place in every pose), e.g. ../shared/data/poses/elephant.
@@ -17,9 +18,11 @@ classes (package shapediameter, from build/) and prints:
 - the Table-2 measure of SDFCluster: mean over all pose pairs of the share of faces with a
   different cluster after the best one-to-one matching of labels (Hungarian, scipy);
 - per pose: clusters covering at least 1 % of the area;
-- with --skeleton: the skeleton of every pose (vtkSDFSkeleton at its defaults on the smoothed
-  pose): leaves and junctions per pose, and the Table-2 measure of SkeletonBoneId (faces
-  changing bone; faces linked to no bone count as one more label).
+- with --skeleton: the skeleton of every pose (vtkSDFSkeleton at its defaults on the
+  partitioned pose, as the pipeline command chains them): leaves and junctions per pose, and
+  the Table-2 measure of SkeletonBoneId (faces changing bone; faces linked to no bone count as
+  one more label). --skeleton-link nearest turns LinkBySegment off (each face takes the bone
+  of its nearest node, not its SDFSegment's bone).
 
 --family normalises every pose with one range (the widest SDFNormalizationRange of the
 poses) and partitions it with one model fitted on all poses together (the pipeline
@@ -77,6 +80,8 @@ def main():
                         help="fail (exit 1) when the Table-2 measure exceeds PERCENT")
     parser.add_argument("--skeleton", action="store_true",
                         help="also the skeleton of every pose: leaves, junctions, faces changing SkeletonBoneId")
+    parser.add_argument("--skeleton-link", choices=("segment", "nearest"), default="segment",
+                        help="with --skeleton: vtkSDFSkeleton's LinkBySegment on (default) or off")
     parser.add_argument("--expect-bone-change-at-most", type=float, default=None, metavar="PERCENT",
                         help="with --skeleton: fail when more than PERCENT of the faces change bone")
     arguments = parser.parse_args()
@@ -116,6 +121,7 @@ def main():
         model = chain_settings.partition(arguments)
         model.SetInputConnection(append.GetOutputPort())
         model.Update()
+    partitioned = []
     for surface in smoothed:
         partition = chain_settings.partition(arguments)
         partition.SetInputData(surface)
@@ -124,6 +130,7 @@ def main():
         sizes = vtkCellSizeFilter()
         sizes.SetInputConnection(partition.GetOutputPort())
         sizes.Update()
+        partitioned.append(partition.GetOutput())
         cells = sizes.GetOutput().GetCellData()
         for key in columns:
             columns[key].append(vtk_to_numpy(cells.GetArray(key)).copy())
@@ -149,8 +156,9 @@ def main():
         failures.append("%.2f %% of the faces change cluster, more than %.2f %%" % (measure, arguments.expect_at_most))
     if arguments.skeleton:
         bones, shapes = [], []
-        for surface in smoothed:
+        for surface in partitioned:
             skeleton = shapediameter.vtkSDFSkeleton()
+            skeleton.SetLinkBySegment(arguments.skeleton_link == "segment")
             skeleton.SetInputData(surface)
             skeleton.Update()
             bones.append(vtk_to_numpy(skeleton.GetSurface().GetCellData().GetArray("SkeletonBoneId")).astype(int) + 1)

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ArticulatedFigure.h"
 #include "FilterTestUtilities.h"
+#include "LabelMatching.h"
 #include "vtkSDFOFFReader.h"
 #include "vtkSDFBilateralSmooth.h"
 #include "vtkSDFGMMPartition.h"
@@ -10,6 +11,7 @@
 #include "vtkAppendPolyData.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
+#include "vtkIntArray.h"
 #include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -20,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <vector>
@@ -155,6 +158,130 @@ TEST(SDFSkeleton, FigureBonesFollowTheLimbsInTwoPoses)
     EXPECT_TRUE(ArraysFinite(run->Skeleton));
     EXPECT_TRUE(ArraysFinite(run->Cloud));
   }
+}
+
+namespace
+{
+/// The figure's chain up to the partition (the skeleton's input in the product chain).
+vtkSmartPointer<vtkPolyData> PartitionedFigure(const figure::ArticulatedFigure& pose)
+{
+  vtkNew<vtkShapeDiameterFilter> sdf;
+  sdf->SetInputData(ToPolyData(pose.Points, pose.Triangles));
+  vtkNew<vtkSDFBilateralSmooth> smooth;
+  smooth->SetInputConnection(sdf->GetOutputPort());
+  vtkNew<vtkSDFGMMPartition> parts;
+  parts->SetInputConnection(smooth->GetOutputPort());
+  parts->Update();
+  return parts->GetOutput();
+}
+
+struct SurfaceLink
+{
+  std::vector<int> Bone, Node;
+  vtkSmartPointer<vtkPolyData> Skeleton;
+  int Warnings = 0;
+};
+
+SurfaceLink Link(vtkPolyData* input, bool bySegment)
+{
+  vtkNew<vtkSDFSkeleton> skeleton;
+  skeleton->SetInputData(input);
+  skeleton->SetLinkBySegment(bySegment);
+  vtkNew<MessageRecorder> recorder;
+  recorder->Observe(skeleton);
+  skeleton->Update();
+  EXPECT_EQ(recorder->Errors, 0);
+  SurfaceLink link;
+  vtkCellData* cells = skeleton->GetSurface()->GetCellData();
+  for (vtkIdType c = 0; c < skeleton->GetSurface()->GetNumberOfCells(); ++c)
+  {
+    link.Bone.push_back(static_cast<int>(cells->GetArray("SkeletonBoneId")->GetComponent(c, 0)));
+    link.Node.push_back(static_cast<int>(cells->GetArray("SkeletonNodeId")->GetComponent(c, 0)));
+  }
+  link.Skeleton = skeleton->GetSkeleton();
+  link.Warnings = recorder->Warnings;
+  return link;
+}
+
+} // namespace
+
+TEST(SDFSkeleton, EverySegmentIsLinkedToOneBone)
+{
+  const figure::ArticulatedFigureTemplate figureTemplate;
+  figure::FigurePose bent;
+  bent.LeftArm = 0.9;
+  bent.RightArm = -0.6;
+  bent.LeftLeg = 0.5;
+  bent.RightLeg = -0.4;
+  const vtkSmartPointer<vtkPolyData> rest = PartitionedFigure(figureTemplate.Rest());
+  const vtkSmartPointer<vtkPolyData> posed = PartitionedFigure(figureTemplate.Pose(bent));
+  const SurfaceLink bySegment = Link(rest, true);
+  const SurfaceLink nearest = Link(rest, false);
+  vtkDataArray* segments = rest->GetCellData()->GetArray("SDFSegment");
+  ASSERT_NE(segments, nullptr);
+
+  // One bone per segment, and every face's node lies on a polyline of the face's bone.
+  std::map<int, std::set<int>> segmentBones;
+  std::map<vtkIdType, std::set<int>> nodeBones;
+  vtkDataArray* polylineBones = bySegment.Skeleton->GetCellData()->GetArray("BoneId");
+  for (vtkIdType c = 0; c < bySegment.Skeleton->GetNumberOfCells(); ++c)
+  {
+    vtkIdType count = 0;
+    const vtkIdType* ids = nullptr;
+    bySegment.Skeleton->GetCellPoints(c, count, ids);
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      nodeBones[ids[i]].insert(static_cast<int>(polylineBones->GetComponent(c, 0)));
+    }
+  }
+  std::size_t moved = 0;
+  for (std::size_t f = 0; f < bySegment.Bone.size(); ++f)
+  {
+    segmentBones[static_cast<int>(segments->GetComponent(static_cast<vtkIdType>(f), 0))].insert(bySegment.Bone[f]);
+    EXPECT_EQ(nodeBones[bySegment.Node[f]].count(bySegment.Bone[f]), 1u) << "face " << f;
+    if (bySegment.Bone[f] == nearest.Bone[f])
+    {
+      EXPECT_EQ(bySegment.Node[f], nearest.Node[f]) << "a face whose bone stays keeps its nearest node";
+    }
+    else
+    {
+      ++moved;
+    }
+  }
+  for (const auto& [segment, bones] : segmentBones)
+  {
+    EXPECT_EQ(bones.size(), 1u) << "segment " << segment;
+  }
+  // The link does not change the skeleton itself.
+  ASSERT_EQ(bySegment.Skeleton->GetNumberOfPoints(), nearest.Skeleton->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < bySegment.Skeleton->GetNumberOfPoints(); ++p)
+  {
+    ASSERT_EQ(bySegment.Skeleton->GetPoint(p)[0], nearest.Skeleton->GetPoint(p)[0]);
+  }
+
+  // Across two poses, by segment changes no more faces' bone than the nearest node alone.
+  const double changedBySegment =
+    shapediameter::CompareLabelings(bySegment.Bone, Link(posed, true).Bone).PercentDifferent;
+  const double changedNearest =
+    shapediameter::CompareLabelings(nearest.Bone, Link(posed, false).Bone).PercentDifferent;
+  std::printf("figure, two poses: %.2f %% of the faces change bone by segment, %.2f %% by nearest node; "
+              "%zu of %zu faces moved to their segment's bone\n",
+    changedBySegment, changedNearest, moved, bySegment.Bone.size());
+  EXPECT_LE(changedBySegment, changedNearest);
+
+  // An unusable SDFSegment (two components) is a warning, and the nearest-node link.
+  vtkNew<vtkPolyData> twoComponents;
+  twoComponents->DeepCopy(rest);
+  vtkNew<vtkIntArray> wide;
+  wide->SetName("SDFSegment");
+  wide->SetNumberOfComponents(2);
+  wide->SetNumberOfTuples(rest->GetNumberOfCells());
+  wide->Fill(0);
+  twoComponents->GetCellData()->RemoveArray("SDFSegment");
+  twoComponents->GetCellData()->AddArray(wide);
+  const SurfaceLink fallback = Link(twoComponents, true);
+  EXPECT_EQ(fallback.Warnings, 1);
+  EXPECT_EQ(fallback.Bone, nearest.Bone);
 }
 
 TEST(SDFSkeleton, OutputsAreLinkedAndDeterministic)
