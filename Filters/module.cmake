@@ -10,16 +10,32 @@ set(_classes
   vtkSDFGMMPartition
   vtkSDFSkeleton)
 
-set(_classes_abs)
+# The classes' public headers are handed to VTK as copies in this module's binary directory,
+# next to the generated ShapeDiameterFiltersModule.h. VTK >= 9.3 (ParaView 5.13) checks that
+# every public header passed as an absolute path lies under CMAKE_CURRENT_BINARY_DIR and
+# emits an AUTHOR_WARNING ("source appears to be outside of the module's source or binary
+# directory") for each one that does not, which Filters/ never is: this directory's source
+# dir is generated in the build tree (see the top-level CMakeLists.txt) and its binary dir is
+# elsewhere again. The copies change nothing that is installed or wrapped (same names, same
+# contents, same flat include/ShapeDiameter/ destination; VTK 9.2 installs and wraps them the
+# same way). configure_file makes each header a configure dependency: editing one in Filters/
+# re-runs CMake at the next build, which refreshes the copy before anything is compiled or
+# wrapped from it. The .cxx files and the private headers stay where they are (VTK does not
+# check them), so `CLASSES` is spelled out as SOURCES + HEADERS, in the same order.
+set(_class_sources)
+set(_class_headers)
 foreach (_class IN LISTS _classes)
-  list(APPEND _classes_abs "${_filters_dir}/${_class}")
+  list(APPEND _class_sources "${_filters_dir}/${_class}.cxx")
+  configure_file("${_filters_dir}/${_class}.h" "${CMAKE_CURRENT_BINARY_DIR}/${_class}.h" COPYONLY)
+  list(APPEND _class_headers "${CMAKE_CURRENT_BINARY_DIR}/${_class}.h")
 endforeach ()
 
 vtk_module_add_module(ShapeDiameter::Filters
-  CLASSES ${_classes_abs}
   SOURCES "${_filters_dir}/SurfaceConversion.cxx" "${_filters_dir}/DistributedSupport.cxx"
     "${_filters_dir}/WholeSurface.cxx"
     $<TARGET_OBJECTS:ShapeDiameterCore>
+    ${_class_sources}
+  HEADERS ${_class_headers}
   PRIVATE_HEADERS "${_filters_dir}/SurfaceConversion.h" "${_filters_dir}/SurfaceRequest.h"
     "${_filters_dir}/DistributedSupport.h" "${_filters_dir}/WholeSurface.h")
 vtk_module_include(ShapeDiameter::Filters
