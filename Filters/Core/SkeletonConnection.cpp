@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "SkeletonConnection.h"
 
+#include "SkeletonPointTree.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>

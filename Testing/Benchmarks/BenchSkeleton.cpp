@@ -10,6 +10,7 @@
 // each step alone on a prepared input, to show that only the per-face parts scale with the
 // face count.
 #include "Skeleton.h"
+#include "SkeletonPointTree.h"
 #include "SkeletonTestShapes.h"
 
 #include <benchmark/benchmark.h>

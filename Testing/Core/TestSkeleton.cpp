@@ -8,6 +8,7 @@
 #include "FaceGraph.h"
 #include "ShapeDiameter.h"
 #include "Skeleton.h"
+#include "SkeletonPointTree.h"
 #include "SkeletonTestShapes.h"
 
 #include <gtest/gtest.h>
