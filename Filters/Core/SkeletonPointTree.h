@@ -12,11 +12,11 @@
 //   thread-safe; an empty point set gives a tree where every query returns nothing.
 //
 // Why not nanoflann (already used by Testing/Evaluation)
-//   nanoflann (1.4 and 1.7) has no per-node moments (BallMoments, the MLS step's query) and no pruned
-//   "nearest accepted" search, and where it overlaps it answers differently: its radius search
-//   keeps |x - c| < r (ours <=), and its k-nearest search admits a candidate only if strictly
-//   closer than the current k-th, so which of several equidistant points is kept depends on its
-//   traversal order, not on the index. Coincident points are common here (an exact SDF sends a
+//   nanoflann (1.4 and 1.7) has no per-node moments (BallMoments, the MLS step's query) and no
+//   pruned "nearest accepted" search, and where it overlaps it answers differently: its radius
+//   search keeps |x - c| < r (ours <=), and its k-nearest search admits a candidate only if
+//   strictly closer than the current k-th, so which of several equidistant points is kept
+//   depends on its traversal order, not on the index. Coincident points are common here (an exact SDF sends a
 //   whole cap to one point), so switching would change skeletons; identity wins.
 #pragma once
 
