@@ -11,7 +11,7 @@
 // face count.
 #include "Skeleton.h"
 #include "SkeletonPointTree.h"
-#include "SkeletonTestShapes.h"
+#include "TestShapes.h"
 
 #include <benchmark/benchmark.h>
 
@@ -21,7 +21,7 @@ namespace
 {
 
 using namespace shapediameter;
-using namespace shapediameter::skeletontest;
+using namespace shapediameter::testshapes;
 
 constexpr double CgalMeanCurvatureFlowSeconds = 2.8;
 

@@ -9,8 +9,9 @@
 #include "ShapeDiameter.h"
 #include "Skeleton.h"
 #include "SkeletonPointTree.h"
-#include "SkeletonTestShapes.h"
+#include "TestShapes.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -26,7 +27,7 @@ namespace
 {
 
 using namespace shapediameter;
-using namespace shapediameter::skeletontest;
+using namespace shapediameter::testshapes;
 
 double LineDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
 {
