@@ -3,7 +3,11 @@
 //
 // What it computes
 //   The poly-segments S of step 3 are joined by shortest paths through the projected cloud P
-//   (whose points lie near the medial axis, hence good candidates for connecting paths):
+//   (whose points lie near the medial axis, hence good candidates for connecting paths).
+//   ConnectPolySegments runs the stages below as one call each (the stage functions in
+//   SkeletonConnection.cpp are named after them: NearestNeighborEdges, DropSurfaceCrossings,
+//   BridgeGraphPieces; SeedGrowth, GrowFromSeeds; JoinsWhereGrowthsMeet; MergedJoinPaths,
+//   ThinnedChains; CleanedPolylines, BlobMedoids; AssignBranchBones):
 //   1. Neighbour graph on P: each point linked to its NumberOfNeighbors nearest points of the
 //      same surface component, edge weight = Euclidean length; when a volume is given (as
 //      ComputeSkeleton does), an edge whose straight segment meets the surface is left out
