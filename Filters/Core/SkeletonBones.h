@@ -63,13 +63,12 @@ struct SkeletonGraph
 };
 
 /// Cleans the junctions of a forest given as polylines of vertex ids (any integers), see the
-/// header comment. Leaf branches: removed if
-/// shorter than factor * radiusOf(junction), or shorter than 2 * factor * radiusOf(v) with
-/// their leaf within factor * radiusOf(v) of a vertex v off the branch and of the same
-/// componentOf. Inner branches shorter than factor * the larger radius of their junctions:
-/// contracted into the junction of larger radius (ties: lower id). Polylines left with fewer
-/// than two vertices are dropped (single-vertex input polylines are kept unless removed).
-/// factor <= 0 does nothing.
+/// header comment. Leaf branches: removed if shorter than factor * radiusOf(junction), or
+/// shorter than 2 * factor * radiusOf(v) with their leaf within factor * radiusOf(v) of a
+/// vertex v off the branch and of the same componentOf. Inner branches shorter than factor *
+/// the larger radius of their junctions: contracted into the junction of larger radius (ties:
+/// lower id). Polylines left with fewer than two vertices are dropped (single-vertex input
+/// polylines are kept unless removed). factor <= 0 does nothing.
 void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
   std::vector<int>& isConnection,
   const std::function<Eigen::Vector3d(std::int64_t)>& positionOf,
