@@ -2,6 +2,7 @@
 #include "Skeleton.h"
 
 #include "EmbreeRayCaster.h"
+#include "SkeletonPointTree.h"
 
 #include <Eigen/Geometry>
 

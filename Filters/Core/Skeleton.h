@@ -39,7 +39,7 @@
 //   the junctions it passes through, so every polyline lies in exactly one bone (BoneId).
 //   A junction node belongs to all the branches meeting there; its NodeBoneId (and the
 //   SkeletonBoneId of the faces linked to it) is the lowest bone id among them, i.e. the
-//   longest. See AssignBranchBones in SkeletonConnection.h.
+//   longest. See AssignBranchBones in SkeletonBones.h.
 //
 // Reference
 //   Shapira, Shamir, Cohen-Or 2008, "Consistent mesh partitioning and skeletonisation using

@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "SkeletonConnection.h"
 
+#include "SkeletonPointTree.h"
+
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <map>
 #include <numeric>
 #include <queue>
-#include <set>
 #include <tuple>
 
 namespace shapediameter
@@ -193,232 +193,13 @@ void BridgeGraphPieces(const SkeletonPointTree& tree, const PointMatrix& positio
   }
 }
 
-} // namespace
-
-void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
-  std::vector<int>& isConnection,
-  const std::function<Eigen::Vector3d(std::int64_t)>& positionOf,
-  const std::function<double(std::int64_t)>& radiusOf,
-  const std::function<std::int64_t(std::int64_t)>& componentOf, double factor)
+/// Stage 1, first part: each point of P linked to its k nearest points of the same surface
+/// component, as (lower, higher) index pairs; an edge in both end points' lists is there twice.
+std::vector<Edge> NearestNeighborEdges(const SkeletonPointTree& tree, const ProjectedCloud& cloud,
+  const std::vector<std::int64_t>& component, std::size_t k, const ParallelFor& parallelFor)
 {
-  if (!(factor > 0.0))
-  {
-    return;
-  }
-  std::map<std::int64_t, std::set<std::int64_t>> adjacency;
-  for (const auto& polyline : polylines)
-  {
-    adjacency.try_emplace(polyline.front());
-    for (std::size_t i = 1; i < polyline.size(); ++i)
-    {
-      if (polyline[i] != polyline[i - 1])
-      {
-        adjacency[polyline[i - 1]].insert(polyline[i]);
-        adjacency[polyline[i]].insert(polyline[i - 1]);
-      }
-    }
-  }
-  std::set<std::int64_t> removed;
-  std::map<std::int64_t, std::int64_t> mergedInto;
-  /// Walks from `start` through `first` along degree-2 vertices; returns the vertices passed
-  /// (start and the stop vertex excluded), the stop vertex and the length.
-  const auto walk = [&](std::int64_t start, std::int64_t first, std::vector<std::int64_t>& inner,
-                      double& length) {
-    inner.clear();
-    length = (positionOf(first) - positionOf(start)).norm();
-    std::int64_t previous = start;
-    std::int64_t current = first;
-    while (adjacency[current].size() == 2 && current != start)
-    {
-      const std::set<std::int64_t>& around = adjacency[current];
-      const std::int64_t next = *around.begin() == previous ? *around.rbegin() : *around.begin();
-      inner.push_back(current);
-      length += (positionOf(next) - positionOf(current)).norm();
-      previous = current;
-      current = next;
-    }
-    return current;
-  };
-  std::vector<std::int64_t> inner;
-  bool changed = true;
-  while (changed)
-  {
-    changed = false;
-    std::vector<std::int64_t> leaves;
-    for (const auto& [vertex, neighbours] : adjacency)
-    {
-      if (neighbours.size() == 1)
-      {
-        leaves.push_back(vertex);
-      }
-    }
-    for (const std::int64_t leaf : leaves)
-    {
-      if (adjacency[leaf].size() != 1)
-      {
-        continue;
-      }
-      double length = 0.0;
-      const std::int64_t junction = walk(leaf, *adjacency[leaf].begin(), inner, length);
-      if (adjacency[junction].size() < 3)
-      {
-        continue; // reached another leaf: the whole tree is a path, nothing to prune
-      }
-      bool prune = length < factor * radiusOf(junction);
-      if (!prune)
-      {
-        const Eigen::Vector3d tip = positionOf(leaf);
-        const std::int64_t component = componentOf(leaf);
-        const std::set<std::int64_t> branch(inner.begin(), inner.end());
-        for (const auto& [vertex, neighbours] : adjacency)
-        {
-          const double radius = radiusOf(vertex);
-          if (vertex != leaf && !branch.count(vertex) && length < 2.0 * factor * radius &&
-            (positionOf(vertex) - tip).norm() < factor * radius && componentOf(vertex) == component)
-          {
-            prune = true;
-            break;
-          }
-        }
-      }
-      if (!prune)
-      {
-        continue;
-      }
-      adjacency[junction].erase(inner.empty() ? leaf : inner.back());
-      inner.push_back(leaf);
-      for (const std::int64_t vertex : inner)
-      {
-        adjacency.erase(vertex);
-        removed.insert(vertex);
-      }
-      changed = true;
-    }
-    if (changed)
-    {
-      continue;
-    }
-    for (auto& [junction, neighbours] : adjacency)
-    {
-      if (neighbours.size() < 3)
-      {
-        continue;
-      }
-      for (const std::int64_t first : neighbours)
-      {
-        double length = 0.0;
-        const std::int64_t other = walk(junction, first, inner, length);
-        if (other == junction || adjacency[other].size() < 3 ||
-          length >= factor * std::max(radiusOf(junction), radiusOf(other)))
-        {
-          continue;
-        }
-        const bool keepJunction = radiusOf(junction) > radiusOf(other) ||
-          (radiusOf(junction) == radiusOf(other) && junction < other);
-        const std::int64_t survivor = keepJunction ? junction : other;
-        const std::int64_t merged = keepJunction ? other : junction;
-        for (const std::int64_t vertex : inner)
-        {
-          adjacency.erase(vertex);
-          removed.insert(vertex);
-        }
-        const std::set<std::int64_t> mergedNeighbors = adjacency[merged];
-        adjacency.erase(merged);
-        mergedInto[merged] = survivor;
-        for (const std::int64_t neighbour : mergedNeighbors)
-        {
-          const auto found = adjacency.find(neighbour);
-          if (found == adjacency.end())
-          {
-            continue; // an inner vertex, removed above
-          }
-          found->second.erase(merged);
-          if (neighbour != survivor)
-          {
-            found->second.insert(survivor);
-            adjacency[survivor].insert(neighbour);
-          }
-        }
-        if (!inner.empty())
-        {
-          adjacency[survivor].erase(keepJunction ? inner.front() : inner.back());
-        }
-        changed = true;
-        break;
-      }
-      if (changed)
-      {
-        break;
-      }
-    }
-  }
-  if (removed.empty() && mergedInto.empty())
-  {
-    return;
-  }
-  const auto representative = [&mergedInto](std::int64_t vertex) {
-    for (auto found = mergedInto.find(vertex); found != mergedInto.end();
-         found = mergedInto.find(vertex))
-    {
-      vertex = found->second;
-    }
-    return vertex;
-  };
-  // Removed vertices form a prefix or a suffix of each polyline, or all of it.
-  std::vector<std::vector<std::int64_t>> kept;
-  std::vector<int> keptIsConnection;
-  for (std::size_t p = 0; p < polylines.size(); ++p)
-  {
-    std::vector<std::int64_t> remaining;
-    for (const std::int64_t vertex : polylines[p])
-    {
-      if (removed.count(vertex))
-      {
-        continue;
-      }
-      const std::int64_t mapped = representative(vertex);
-      if (remaining.empty() || remaining.back() != mapped)
-      {
-        remaining.push_back(mapped);
-      }
-    }
-    if (remaining.size() >= 2 || (polylines[p].size() == 1 && remaining.size() == 1))
-    {
-      kept.push_back(std::move(remaining));
-      keptIsConnection.push_back(isConnection[p]);
-    }
-  }
-  polylines.swap(kept);
-  isConnection.swap(keptIsConnection);
-}
-
-SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
-  const std::vector<PolySegment>& segments, const std::vector<std::int64_t>& pointComponent,
-  const SkeletonConnectionOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress, bool& aborted, const RayCaster* volume)
-{
-  ValidateConnectionOptions(options);
-  aborted = false;
-  SkeletonGraph graph;
   const std::size_t count = cloud.Size();
-  if (count == 0)
-  {
-    return graph;
-  }
-  const std::vector<std::int64_t> component =
-    pointComponent.empty() ? std::vector<std::int64_t>(count, 0) : pointComponent;
   const PointMatrix& positions = cloud.Positions;
-  const SkeletonPointTree tree(positions);
-  const auto report = [&](double fraction) {
-    if (progress && !progress(fraction))
-    {
-      aborted = true;
-    }
-    return !aborted;
-  };
-
-  // 1. k-nearest-neighbour graph on P, restricted to surface components.
-  const auto k = static_cast<std::size_t>(options.NumberOfNeighbors);
   std::vector<std::int64_t> nearest(count * k, -1);
   parallelFor(count, [&](std::size_t begin, std::size_t end) {
     std::vector<std::int64_t> indices;
@@ -451,64 +232,133 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
       }
     }
   }
-  if (volume)
-  {
-    // Each edge once (most are in both end points' lists), tested in parallel.
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    std::vector<char> crossing(edges.size(), 0);
-    parallelFor(edges.size(), [&](std::size_t begin, std::size_t end) {
-      for (std::size_t e = begin; e < end; ++e)
-      {
-        crossing[e] = SegmentCrossesSurface(*volume, positions.row(edges[e].first).transpose(),
-          positions.row(edges[e].second).transpose());
-      }
-    });
-    std::size_t kept = 0;
-    for (std::size_t e = 0; e < edges.size(); ++e)
+  return edges;
+}
+
+/// Stage 1, the inside test: leaves out every edge whose straight segment meets the surface.
+void DropSurfaceCrossings(const RayCaster& volume, const PointMatrix& positions,
+  const ParallelFor& parallelFor, std::vector<Edge>& edges)
+{
+  // Each edge once (most are in both end points' lists), tested in parallel.
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<char> crossing(edges.size(), 0);
+  parallelFor(edges.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e)
     {
-      if (!crossing[e])
+      crossing[e] = SegmentCrossesSurface(volume, positions.row(edges[e].first).transpose(),
+        positions.row(edges[e].second).transpose());
+    }
+  });
+  std::size_t kept = 0;
+  for (std::size_t e = 0; e < edges.size(); ++e)
+  {
+    if (!crossing[e])
+    {
+      edges[kept++] = edges[e];
+    }
+  }
+  edges.resize(kept);
+}
+
+/// The vertices of the connecting paths: segment nodes [0, SegmentNodes()) in segment order
+/// (at their MLS positions), then point j of P as vertex SegmentNodes() + j (at its P position).
+class PathVertices
+{
+public:
+  PathVertices(const std::vector<PolySegment>& segments, const PointMatrix& segmentPositions,
+    const PointMatrix& cloudPositions)
+    : Segments(segments)
+    , SegmentPositions(segmentPositions)
+    , CloudPositions(cloudPositions)
+    , SegmentOffset(segments.size() + 1, 0)
+  {
+    for (std::size_t s = 0; s < segments.size(); ++s)
+    {
+      SegmentOffset[s + 1] = SegmentOffset[s] + segments[s].size();
+    }
+    NodeSegment.resize(SegmentOffset.back());
+    for (std::size_t s = 0; s < segments.size(); ++s)
+    {
+      for (std::size_t m = 0; m < segments[s].size(); ++m)
       {
-        edges[kept++] = edges[e];
+        NodeSegment[SegmentOffset[s] + m] = static_cast<std::int64_t>(s);
       }
     }
-    edges.resize(kept);
-  }
-  if (!report(0.3))
-  {
-    return {};
-  }
-  BridgeGraphPieces(tree, positions, component, edges);
-  const NeighborGraph neighbours = MakeGraph(positions, std::move(edges));
-  if (!report(0.5))
-  {
-    return {};
   }
 
-  // 2. Seeds: every segment node claims nearby points of P with their distance to it.
-  std::vector<std::size_t> segmentOffset(segments.size() + 1, 0);
-  for (std::size_t s = 0; s < segments.size(); ++s)
+  std::size_t SegmentNodes() const { return SegmentOffset.back(); }
+  /// The vertex of node m of segment s.
+  std::int64_t SegmentNode(std::size_t s, std::size_t m) const
   {
-    segmentOffset[s + 1] = segmentOffset[s] + segments[s].size();
+    return static_cast<std::int64_t>(SegmentOffset[s] + m);
   }
-  const std::size_t segmentNodes = segmentOffset.back();
-  std::vector<std::int64_t> nodeSegment(segmentNodes);
-  const double infinity = std::numeric_limits<double>::infinity();
-  std::vector<double> distance(count, infinity);
-  std::vector<std::int64_t> owner(count, -1);
-  std::vector<std::int64_t> parent(count, -1);
-  std::vector<std::int64_t> rootNode(count, -1);
+  /// The vertex of point j of P.
+  std::int64_t CloudPoint(std::int64_t j) const
+  {
+    return static_cast<std::int64_t>(SegmentNodes()) + j;
+  }
+  bool IsSegmentNode(std::int64_t v) const
+  {
+    return v < static_cast<std::int64_t>(SegmentNodes());
+  }
+  /// The point of P a vertex stands for.
+  std::int64_t CloudIndex(std::int64_t v) const
+  {
+    return IsSegmentNode(v) ? Segments[NodeSegment[v]][v - SegmentOffset[NodeSegment[v]]]
+                            : v - static_cast<std::int64_t>(SegmentNodes());
+  }
+  Eigen::Vector3d Position(std::int64_t v) const
+  {
+    return IsSegmentNode(v) ? Eigen::Vector3d(SegmentPositions.row(CloudIndex(v)).transpose())
+                            : Eigen::Vector3d(CloudPositions.row(CloudIndex(v)).transpose());
+  }
+
+private:
+  const std::vector<PolySegment>& Segments;
+  const PointMatrix& SegmentPositions;
+  const PointMatrix& CloudPositions;
+  std::vector<std::size_t> SegmentOffset;
+  std::vector<std::int64_t> NodeSegment;
+};
+
+/// The k-terminal growth over P, per point: the distance along the neighbour graph to the
+/// segment that reached it first (Owner), the segment node that path starts from (RootNode)
+/// and the point before it on the path (Parent); -1 where not reached (Parent: a seed).
+struct Growth
+{
+  std::vector<double> Distance;
+  std::vector<std::int64_t> Owner;
+  std::vector<std::int64_t> Parent;
+  std::vector<std::int64_t> RootNode;
+};
+
+/// Stage 2, the seeds: every segment node claims the points of P of its component within
+/// seedRadiusFactor * radius, and the nearest one, with their distance to it (ties: lower node).
+Growth SeedGrowth(const SkeletonPointTree& tree, const ProjectedCloud& cloud,
+  const ThinnedCloud& thinned, const std::vector<PolySegment>& segments,
+  const std::vector<std::int64_t>& component, double seedRadiusFactor,
+  const PathVertices& vertices)
+{
+  const std::size_t count = cloud.Size();
+  const PointMatrix& positions = cloud.Positions;
+  Growth growth;
+  growth.Distance.assign(count, std::numeric_limits<double>::infinity());
+  growth.Owner.assign(count, -1);
+  growth.Parent.assign(count, -1);
+  growth.RootNode.assign(count, -1);
+  std::vector<double>& distance = growth.Distance;
+  std::vector<std::int64_t>& rootNode = growth.RootNode;
   std::vector<std::int64_t> nearby;
   for (std::size_t s = 0; s < segments.size(); ++s)
   {
     for (std::size_t m = 0; m < segments[s].size(); ++m)
     {
       const std::int64_t cloudIndex = segments[s][m];
-      const auto node = static_cast<std::int64_t>(segmentOffset[s] + m);
-      nodeSegment[node] = static_cast<std::int64_t>(s);
+      const std::int64_t node = vertices.SegmentNode(s, m);
       const std::int64_t c = component[cloudIndex];
       const Eigen::Vector3d x = thinned.Positions.row(cloudIndex).transpose();
-      tree.RadiusSearch(x, options.SeedRadiusFactor * cloud.Radius[cloudIndex], nearby);
+      tree.RadiusSearch(x, seedRadiusFactor * cloud.Radius[cloudIndex], nearby);
       nearby.push_back(tree.NearestAccepted(x, [&](std::int64_t j) { return component[j] == c; }));
       for (const std::int64_t j : nearby)
       {
@@ -521,21 +371,26 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
           rootNode[j] < 0)
         {
           distance[j] = d;
-          owner[j] = static_cast<std::int64_t>(s);
+          growth.Owner[j] = static_cast<std::int64_t>(s);
           rootNode[j] = node;
         }
       }
     }
   }
+  return growth;
+}
 
-  // Dijkstra from all seeds at once; the queue orders by (distance, index).
+/// Stage 2, the growth: Dijkstra from all seeds at once; the queue orders by (distance, index).
+void GrowFromSeeds(const NeighborGraph& neighbours, Growth& growth)
+{
+  const std::size_t count = growth.Owner.size();
   using QueueEntry = std::pair<double, std::int64_t>;
   std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>> queue;
   for (std::size_t j = 0; j < count; ++j)
   {
-    if (owner[j] >= 0)
+    if (growth.Owner[j] >= 0)
     {
-      queue.emplace(distance[j], static_cast<std::int64_t>(j));
+      queue.emplace(growth.Distance[j], static_cast<std::int64_t>(j));
     }
   }
   std::vector<char> settled(count, 0);
@@ -543,7 +398,7 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
   {
     const auto [d, j] = queue.top();
     queue.pop();
-    if (settled[j] || d > distance[j])
+    if (settled[j] || d > growth.Distance[j])
     {
       continue;
     }
@@ -552,24 +407,27 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
     {
       const std::int64_t target = neighbours.Targets[e];
       const double candidate = d + neighbours.Weights[e];
-      if (!settled[target] && candidate < distance[target])
+      if (!settled[target] && candidate < growth.Distance[target])
       {
-        distance[target] = candidate;
-        owner[target] = owner[j];
-        parent[target] = j;
-        rootNode[target] = rootNode[j];
+        growth.Distance[target] = candidate;
+        growth.Owner[target] = growth.Owner[j];
+        growth.Parent[target] = j;
+        growth.RootNode[target] = growth.RootNode[j];
         queue.emplace(candidate, target);
       }
     }
   }
-  if (!report(0.8))
-  {
-    return {};
-  }
+}
 
-  // 3. Joins where two growths meet, cheapest first, no cycles.
-  std::vector<std::tuple<double, std::int64_t, std::int64_t>> joins;
-  for (std::size_t a = 0; a < count; ++a)
+/// A possible join of two segments: (cost, a, b) for the graph edge ab where their growths meet.
+using Join = std::tuple<double, std::int64_t, std::int64_t>;
+
+/// Stage 3: every graph edge between points of different segments, cheapest first.
+std::vector<Join> JoinsWhereGrowthsMeet(const NeighborGraph& neighbours, const Growth& growth)
+{
+  const std::vector<std::int64_t>& owner = growth.Owner;
+  std::vector<Join> joins;
+  for (std::size_t a = 0; a < owner.size(); ++a)
   {
     for (std::size_t e = neighbours.Offsets[a]; e < neighbours.Offsets[a + 1]; ++e)
     {
@@ -577,45 +435,49 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
       if (static_cast<std::int64_t>(a) < b && owner[a] >= 0 && owner[b] >= 0 &&
         owner[a] != owner[b])
       {
-        joins.emplace_back(distance[a] + neighbours.Weights[e] + distance[b],
+        joins.emplace_back(growth.Distance[a] + neighbours.Weights[e] + growth.Distance[b],
           static_cast<std::int64_t>(a), b);
       }
     }
   }
   std::sort(joins.begin(), joins.end());
-  UnionFind linked(segments.size());
+  return joins;
+}
 
-  // 4. Merged connecting paths. Vertex ids: segment nodes [0, segmentNodes), point j of P is
-  // segmentNodes + j.
-  const auto pathVertex = [segmentNodes](std::int64_t j) {
-    return static_cast<std::int64_t>(segmentNodes) + j;
-  };
+/// Adjacency of the merged connecting paths over path vertices, each list ascending.
+using PathAdjacency = std::map<std::int64_t, std::vector<std::int64_t>>;
+
+/// Stage 4, the paths: each join that links two not yet linked segments (union-find, cheapest
+/// first) becomes node -> points of P -> ... -> node; paths sharing points merge.
+PathAdjacency MergedJoinPaths(const std::vector<Join>& joins, const Growth& growth,
+  std::size_t segmentCount, const PathVertices& vertices)
+{
+  UnionFind linked(segmentCount);
   std::vector<Edge> pathEdges;
   const auto addEdge = [&pathEdges](std::int64_t a, std::int64_t b) {
     pathEdges.emplace_back(std::min(a, b), std::max(a, b));
   };
   const auto addPathToRoot = [&](std::int64_t j) {
-    while (parent[j] >= 0)
+    while (growth.Parent[j] >= 0)
     {
-      addEdge(pathVertex(j), pathVertex(parent[j]));
-      j = parent[j];
+      addEdge(vertices.CloudPoint(j), vertices.CloudPoint(growth.Parent[j]));
+      j = growth.Parent[j];
     }
-    addEdge(pathVertex(j), rootNode[j]);
+    addEdge(vertices.CloudPoint(j), growth.RootNode[j]);
   };
   for (const auto& [cost, a, b] : joins)
   {
-    if (linked.Unite(owner[a], owner[b]))
+    if (linked.Unite(growth.Owner[a], growth.Owner[b]))
     {
       addPathToRoot(a);
       addPathToRoot(b);
-      addEdge(pathVertex(a), pathVertex(b));
+      addEdge(vertices.CloudPoint(a), vertices.CloudPoint(b));
     }
   }
   std::sort(pathEdges.begin(), pathEdges.end());
   pathEdges.erase(std::unique(pathEdges.begin(), pathEdges.end()), pathEdges.end());
 
-  // Adjacency of the merged paths.
-  std::map<std::int64_t, std::vector<std::int64_t>> pathAdjacency;
+  PathAdjacency pathAdjacency;
   for (const auto& [a, b] : pathEdges)
   {
     pathAdjacency[a].push_back(b);
@@ -625,22 +487,17 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
   {
     std::sort(entry.second.begin(), entry.second.end());
   }
-  const auto isSegmentVertex = [segmentNodes](std::int64_t v) {
-    return v < static_cast<std::int64_t>(segmentNodes);
-  };
-  const auto isBreak = [&](std::int64_t v) {
-    return isSegmentVertex(v) || pathAdjacency[v].size() != 2;
-  };
-  const auto cloudIndexOf = [&](std::int64_t v) {
-    return isSegmentVertex(v) ? segments[nodeSegment[v]][v - segmentOffset[nodeSegment[v]]]
-                              : v - static_cast<std::int64_t>(segmentNodes);
-  };
-  const auto vertexPosition = [&](std::int64_t v) -> Eigen::Vector3d {
-    return isSegmentVertex(v) ? Eigen::Vector3d(thinned.Positions.row(cloudIndexOf(v)).transpose())
-                              : Eigen::Vector3d(positions.row(cloudIndexOf(v)).transpose());
-  };
+  return pathAdjacency;
+}
 
-  // Chains between break vertices, thinned to the node spacing.
+/// Stage 4, the polylines: the merged paths cut at segment nodes and branching points into
+/// chains, each thinned to a node spacing of spacingFactor * radius.
+std::vector<std::vector<std::int64_t>> ThinnedChains(PathAdjacency& pathAdjacency,
+  const PathVertices& vertices, const std::vector<double>& radius, double spacingFactor)
+{
+  const auto isBreak = [&](std::int64_t v) {
+    return vertices.IsSegmentNode(v) || pathAdjacency[v].size() != 2;
+  };
   std::vector<std::vector<std::int64_t>> chains;
   std::map<Edge, bool> walked;
   for (const auto& [start, adjacent] : pathAdjacency)
@@ -672,12 +529,12 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
       // Keep the ends; keep an interior point once it is epsilon from the last kept one and
       // not crowding the far end.
       std::vector<std::int64_t> kept{ chain.front() };
-      const Eigen::Vector3d last = vertexPosition(chain.back());
+      const Eigen::Vector3d last = vertices.Position(chain.back());
       for (std::size_t i = 1; i + 1 < chain.size(); ++i)
       {
-        const Eigen::Vector3d x = vertexPosition(chain[i]);
-        const double epsilon = options.SpacingFactor * cloud.Radius[cloudIndexOf(chain[i])];
-        if ((x - vertexPosition(kept.back())).norm() >= epsilon &&
+        const Eigen::Vector3d x = vertices.Position(chain[i]);
+        const double epsilon = spacingFactor * radius[vertices.CloudIndex(chain[i])];
+        if ((x - vertices.Position(kept.back())).norm() >= epsilon &&
           (x - last).norm() >= 0.5 * epsilon)
         {
           kept.push_back(chain[i]);
@@ -687,67 +544,52 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
       chains.push_back(std::move(kept));
     }
   }
+  return chains;
+}
 
-  // Assemble nodes and polylines.
-  std::map<std::int64_t, std::int64_t> nodeOfVertex;
-  const auto nodeOf = [&](std::int64_t v) {
-    const auto found = nodeOfVertex.find(v);
-    if (found != nodeOfVertex.end())
-    {
-      return found->second;
-    }
-    const auto node = static_cast<std::int64_t>(graph.NodeRadius.size());
-    const std::int64_t cloudIndex = cloudIndexOf(v);
-    nodeOfVertex[v] = node;
-    graph.NodeCloudIndex.push_back(cloudIndex);
-    graph.NodeRadius.push_back(cloud.Radius[cloudIndex]);
-    graph.NodeConfidence.push_back(thinned.Confidence[cloudIndex]);
-    graph.NodeComponent.push_back(component[cloudIndex]);
-    return node;
-  };
-  std::vector<Eigen::Vector3d> nodePositions;
-  const auto appendPolyline = [&](const std::vector<std::int64_t>& vertices, int isConnection) {
-    std::vector<std::int64_t> polyline;
-    for (const std::int64_t v : vertices)
-    {
-      const std::size_t before = graph.NodeRadius.size();
-      polyline.push_back(nodeOf(v));
-      if (graph.NodeRadius.size() > before)
-      {
-        nodePositions.push_back(vertexPosition(v));
-      }
-    }
-    graph.Polylines.push_back(std::move(polyline));
-    graph.IsConnection.push_back(isConnection);
-  };
-  std::vector<std::vector<std::int64_t>> polylines;
-  std::vector<int> isConnection;
+/// Polylines over path vertices with their IsConnection flags.
+struct PathPolylines
+{
+  std::vector<std::vector<std::int64_t>> Vertices;
+  std::vector<int> IsConnection;
+};
+
+/// Stage 5: the segments (IsConnection 0) then the chains (1), junctions cleaned.
+PathPolylines CleanedPolylines(const std::vector<PolySegment>& segments,
+  std::vector<std::vector<std::int64_t>> chains, const PathVertices& vertices,
+  const std::vector<double>& radius, const std::vector<std::int64_t>& component,
+  double minimumBranchFactor)
+{
+  PathPolylines polylines;
   for (std::size_t s = 0; s < segments.size(); ++s)
   {
-    std::vector<std::int64_t> vertices(segments[s].size());
-    std::iota(vertices.begin(), vertices.end(), static_cast<std::int64_t>(segmentOffset[s]));
-    polylines.push_back(std::move(vertices));
-    isConnection.push_back(0);
+    std::vector<std::int64_t> segmentVertices(segments[s].size());
+    std::iota(segmentVertices.begin(), segmentVertices.end(), vertices.SegmentNode(s, 0));
+    polylines.Vertices.push_back(std::move(segmentVertices));
+    polylines.IsConnection.push_back(0);
   }
   for (auto& chain : chains)
   {
-    polylines.push_back(std::move(chain));
-    isConnection.push_back(1);
+    polylines.Vertices.push_back(std::move(chain));
+    polylines.IsConnection.push_back(1);
   }
-  CleanJunctions(polylines, isConnection, vertexPosition,
-    [&](std::int64_t v) { return cloud.Radius[cloudIndexOf(v)]; },
-    [&](std::int64_t v) { return component[cloudIndexOf(v)]; }, options.MinimumBranchFactor);
-  for (std::size_t p = 0; p < polylines.size(); ++p)
-  {
-    appendPolyline(polylines[p], isConnection[p]);
-  }
+  CleanJunctions(polylines.Vertices, polylines.IsConnection,
+    [&vertices](std::int64_t v) { return vertices.Position(v); },
+    [&](std::int64_t v) { return radius[vertices.CloudIndex(v)]; },
+    [&](std::int64_t v) { return component[vertices.CloudIndex(v)]; }, minimumBranchFactor);
+  return polylines;
+}
 
-  // Components of P without any segment: one node at the point nearest to their mean.
+/// Surface components of P without any segment (blobs): the point of P nearest to the mean
+/// of each one's points, in component order.
+std::vector<std::int64_t> BlobMedoids(const SkeletonPointTree& tree, const ProjectedCloud& cloud,
+  const std::vector<std::int64_t>& component, const std::vector<PolySegment>& segments)
+{
   std::map<std::int64_t, std::pair<Eigen::Vector3d, double>> sums;
-  for (std::size_t j = 0; j < count; ++j)
+  for (std::size_t j = 0; j < cloud.Size(); ++j)
   {
     auto& entry = sums.try_emplace(component[j], Eigen::Vector3d::Zero(), 0.0).first->second;
-    entry.first += positions.row(static_cast<Eigen::Index>(j)).transpose();
+    entry.first += cloud.Positions.row(static_cast<Eigen::Index>(j)).transpose();
     entry.second += 1.0;
   }
   std::map<std::int64_t, bool> hasSegment;
@@ -755,6 +597,7 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
   {
     hasSegment[component[segment.front()]] = true;
   }
+  std::vector<std::int64_t> medoids;
   for (const auto& [c, entry] : sums)
   {
     if (hasSegment[c])
@@ -762,224 +605,162 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
       continue;
     }
     const Eigen::Vector3d mean = entry.first / entry.second;
-    const std::int64_t medoid =
-      tree.NearestAccepted(mean, [&, c = c](std::int64_t j) { return component[j] == c; });
-    appendPolyline({ pathVertex(medoid) }, 0);
+    medoids.push_back(
+      tree.NearestAccepted(mean, [&, c = c](std::int64_t j) { return component[j] == c; }));
+  }
+  return medoids;
+}
+
+/// Builds the SkeletonGraph from polylines over path vertices: each vertex becomes a node on
+/// first use, with the radius, confidence and component of its point of P.
+class GraphAssembler
+{
+public:
+  GraphAssembler(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
+    const std::vector<std::int64_t>& component, const PathVertices& vertices)
+    : Cloud(cloud)
+    , Thinned(thinned)
+    , Component(component)
+    , Vertices(vertices)
+  {
   }
 
-  graph.NodePositions.resize(static_cast<Eigen::Index>(nodePositions.size()), 3);
-  for (std::size_t i = 0; i < nodePositions.size(); ++i)
+  void AppendPolyline(const std::vector<std::int64_t>& vertices, int isConnection)
   {
-    graph.NodePositions.row(static_cast<Eigen::Index>(i)) = nodePositions[i].transpose();
+    std::vector<std::int64_t> polyline;
+    for (const std::int64_t v : vertices)
+    {
+      const std::size_t before = Graph.NodeRadius.size();
+      polyline.push_back(NodeOf(v));
+      if (Graph.NodeRadius.size() > before)
+      {
+        NodePositions.push_back(Vertices.Position(v));
+      }
+    }
+    Graph.Polylines.push_back(std::move(polyline));
+    Graph.IsConnection.push_back(isConnection);
   }
+
+  /// The graph with its node positions; bones are not assigned yet.
+  SkeletonGraph Finish()
+  {
+    Graph.NodePositions.resize(static_cast<Eigen::Index>(NodePositions.size()), 3);
+    for (std::size_t i = 0; i < NodePositions.size(); ++i)
+    {
+      Graph.NodePositions.row(static_cast<Eigen::Index>(i)) = NodePositions[i].transpose();
+    }
+    return std::move(Graph);
+  }
+
+private:
+  std::int64_t NodeOf(std::int64_t v)
+  {
+    const auto found = NodeOfVertex.find(v);
+    if (found != NodeOfVertex.end())
+    {
+      return found->second;
+    }
+    const auto node = static_cast<std::int64_t>(Graph.NodeRadius.size());
+    const std::int64_t cloudIndex = Vertices.CloudIndex(v);
+    NodeOfVertex[v] = node;
+    Graph.NodeCloudIndex.push_back(cloudIndex);
+    Graph.NodeRadius.push_back(Cloud.Radius[cloudIndex]);
+    Graph.NodeConfidence.push_back(Thinned.Confidence[cloudIndex]);
+    Graph.NodeComponent.push_back(Component[cloudIndex]);
+    return node;
+  }
+
+  const ProjectedCloud& Cloud;
+  const ThinnedCloud& Thinned;
+  const std::vector<std::int64_t>& Component;
+  const PathVertices& Vertices;
+  SkeletonGraph Graph;
+  std::map<std::int64_t, std::int64_t> NodeOfVertex;
+  std::vector<Eigen::Vector3d> NodePositions;
+};
+
+} // namespace
+
+SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
+  const std::vector<PolySegment>& segments, const std::vector<std::int64_t>& pointComponent,
+  const SkeletonConnectionOptions& options, const ParallelFor& parallelFor,
+  const ProgressCallback& progress, bool& aborted, const RayCaster* volume)
+{
+  ValidateConnectionOptions(options);
+  aborted = false;
+  const std::size_t count = cloud.Size();
+  if (count == 0)
+  {
+    return {};
+  }
+  const std::vector<std::int64_t> component =
+    pointComponent.empty() ? std::vector<std::int64_t>(count, 0) : pointComponent;
+  const PointMatrix& positions = cloud.Positions;
+  const SkeletonPointTree tree(positions);
+  const auto report = [&](double fraction) {
+    if (progress && !progress(fraction))
+    {
+      aborted = true;
+    }
+    return !aborted;
+  };
+
+  // 1. Neighbour graph on P, restricted to surface components (and the volume), one piece
+  // per component.
+  std::vector<Edge> edges = NearestNeighborEdges(
+    tree, cloud, component, static_cast<std::size_t>(options.NumberOfNeighbors), parallelFor);
+  if (volume)
+  {
+    DropSurfaceCrossings(*volume, positions, parallelFor, edges);
+  }
+  if (!report(0.3))
+  {
+    return {};
+  }
+  BridgeGraphPieces(tree, positions, component, edges);
+  const NeighborGraph neighbours = MakeGraph(positions, std::move(edges));
+  if (!report(0.5))
+  {
+    return {};
+  }
+
+  // 2. k-terminal growth from the segment nodes.
+  const PathVertices vertices(segments, thinned.Positions, positions);
+  Growth growth =
+    SeedGrowth(tree, cloud, thinned, segments, component, options.SeedRadiusFactor, vertices);
+  GrowFromSeeds(neighbours, growth);
+  if (!report(0.8))
+  {
+    return {};
+  }
+
+  // 3. Joins where growths meet; 4. the accepted joins' merged paths as thinned chains.
+  PathAdjacency paths = MergedJoinPaths(
+    JoinsWhereGrowthsMeet(neighbours, growth), growth, segments.size(), vertices);
+  std::vector<std::vector<std::int64_t>> chains =
+    ThinnedChains(paths, vertices, cloud.Radius, options.SpacingFactor);
+
+  // 5. Polylines with junctions cleaned, then a single node for every blob component.
+  const PathPolylines polylines = CleanedPolylines(
+    segments, std::move(chains), vertices, cloud.Radius, component, options.MinimumBranchFactor);
+  GraphAssembler assembler(cloud, thinned, component, vertices);
+  for (std::size_t p = 0; p < polylines.Vertices.size(); ++p)
+  {
+    assembler.AppendPolyline(polylines.Vertices[p], polylines.IsConnection[p]);
+  }
+  for (const std::int64_t medoid : BlobMedoids(tree, cloud, component, segments))
+  {
+    assembler.AppendPolyline({ vertices.CloudPoint(medoid) }, 0);
+  }
+  SkeletonGraph graph = assembler.Finish();
+
+  // 6. Bones.
   AssignBranchBones(graph);
   if (!report(1.0))
   {
     return {};
   }
   return graph;
-}
-
-void AssignBranchBones(SkeletonGraph& graph)
-{
-  const auto nodeCount = static_cast<std::size_t>(graph.NodePositions.rows());
-  if (graph.IsConnection.size() != graph.Polylines.size())
-  {
-    throw SkeletonError("skeleton: IsConnection must have one entry per polyline");
-  }
-  std::vector<Edge> edges;
-  std::vector<char> inPolyline(nodeCount, 0);
-  for (const auto& polyline : graph.Polylines)
-  {
-    for (std::size_t i = 0; i < polyline.size(); ++i)
-    {
-      if (polyline[i] < 0 || static_cast<std::size_t>(polyline[i]) >= nodeCount)
-      {
-        throw SkeletonError("skeleton: polyline node index out of range");
-      }
-      inPolyline[polyline[i]] = 1;
-      if (i > 0 && polyline[i - 1] != polyline[i])
-      {
-        edges.emplace_back(std::min(polyline[i - 1], polyline[i]), std::max(polyline[i - 1], polyline[i]));
-      }
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  const auto edgeIndex = [&edges](std::int64_t a, std::int64_t b) {
-    return static_cast<std::size_t>(
-      std::lower_bound(edges.begin(), edges.end(), Edge(std::min(a, b), std::max(a, b))) -
-      edges.begin());
-  };
-  std::vector<std::vector<std::int64_t>> adjacency(nodeCount);
-  for (const auto& [a, b] : edges)
-  {
-    adjacency[a].push_back(b);
-    adjacency[b].push_back(a);
-  }
-  for (auto& neighbours : adjacency)
-  {
-    std::sort(neighbours.begin(), neighbours.end());
-  }
-
-  // Walk the branches: from every end or junction (ascending) along each unwalked edge until
-  // the next end or junction; then loops of degree-2 nodes from their lowest node.
-  struct Branch
-  {
-    std::vector<std::int64_t> Nodes;
-    double Length = 0.0;
-  };
-  std::vector<Branch> branches;
-  std::vector<std::int64_t> edgeBranch(edges.size(), -1);
-  const auto isBreak = [&adjacency](std::int64_t v) { return adjacency[v].size() != 2; };
-  const auto walk = [&](std::int64_t start, std::int64_t first) {
-    Branch branch;
-    branch.Nodes.push_back(start);
-    std::int64_t previous = start;
-    std::int64_t current = first;
-    const auto branchIndex = static_cast<std::int64_t>(branches.size());
-    while (true)
-    {
-      edgeBranch[edgeIndex(previous, current)] = branchIndex;
-      branch.Length += (graph.NodePositions.row(current) - graph.NodePositions.row(previous)).norm();
-      branch.Nodes.push_back(current);
-      if (current == start || isBreak(current))
-      {
-        break;
-      }
-      const std::vector<std::int64_t>& around = adjacency[current];
-      const std::int64_t next = around[0] == previous ? around[1] : around[0];
-      previous = current;
-      current = next;
-    }
-    branches.push_back(std::move(branch));
-  };
-  for (std::size_t v = 0; v < nodeCount; ++v)
-  {
-    const auto node = static_cast<std::int64_t>(v);
-    if (adjacency[v].empty())
-    {
-      Branch single;
-      single.Nodes.push_back(node);
-      branches.push_back(std::move(single));
-      if (!inPolyline[v])
-      {
-        graph.Polylines.push_back({ node });
-        graph.IsConnection.push_back(0);
-      }
-      continue;
-    }
-    if (!isBreak(node))
-    {
-      continue;
-    }
-    for (const std::int64_t neighbour : adjacency[v])
-    {
-      if (edgeBranch[edgeIndex(node, neighbour)] < 0)
-      {
-        walk(node, neighbour);
-      }
-    }
-  }
-  for (std::size_t v = 0; v < nodeCount; ++v)
-  {
-    const auto node = static_cast<std::int64_t>(v);
-    if (!adjacency[v].empty() && edgeBranch[edgeIndex(node, adjacency[v][0])] < 0)
-    {
-      walk(node, adjacency[v][0]); // a loop: every node has degree 2
-    }
-  }
-
-  // Number by decreasing length, then lowest node, then node sequence from the lower end.
-  for (Branch& branch : branches)
-  {
-    if (branch.Nodes.back() < branch.Nodes.front())
-    {
-      std::reverse(branch.Nodes.begin(), branch.Nodes.end());
-    }
-  }
-  std::vector<std::int64_t> lowestNode(branches.size());
-  for (std::size_t b = 0; b < branches.size(); ++b)
-  {
-    lowestNode[b] = *std::min_element(branches[b].Nodes.begin(), branches[b].Nodes.end());
-  }
-  std::vector<std::size_t> order(branches.size());
-  std::iota(order.begin(), order.end(), std::size_t{ 0 });
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    if (branches[a].Length != branches[b].Length)
-    {
-      return branches[a].Length > branches[b].Length;
-    }
-    if (lowestNode[a] != lowestNode[b])
-    {
-      return lowestNode[a] < lowestNode[b];
-    }
-    return branches[a].Nodes < branches[b].Nodes;
-  });
-  std::vector<std::int64_t> boneOfBranch(branches.size());
-  graph.BoneLength.assign(branches.size(), 0.0);
-  for (std::size_t rank = 0; rank < order.size(); ++rank)
-  {
-    boneOfBranch[order[rank]] = static_cast<std::int64_t>(rank);
-    graph.BoneLength[rank] = branches[order[rank]].Length;
-  }
-  std::vector<std::int64_t> edgeBone(edges.size());
-  for (std::size_t e = 0; e < edges.size(); ++e)
-  {
-    edgeBone[e] = boneOfBranch[edgeBranch[e]];
-  }
-  graph.NodeBone.assign(nodeCount, std::numeric_limits<std::int64_t>::max());
-  for (std::size_t e = 0; e < edges.size(); ++e)
-  {
-    for (const std::int64_t v : { edges[e].first, edges[e].second })
-    {
-      graph.NodeBone[v] = std::min(graph.NodeBone[v], edgeBone[e]);
-    }
-  }
-  for (std::size_t b = 0; b < branches.size(); ++b)
-  {
-    if (branches[b].Nodes.size() == 1)
-    {
-      graph.NodeBone[branches[b].Nodes.front()] = boneOfBranch[b];
-    }
-  }
-
-  // Cut the polylines where they pass from one bone to the next.
-  std::vector<std::vector<std::int64_t>> pieces;
-  std::vector<int> pieceIsConnection;
-  std::vector<std::int64_t> pieceBone;
-  for (std::size_t p = 0; p < graph.Polylines.size(); ++p)
-  {
-    const std::vector<std::int64_t>& polyline = graph.Polylines[p];
-    if (polyline.empty())
-    {
-      continue;
-    }
-    std::vector<std::int64_t> piece{ polyline.front() };
-    std::int64_t bone = -1;
-    for (std::size_t i = 1; i < polyline.size(); ++i)
-    {
-      if (polyline[i] != polyline[i - 1])
-      {
-        const std::int64_t edgeOwner = edgeBone[edgeIndex(polyline[i - 1], polyline[i])];
-        if (bone >= 0 && edgeOwner != bone)
-        {
-          pieces.push_back(std::move(piece));
-          pieceIsConnection.push_back(graph.IsConnection[p]);
-          pieceBone.push_back(bone);
-          piece = { polyline[i - 1] };
-        }
-        bone = edgeOwner;
-      }
-      piece.push_back(polyline[i]);
-    }
-    pieces.push_back(std::move(piece));
-    pieceIsConnection.push_back(graph.IsConnection[p]);
-    pieceBone.push_back(bone >= 0 ? bone : graph.NodeBone[polyline.front()]);
-  }
-  graph.Polylines = std::move(pieces);
-  graph.IsConnection = std::move(pieceIsConnection);
-  graph.PolylineBone = std::move(pieceBone);
 }
 
 } // namespace shapediameter

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "SkeletonSegments.h"
 
+#include "SkeletonPointTree.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -20,7 +20,7 @@
 // fan-triangulated by the tiny reader below), else a generated icosphere of 52020 faces.
 #include "ConeSampling.h"
 #include "EmbreeRayCaster.h"
-#include "../Core/SDFTestShapes.h"
+#include "TestShapes.h"
 #include "RawEmbreeBaseline.h"
 #include "ShapeDiameter.h"
 
@@ -46,7 +46,7 @@ using namespace shapediameter;
 
 /// Minimal ASCII OFF reader (the product's parser is OFFParser): "OFF", counts, vertices,
 /// faces; '#' comments; polygons fan-triangulated.
-testshapes::TriangleMesh ReadOFF(const std::string& path)
+testshapes::TestMesh ReadOFF(const std::string& path)
 {
   std::ifstream file(path);
   if (!file)
@@ -66,7 +66,7 @@ testshapes::TriangleMesh ReadOFF(const std::string& path)
   }
   long vertexCount = 0, faceCount = 0, edgeCount = 0;
   text >> vertexCount >> faceCount >> edgeCount;
-  testshapes::TriangleMesh mesh;
+  testshapes::TestMesh mesh;
   mesh.Points.resize(vertexCount, 3);
   for (long v = 0; v < vertexCount; ++v)
   {
@@ -99,11 +99,11 @@ testshapes::TriangleMesh ReadOFF(const std::string& path)
   return mesh;
 }
 
-const testshapes::TriangleMesh& BenchMesh()
+const testshapes::TestMesh& BenchMesh()
 {
-  static const testshapes::TriangleMesh mesh = [] {
+  static const testshapes::TestMesh mesh = [] {
     const char* path = std::getenv("SHAPEDIAMETER_BENCH_MESH");
-    testshapes::TriangleMesh m =
+    testshapes::TestMesh m =
       path && *path ? ReadOFF(path) : testshapes::MakeIcosphere(51, 1.0);
     std::cout << "mesh: " << (path && *path ? path : "icosphere") << ", " << m.Points.rows()
               << " points, " << m.Triangles.rows() << " triangles" << std::endl;
@@ -162,7 +162,7 @@ void BM_RawEmbreeWithBuild(benchmark::State& state)
 
 void BM_ShapeDiameter(benchmark::State& state)
 {
-  const testshapes::TriangleMesh& mesh = BenchMesh();
+  const testshapes::TestMesh& mesh = BenchMesh();
   const EmbreeRayCaster caster(mesh.Points, mesh.Triangles);
   const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
   const ParallelFor parallelFor = MakeParallelFor(state);
@@ -178,7 +178,7 @@ void BM_ShapeDiameter(benchmark::State& state)
 
 void BM_ShapeDiameterWithBuild(benchmark::State& state)
 {
-  const testshapes::TriangleMesh& mesh = BenchMesh();
+  const testshapes::TestMesh& mesh = BenchMesh();
   const ParallelFor parallelFor = MakeParallelFor(state);
   for (auto _ : state)
   {
@@ -193,7 +193,7 @@ void BM_ShapeDiameterWithBuild(benchmark::State& state)
 /// machine.
 void BM_PairedRatio(benchmark::State& state)
 {
-  const testshapes::TriangleMesh& mesh = BenchMesh();
+  const testshapes::TestMesh& mesh = BenchMesh();
   const RawScene scene(mesh.Points, mesh.Triangles);
   const RawRays& rays = BenchRays();
   const EmbreeRayCaster caster(mesh.Points, mesh.Triangles);

@@ -10,7 +10,8 @@
 // each step alone on a prepared input, to show that only the per-face parts scale with the
 // face count.
 #include "Skeleton.h"
-#include "SkeletonTestShapes.h"
+#include "SkeletonPointTree.h"
+#include "TestShapes.h"
 
 #include <benchmark/benchmark.h>
 
@@ -20,7 +21,7 @@ namespace
 {
 
 using namespace shapediameter;
-using namespace shapediameter::skeletontest;
+using namespace shapediameter::testshapes;
 
 constexpr double CgalMeanCurvatureFlowSeconds = 2.8;
 

@@ -12,6 +12,7 @@
 #include "BilateralSmoothing.h"
 #include "FaceGraph.h"
 #include "Normalization.h"
+#include "TestShapes.h"
 
 #include <benchmark/benchmark.h>
 
@@ -27,44 +28,7 @@ namespace
 
 using namespace shapediameter;
 
-constexpr double Pi = 3.14159265358979323846;
 constexpr double SdfSecondsOnTwoThreads = 1.3; // measured Embree SDF time on 208k faces
-
-struct TorusMesh
-{
-  PointMatrix Points;
-  TriangleMatrix Triangles;
-};
-
-TorusMesh MakeTorus(int around, int tube, double majorRadius = 1.0, double minorRadius = 0.3)
-{
-  TorusMesh torus;
-  torus.Points.resize(around * tube, 3);
-  for (int i = 0; i < around; ++i)
-  {
-    const double u = 2 * Pi * i / around;
-    for (int j = 0; j < tube; ++j)
-    {
-      const double v = 2 * Pi * j / tube;
-      const double r = majorRadius + minorRadius * std::cos(v);
-      torus.Points.row(i * tube + j) << r * std::cos(u), r * std::sin(u), minorRadius * std::sin(v);
-    }
-  }
-  torus.Triangles.resize(2 * around * tube, 3);
-  for (int i = 0; i < around; ++i)
-  {
-    for (int j = 0; j < tube; ++j)
-    {
-      const std::int64_t a = i * tube + j;
-      const std::int64_t b = ((i + 1) % around) * tube + j;
-      const std::int64_t c = ((i + 1) % around) * tube + (j + 1) % tube;
-      const std::int64_t d = i * tube + (j + 1) % tube;
-      torus.Triangles.row(2 * (i * tube + j)) << a, b, c;
-      torus.Triangles.row(2 * (i * tube + j) + 1) << a, c, d;
-    }
-  }
-  return torus;
-}
 
 // Two plateaus (0.2 and 0.6, like a limb and a torso) plus 5 % uniform noise.
 std::vector<double> SyntheticSdf(const FaceGraph& graph)
@@ -80,15 +44,15 @@ std::vector<double> SyntheticSdf(const FaceGraph& graph)
   return values;
 }
 
-const TorusMesh& Torus208k()
+const testshapes::TestMesh& Torus208k()
 {
-  static const TorusMesh torus = MakeTorus(520, 200);
+  static const testshapes::TestMesh torus = testshapes::MakeTorus(1.0, 0.3, 520, 200);
   return torus;
 }
 
 void BM_BuildFaceGraph208k(benchmark::State& state)
 {
-  const TorusMesh& torus = Torus208k();
+  const testshapes::TestMesh& torus = Torus208k();
   const ParallelFor parallelFor = ThreadedFor(static_cast<unsigned>(state.range(0)));
   for (auto _ : state)
   {
@@ -100,7 +64,7 @@ BENCHMARK(BM_BuildFaceGraph208k)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)-
 
 void BM_BuildFaceGraph832k(benchmark::State& state)
 {
-  static const TorusMesh torus = MakeTorus(1040, 400);
+  static const testshapes::TestMesh torus = testshapes::MakeTorus(1.0, 0.3, 1040, 400);
   const ParallelFor parallelFor = ThreadedFor(static_cast<unsigned>(state.range(0)));
   for (auto _ : state)
   {
@@ -112,7 +76,7 @@ BENCHMARK(BM_BuildFaceGraph832k)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)-
 
 void BM_SmoothBilateral208k(benchmark::State& state)
 {
-  const TorusMesh& torus = Torus208k();
+  const testshapes::TestMesh& torus = Torus208k();
   const ParallelFor parallelFor = ThreadedFor(static_cast<unsigned>(state.range(0)));
   const FaceGraph graph = BuildFaceGraph(torus.Points, torus.Triangles, parallelFor);
   const std::vector<double> sdf = SyntheticSdf(graph);
@@ -125,7 +89,7 @@ BENCHMARK(BM_SmoothBilateral208k)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)
 
 void BM_NormalizeLogarithmic208k(benchmark::State& state)
 {
-  const TorusMesh& torus = Torus208k();
+  const testshapes::TestMesh& torus = Torus208k();
   const FaceGraph graph = BuildFaceGraph(torus.Points, torus.Triangles);
   const std::vector<double> sdf = SyntheticSdf(graph);
   for (auto _ : state)
@@ -138,7 +102,7 @@ BENCHMARK(BM_NormalizeLogarithmic208k)->Unit(benchmark::kMillisecond)->UseRealTi
 // The whole step as the adapter runs it: face graph, smoothing, normalisation.
 void BM_SmoothingStep208k(benchmark::State& state)
 {
-  const TorusMesh& torus = Torus208k();
+  const testshapes::TestMesh& torus = Torus208k();
   const ParallelFor parallelFor = ThreadedFor(static_cast<unsigned>(state.range(0)));
   const std::vector<double> sdf = SyntheticSdf(BuildFaceGraph(torus.Points, torus.Triangles));
   double seconds = 0.0;

@@ -4,7 +4,7 @@
 #include "AdaptiveShapeDiameter.h"
 #include "ArticulatedFigure.h"
 #include "EmbreeRayCaster.h"
-#include "SDFTestShapes.h"
+#include "TestShapes.h"
 #include "ShapeDiameter.h"
 
 #include <gtest/gtest.h>
@@ -18,7 +18,7 @@
 namespace
 {
 using namespace shapediameter;
-using testshapes::TriangleMesh;
+using testshapes::TestMesh;
 using namespace shapediameter::testing;
 
 ShapeDiameterOptions AdaptiveOptions()
@@ -73,7 +73,7 @@ std::pair<ShapeDiameterResult, ShapeDiameterResult> BothModes(
 
 /// Closed surface of a union of voxels (cell size h, origin 0): every voxel side whose
 /// neighbour is empty, split into split x split quads of two triangles, outward.
-TriangleMesh VoxelSurface(const std::vector<std::array<int, 3>>& voxels, double h, int split)
+TestMesh VoxelSurface(const std::vector<std::array<int, 3>>& voxels, double h, int split)
 {
   std::map<std::array<int, 3>, int> occupied;
   for (const auto& v : voxels)
@@ -139,7 +139,7 @@ TriangleMesh VoxelSurface(const std::vector<std::array<int, 3>>& voxels, double 
       }
     }
   }
-  return testshapes::detail::Assemble(points, triangles);
+  return testshapes::Assemble(points, triangles);
 }
 
 Eigen::Vector3d Centroid(const PointMatrix& points, const TriangleMatrix& triangles, Eigen::Index t)
@@ -151,7 +151,7 @@ Eigen::Vector3d Centroid(const PointMatrix& points, const TriangleMatrix& triang
 
 TEST(AdaptiveShapeDiameter, SphereAgreesWithExactAndCastsFewFaces)
 {
-  const TriangleMesh sphere = testshapes::MakeIcosphere(40, 1.0); // 32000 faces
+  const TestMesh sphere = testshapes::MakeIcosphere(40, 1.0); // 32000 faces
   const auto [exact, adaptive] = BothModes(sphere.Points, sphere.Triangles);
   const Comparison c = Compare(sphere.Points, sphere.Triangles, exact, adaptive);
   // Measured: mean 0.0000, p99 0.0000 (a constant field), 13.6 % of the faces cast.
@@ -172,7 +172,7 @@ TEST(AdaptiveShapeDiameter, SphereAgreesWithExactAndCastsFewFaces)
 
 TEST(AdaptiveShapeDiameter, CapsuleAgreesWithExact)
 {
-  const TriangleMesh capsule = testshapes::MakeCapsule(0.5, 2.0, 96, 24, 96); // ~27k faces
+  const TestMesh capsule = testshapes::MakeCapsule(0.5, 2.0, 96, 24, 96); // ~27k faces
   const auto [exact, adaptive] = BothModes(capsule.Points, capsule.Triangles);
   const Comparison c = Compare(capsule.Points, capsule.Triangles, exact, adaptive);
   // Measured: mean 0.0092, p99 0.092, 12.6 % of the faces cast.
@@ -215,7 +215,7 @@ TEST(AdaptiveShapeDiameter, RefinementFindsTheThicknessJumpOfAThinPlateOnABlock)
   for (int x = 10; x < 40; ++x)
     for (int y = 0; y < 10; ++y)
       voxels.push_back({ x, y, 5 });
-  const TriangleMesh mesh = VoxelSurface(voxels, 0.1, 4);
+  const TestMesh mesh = VoxelSurface(voxels, 0.1, 4);
   const auto [exact, adaptive] = BothModes(mesh.Points, mesh.Triangles);
 
   std::vector<std::uint8_t> plate(exact.Values.size()), block(exact.Values.size());
@@ -250,7 +250,7 @@ TEST(AdaptiveShapeDiameter, RefinementFindsTheThicknessJumpOfAThinPlateOnABlock)
 
 TEST(AdaptiveShapeDiameter, IdenticalForAnyThreadCountAndChunkSize)
 {
-  const TriangleMesh capsule = testshapes::MakeCapsule(0.5, 2.0, 48, 12, 48);
+  const TestMesh capsule = testshapes::MakeCapsule(0.5, 2.0, 48, 12, 48);
   const ShapeDiameterResult serial =
     ComputeFaceShapeDiameter(capsule.Points, capsule.Triangles, AdaptiveOptions(), SerialFor);
   for (unsigned threads : { 2u, 3u, 7u })
@@ -267,7 +267,7 @@ TEST(AdaptiveShapeDiameter, IdenticalForAnyThreadCountAndChunkSize)
 
 TEST(AdaptiveShapeDiameter, ProgressIsMonotoneAndAbortStops)
 {
-  const TriangleMesh sphere = testshapes::MakeIcosphere(20, 1.0);
+  const TestMesh sphere = testshapes::MakeIcosphere(20, 1.0);
   std::vector<double> fractions;
   const ShapeDiameterResult complete = ComputeFaceShapeDiameter(sphere.Points, sphere.Triangles,
     AdaptiveOptions(), SerialFor, [&](double f) {
@@ -288,7 +288,7 @@ TEST(AdaptiveShapeDiameter, ProgressIsMonotoneAndAbortStops)
 
 TEST(AdaptiveShapeDiameter, BadInputIsRejected)
 {
-  const TriangleMesh sphere = testshapes::MakeIcosphere(4, 1.0);
+  const TestMesh sphere = testshapes::MakeIcosphere(4, 1.0);
   const EmbreeRayCaster caster(sphere.Points, sphere.Triangles);
   RayOrigins origins = MakeFaceOrigins(sphere.Points, sphere.Triangles);
   // No neighbour graph.
@@ -314,7 +314,7 @@ TEST(AdaptiveShapeDiameter, BadInputIsRejected)
 
 TEST(AdaptiveShapeDiameter, ExactModeIsUnchangedAndCastsEveryFace)
 {
-  const TriangleMesh sphere = testshapes::MakeIcosphere(6, 1.0);
+  const TestMesh sphere = testshapes::MakeIcosphere(6, 1.0);
   const ShapeDiameterResult exact =
     ComputeFaceShapeDiameter(sphere.Points, sphere.Triangles, ShapeDiameterOptions(), SerialFor);
   EXPECT_EQ(exact.CastCount, static_cast<std::size_t>(sphere.Triangles.rows()));

@@ -3,7 +3,7 @@
 // histogram, progress, abort and bad input.
 #include "Partition.h"
 
-#include "SDFTestShapes.h"
+#include "TestShapes.h"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@ using namespace shapediameter;
 /// ripple so the fits have something to do.
 struct TwoLevelCapsule
 {
-  testshapes::TriangleMesh Mesh = testshapes::MakeCapsule(0.3, 1.0, 24, 6, 16);
+  testshapes::TestMesh Mesh = testshapes::MakeCapsule(0.3, 1.0, 24, 6, 16);
   Eigen::VectorXd Values;
 
   TwoLevelCapsule()

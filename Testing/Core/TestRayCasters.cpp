@@ -4,7 +4,7 @@
 #include "BruteForceRayCaster.h"
 #include "ConeSampling.h"
 #include "EmbreeRayCaster.h"
-#include "SDFTestShapes.h"
+#include "TestShapes.h"
 #include "ShapeDiameter.h"
 
 #include <gtest/gtest.h>
@@ -18,7 +18,7 @@
 namespace
 {
 using namespace shapediameter;
-using testshapes::TriangleMesh;
+using testshapes::TestMesh;
 
 const double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
@@ -29,7 +29,7 @@ enum class CasterKind
   BruteForce
 };
 
-std::unique_ptr<RayCaster> MakeCaster(CasterKind kind, const TriangleMesh& mesh)
+std::unique_ptr<RayCaster> MakeCaster(CasterKind kind, const TestMesh& mesh)
 {
   if (kind == CasterKind::Embree)
   {
@@ -54,9 +54,9 @@ RayOrigin Origin(double x, double y, double z, double nx, double ny, double nz,
 
 /// Three large triangles stacked along z at z = 1 (normal +z), z = 2 (normal -z) and
 /// z = 3 (normal -z), each covering the point (0, 0).
-TriangleMesh StackedTriangles()
+TestMesh StackedTriangles()
 {
-  TriangleMesh mesh;
+  TestMesh mesh;
   mesh.Points.resize(9, 3);
   mesh.Triangles.resize(3, 3);
   for (int layer = 0; layer < 3; ++layer)
@@ -83,7 +83,7 @@ class RayCasterContract : public ::testing::TestWithParam<CasterKind>
 
 TEST_P(RayCasterContract, SkipsTrianglesFacingTheOriginNormal)
 {
-  const TriangleMesh mesh = StackedTriangles();
+  const TestMesh mesh = StackedTriangles();
   const auto caster = MakeCaster(GetParam(), mesh);
   const double up[3] = { 0, 0, 1 };
   // Origin normal -z (like the bottom of a body): the z = 1 triangle faces +z, opposite to
@@ -109,7 +109,7 @@ TEST_P(RayCasterContract, SkipsTrianglesFacingTheOriginNormal)
 
 TEST_P(RayCasterContract, SkipsTheSourceTriangleAndHitsBeforeMinDistance)
 {
-  const TriangleMesh mesh = StackedTriangles();
+  const TestMesh mesh = StackedTriangles();
   const auto caster = MakeCaster(GetParam(), mesh);
   const double up[3] = { 0, 0, 1 };
   // Source triangle 1 (z = 2) is ignored: next is z = 3.
@@ -120,7 +120,7 @@ TEST_P(RayCasterContract, SkipsTheSourceTriangleAndHitsBeforeMinDistance)
 
 TEST_P(RayCasterContract, ZeroAreaTrianglesAreNeverHit)
 {
-  TriangleMesh mesh = StackedTriangles();
+  TestMesh mesh = StackedTriangles();
   // Replace the z = 2 triangle by a collinear one lying on the ray and a point triangle.
   mesh.Points.conservativeResize(12, 3);
   mesh.Points.row(9) << 0, 0, 1.5;
@@ -148,7 +148,7 @@ TEST_P(RayCasterContract, ZeroAreaTrianglesAreNeverHit)
 
 TEST_P(RayCasterContract, FirstHitLeavingJudgesOnlyTheClosestHit)
 {
-  TriangleMesh mesh = StackedTriangles();
+  TestMesh mesh = StackedTriangles();
   const auto caster = MakeCaster(GetParam(), mesh);
   const double up[3] = { 0, 0, 1 };
   const double down[3] = { 0, 0, -1 };
@@ -170,7 +170,7 @@ TEST_P(RayCasterContract, FirstHitLeavingJudgesOnlyTheClosestHit)
 
 TEST_P(RayCasterContract, NonFiniteRaysMissAndEmptyMeshesNeverHit)
 {
-  const TriangleMesh mesh = StackedTriangles();
+  const TestMesh mesh = StackedTriangles();
   const auto caster = MakeCaster(GetParam(), mesh);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double up[3] = { 0, 0, 1 };
@@ -181,7 +181,7 @@ TEST_P(RayCasterContract, NonFiniteRaysMissAndEmptyMeshesNeverHit)
   EXPECT_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), bad), kInfinity);
   EXPECT_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), zero), kInfinity);
 
-  TriangleMesh empty;
+  TestMesh empty;
   empty.Points.resize(0, 3);
   empty.Triangles.resize(0, 3);
   const auto emptyCaster = MakeCaster(GetParam(), empty);
@@ -192,7 +192,7 @@ TEST_P(RayCasterContract, NonFiniteRaysMissAndEmptyMeshesNeverHit)
 
 TEST_P(RayCasterContract, RejectsBadMeshes)
 {
-  TriangleMesh mesh = StackedTriangles();
+  TestMesh mesh = StackedTriangles();
   mesh.Triangles(2, 1) = 9;
   EXPECT_THROW(MakeCaster(GetParam(), mesh), RayCasterError);
   mesh.Triangles(2, 1) = -1;
@@ -204,7 +204,7 @@ TEST_P(RayCasterContract, RejectsBadMeshes)
 
 TEST_P(RayCasterContract, CastConeMatchesSingleRays)
 {
-  const TriangleMesh mesh = testshapes::MakeIcosphere(8, 1.5);
+  const TestMesh mesh = testshapes::MakeIcosphere(8, 1.5);
   const auto caster = MakeCaster(GetParam(), mesh);
   const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
   const ConePattern pattern = MakeConePattern(30, 120);
@@ -258,8 +258,8 @@ TEST_P(RayCasterContract, SegmentCrossesSurfaceSeesEverySurfaceBetweenTheEnds)
 
   // Two unit spheres whose volumes overlap (centres 1.5 apart), as posed characters'
   // parts interpenetrate: the union of the volumes does not join them.
-  const TriangleMesh first = testshapes::MakeIcosphere(8, 1.0);
-  const TriangleMesh second = testshapes::Transformed(
+  const TestMesh first = testshapes::MakeIcosphere(8, 1.0);
+  const TestMesh second = testshapes::Transformed(
     testshapes::MakeIcosphere(8, 1.0), Eigen::Matrix3d::Identity(), Eigen::Vector3d(1.5, 0, 0));
   const auto spheres = MakeCaster(GetParam(), testshapes::Concatenate(first, second));
   EXPECT_FALSE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(-0.5, 0, 0), Eigen::Vector3d(0.3, 0.2, 0)));
@@ -280,7 +280,7 @@ INSTANTIATE_TEST_SUITE_P(BothCasters, RayCasterContract,
 /// Casts the SDF cones of every face of `mesh` (plus the outward cones, which exercise the
 /// filter on a closed mesh) with both casters and returns the worst relative difference;
 /// counts rays where exactly one caster found a hit.
-double WorstRelativeDifference(const TriangleMesh& mesh, int& hitMismatches, int& hits)
+double WorstRelativeDifference(const TestMesh& mesh, int& hitMismatches, int& hits)
 {
   const EmbreeRayCaster embree(mesh.Points, mesh.Triangles);
   const BruteForceRayCaster bruteForce(mesh.Points, mesh.Triangles);
@@ -325,7 +325,7 @@ double WorstRelativeDifference(const TriangleMesh& mesh, int& hitMismatches, int
 TEST(RayCasters, EmbreeMatchesBruteForceOnACapsule)
 {
   // 2 * 16 * (2 * 6 + 4 - 1) = 480 faces; rays through vertices and edges included.
-  const TriangleMesh mesh = testshapes::MakeCapsule(0.5, 1.0, 16, 6, 4);
+  const TestMesh mesh = testshapes::MakeCapsule(0.5, 1.0, 16, 6, 4);
   ASSERT_EQ(mesh.Triangles.rows(), 480);
   int mismatches = 0, hits = 0;
   const double worst = WorstRelativeDifference(mesh, mismatches, hits);
@@ -339,7 +339,7 @@ TEST(RayCasters, EmbreeMatchesBruteForceOnACapsule)
 TEST(RayCasters, EmbreeKeepsDoublePrecisionFarFromTheOrigin)
 {
   // A capsule 1e6 away from the origin: float coordinates alone would give ~0.06 errors.
-  const TriangleMesh mesh = testshapes::Transformed(testshapes::MakeCapsule(0.5, 1.0, 12, 4, 3),
+  const TestMesh mesh = testshapes::Transformed(testshapes::MakeCapsule(0.5, 1.0, 12, 4, 3),
     Eigen::Matrix3d::Identity(), Eigen::Vector3d(1e6, -2e6, 3e6));
   int mismatches = 0, hits = 0;
   const double worst = WorstRelativeDifference(mesh, mismatches, hits);
@@ -350,7 +350,7 @@ TEST(RayCasters, EmbreeKeepsDoublePrecisionFarFromTheOrigin)
 
 TEST(RayCasters, EmbreeBuildQualitiesAgree)
 {
-  const TriangleMesh mesh = testshapes::MakeIcosphere(6);
+  const TestMesh mesh = testshapes::MakeIcosphere(6);
   const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
   const EmbreeRayCaster medium(mesh.Points, mesh.Triangles);
   EmbreeRayCasterOptions options;

@@ -4,7 +4,7 @@
 #include "BruteForceRayCaster.h"
 #include "ConeSampling.h"
 #include "EmbreeRayCaster.h"
-#include "SDFTestShapes.h"
+#include "TestShapes.h"
 #include "ShapeDiameter.h"
 
 #include <Eigen/Geometry>
@@ -19,7 +19,7 @@
 namespace
 {
 using namespace shapediameter;
-using testshapes::TriangleMesh;
+using testshapes::TestMesh;
 
 constexpr double kPi = 3.14159265358979323846;
 const double kInfinity = std::numeric_limits<double>::infinity();
@@ -104,7 +104,7 @@ double ExpectedSphereSDF(double radius, const ConePattern& pattern, HitRule rule
   return ExpectedRobustMean(lengths, pattern.Weights);
 }
 
-ShapeDiameterResult FaceSDF(const TriangleMesh& mesh,
+ShapeDiameterResult FaceSDF(const TestMesh& mesh,
   const ShapeDiameterOptions& options = ShapeDiameterOptions(),
   const ParallelFor& parallelFor = SerialFor)
 {
@@ -251,7 +251,7 @@ TEST(RobustWeightedMean, MatchesTheIndependentStatement)
 TEST(ShapeDiameter, SphereMatchesTheAnalyticValue)
 {
   const double radius = 2.0;
-  const TriangleMesh mesh = testshapes::MakeIcosphere(32, radius); // 20480 faces
+  const TestMesh mesh = testshapes::MakeIcosphere(32, radius); // 20480 faces
   const ShapeDiameterResult result = FaceSDF(mesh);
   ASSERT_EQ(result.Values.size(), 20480u);
   EXPECT_FALSE(result.Aborted);
@@ -276,7 +276,7 @@ TEST(ShapeDiameter, SphereMatchesTheAnalyticValue)
 TEST(ShapeDiameter, OtherRayCountsAndConeAngles)
 {
   const double radius = 1.0;
-  const TriangleMesh mesh = testshapes::MakeIcosphere(16, radius);
+  const TestMesh mesh = testshapes::MakeIcosphere(16, radius);
   for (const auto& [rays, angle] : { std::make_pair(100, 60.0), std::make_pair(1, 120.0),
          std::make_pair(6, 170.0) })
   {
@@ -294,7 +294,7 @@ TEST(ShapeDiameter, SlabMatchesTheAnalyticValueExactly)
 {
   // Thickness 1, so wide that every ray from the middle of the top lands on the bottom
   // plane, whose normal is opposite: every ray is valid with length 1 / cos(theta).
-  const TriangleMesh mesh = testshapes::MakeBox(Eigen::Vector3d(10, 10, 1), 10);
+  const TestMesh mesh = testshapes::MakeBox(Eigen::Vector3d(10, 10, 1), 10);
   const ShapeDiameterResult result = FaceSDF(mesh);
   const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
   const ConePattern pattern = MakeConePattern(30, 120);
@@ -320,7 +320,7 @@ TEST(ShapeDiameter, SlabMatchesTheAnalyticValueExactly)
 TEST(ShapeDiameter, VertexOriginsOnASphere)
 {
   const double radius = 1.5;
-  const TriangleMesh mesh = testshapes::MakeIcosphere(24, radius);
+  const TestMesh mesh = testshapes::MakeIcosphere(24, radius);
   PointMatrix normals = mesh.Points / radius;
   const RayOrigins origins = MakeVertexOrigins(mesh.Points, normals);
   EXPECT_TRUE(origins.SourceTriangles.empty());
@@ -336,8 +336,8 @@ TEST(ShapeDiameter, VertexOriginsOnASphere)
 
 TEST(ShapeDiameter, ScalesWithTheMesh)
 {
-  const TriangleMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 32, 8, 12);
-  TriangleMesh scaled = mesh;
+  const TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 32, 8, 12);
+  TestMesh scaled = mesh;
   scaled.Points *= 4;
   const ShapeDiameterResult a = FaceSDF(mesh);
   const ShapeDiameterResult b = FaceSDF(scaled);
@@ -351,10 +351,10 @@ TEST(ShapeDiameter, ScalesWithTheMesh)
 
 TEST(ShapeDiameter, InvariantToRigidMotion)
 {
-  const TriangleMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 32, 8, 12);
+  const TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 32, 8, 12);
   const Eigen::Matrix3d rotation =
     Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
-  const TriangleMesh moved =
+  const TestMesh moved =
     testshapes::Transformed(mesh, rotation, Eigen::Vector3d(3.5, -20.25, 7.0));
   const ShapeDiameterResult a = FaceSDF(mesh);
   const ShapeDiameterResult b = FaceSDF(moved);
@@ -370,13 +370,13 @@ TEST(ShapeDiameter, InvariantToRigidMotion)
 
 TEST(ShapeDiameter, OpenSphereStaysFiniteAndUnchangedAwayFromTheHole)
 {
-  const TriangleMesh sphere = testshapes::MakeIcosphere(32, 1.0);
+  const TestMesh sphere = testshapes::MakeIcosphere(32, 1.0);
   const RayOrigins sphereOrigins = MakeFaceOrigins(sphere.Points, sphere.Triangles);
   const ShapeDiameterResult closed = FaceSDF(sphere);
   for (const double holeZ : { 0.9, 0.95 })
   {
     std::vector<Eigen::Index> kept;
-    const TriangleMesh open = testshapes::KeepTriangles(sphere, [&](Eigen::Index t) {
+    const TestMesh open = testshapes::KeepTriangles(sphere, [&](Eigen::Index t) {
       if (sphereOrigins.Points(t, 2) > holeZ)
       {
         return false;
@@ -421,7 +421,7 @@ TEST(ShapeDiameter, InvertedSphereHasNoValidRayAndGetsTheFallback)
   // Flipped triangles: the cone points outward, no ray hits anything, the whole mesh is
   // invalid; FillFromNeighbors finds no valid value anywhere and writes 0 everywhere. (The
   // VTK adapter orients meshes first; the core does not.)
-  const TriangleMesh mesh = testshapes::Flipped(testshapes::MakeIcosphere(8, 1.0));
+  const TestMesh mesh = testshapes::Flipped(testshapes::MakeIcosphere(8, 1.0));
   ShapeDiameterResult result = FaceSDF(mesh);
   EXPECT_TRUE(std::all_of(
     result.ValidRays.begin(), result.ValidRays.end(), [](int rays) { return rays == 0; }));
@@ -438,9 +438,9 @@ TEST(ShapeDiameter, InvertedSphereHasNoValidRayAndGetsTheFallback)
 
 TEST(ShapeDiameter, TwoDisjointSpheresEachGetTheirOwnDiameter)
 {
-  const TriangleMesh small = testshapes::MakeIcosphere(20, 1.0);
-  const TriangleMesh large = testshapes::MakeIcosphere(20, 2.0, Eigen::Vector3d(10, 1, -2));
-  const TriangleMesh both = testshapes::Concatenate(small, large);
+  const TestMesh small = testshapes::MakeIcosphere(20, 1.0);
+  const TestMesh large = testshapes::MakeIcosphere(20, 2.0, Eigen::Vector3d(10, 1, -2));
+  const TestMesh both = testshapes::Concatenate(small, large);
   const ShapeDiameterResult result = FaceSDF(both);
   const ConePattern pattern = MakeConePattern(30, 120);
   const auto smallFaces = static_cast<std::size_t>(small.Triangles.rows());
@@ -467,7 +467,7 @@ TEST(ShapeDiameter, TwoDisjointSpheresEachGetTheirOwnDiameter)
 
 TEST(ShapeDiameter, ThreadSplitsGiveBitIdenticalResults)
 {
-  const TriangleMesh mesh = testshapes::MakeCapsule(0.4, 1.0, 40, 10, 20); // 3120 faces
+  const TestMesh mesh = testshapes::MakeCapsule(0.4, 1.0, 40, 10, 20); // 3120 faces
   const EmbreeRayCaster caster(mesh.Points, mesh.Triangles);
   const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
   ShapeDiameterOptions options;
@@ -489,7 +489,7 @@ TEST(ShapeDiameter, ThreadSplitsGiveBitIdenticalResults)
 
 TEST(ShapeDiameter, ProgressIsMonotoneAndAbortStopsEarly)
 {
-  const TriangleMesh mesh = testshapes::MakeIcosphere(16, 1.0); // 5120 faces, 20 chunks
+  const TestMesh mesh = testshapes::MakeIcosphere(16, 1.0); // 5120 faces, 20 chunks
   const EmbreeRayCaster caster(mesh.Points, mesh.Triangles);
   const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
   for (const unsigned threads : { 1u, 2u })
@@ -519,7 +519,7 @@ TEST(ShapeDiameter, ProgressIsMonotoneAndAbortStopsEarly)
 
 TEST(ShapeDiameter, DegenerateFacesAndSkippedOriginsAreLeftForFilling)
 {
-  TriangleMesh mesh = testshapes::MakeIcosphere(8, 1.0);
+  TestMesh mesh = testshapes::MakeIcosphere(8, 1.0);
   // Collapse triangle 5 (zero area) and poison the normal of another origin.
   mesh.Triangles(5, 2) = mesh.Triangles(5, 0);
   RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
@@ -548,7 +548,7 @@ TEST(ShapeDiameter, DegenerateFacesAndSkippedOriginsAreLeftForFilling)
 
 TEST(ShapeDiameter, BruteForceCasterGivesTheSameSDF)
 {
-  const TriangleMesh mesh = testshapes::MakeCapsule(0.5, 1.0, 16, 6, 4);
+  const TestMesh mesh = testshapes::MakeCapsule(0.5, 1.0, 16, 6, 4);
   const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
   const ShapeDiameterResult embree = ComputeShapeDiameter(
     EmbreeRayCaster(mesh.Points, mesh.Triangles), origins, ShapeDiameterOptions(), SerialFor);
@@ -563,7 +563,7 @@ TEST(ShapeDiameter, BruteForceCasterGivesTheSameSDF)
 
 TEST(ShapeDiameter, EmptyMeshesAndBadOptions)
 {
-  TriangleMesh empty;
+  TestMesh empty;
   empty.Points.resize(0, 3);
   empty.Triangles.resize(0, 3);
   const ShapeDiameterResult result = FaceSDF(empty);
@@ -572,7 +572,7 @@ TEST(ShapeDiameter, EmptyMeshesAndBadOptions)
   EXPECT_FALSE(result.Aborted);
 
   // A single triangle: the only possible hit is itself, so nothing is valid.
-  TriangleMesh single;
+  TestMesh single;
   single.Points.resize(3, 3);
   single.Points << 0, 0, 0, 1, 0, 0, 0, 1, 0;
   single.Triangles.resize(1, 3);
@@ -582,7 +582,7 @@ TEST(ShapeDiameter, EmptyMeshesAndBadOptions)
   EXPECT_EQ(one.ValidRays[0], 0);
   EXPECT_EQ(one.Values[0], 0.0);
 
-  const TriangleMesh mesh = testshapes::MakeIcosphere(2);
+  const TestMesh mesh = testshapes::MakeIcosphere(2);
   auto withOptions = [&](auto change) {
     ShapeDiameterOptions options;
     change(options);

@@ -1,44 +1,44 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Analytic test shapes for the skeleton core: closed, outward-oriented triangle meshes with a
-// per-face "SDF" whose value is known (twice the distance from the face to the medial curve
-// along the inward normal), plus a small brute-force ray-cast SDF for realistic noise.
-//
-// Used by TestSkeleton.cpp and BenchSkeleton.cpp only; header-only, everything inline.
-#pragma once
-
-#include "MeshTypes.h"
+#include "TestShapes.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <limits>
+#include <map>
 #include <random>
+#include <stdexcept>
 #include <utility>
-#include <vector>
 
 namespace shapediameter
 {
-namespace skeletontest
+namespace testshapes
 {
 
-constexpr double Pi = 3.14159265358979323846;
-
-struct TestMesh
+namespace
 {
-  PointMatrix Points;
-  TriangleMatrix Triangles;
-  /// Per-face shape diameter.
-  std::vector<double> Sdf;
 
-  Eigen::Index Faces() const { return Triangles.rows(); }
-};
+/// Orients every triangle so that its normal points away from `centre` (valid for the
+/// star-shaped surfaces generated here).
+void OrientAwayFrom(const std::vector<Eigen::Vector3d>& points,
+  std::vector<std::array<std::int64_t, 3>>& triangles, const Eigen::Vector3d& centre)
+{
+  for (auto& t : triangles)
+  {
+    const Eigen::Vector3d a = points[t[0]], b = points[t[1]], c = points[t[2]];
+    const Eigen::Vector3d normal = (b - a).cross(c - a);
+    if (normal.dot((a + b + c) / 3.0 - centre) < 0)
+    {
+      std::swap(t[1], t[2]);
+    }
+  }
+}
 
 /// Rotation taking the z axis to `axis` (Rodrigues; avoids Eigen's FromTwoVectors, whose SVD
 /// path trips a false -Wmaybe-uninitialized in g++ 12).
-inline Eigen::Matrix3d RotationFromZ(const Eigen::Vector3d& axis)
+Eigen::Matrix3d RotationFromZ(const Eigen::Vector3d& axis)
 {
   const Eigen::Vector3d target = axis.normalized();
   const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
@@ -55,7 +55,7 @@ inline Eigen::Matrix3d RotationFromZ(const Eigen::Vector3d& axis)
 
 /// Closed surface of revolution about the z axis: the profile lists (z, rho) rings from the
 /// south pole to the north pole, the poles excluded. Outward oriented.
-inline TestMesh MakeRevolution(
+TestMesh MakeRevolution(
   const std::vector<std::pair<double, double>>& profile, double southZ, double northZ, int around)
 {
   TestMesh mesh;
@@ -101,10 +101,177 @@ inline TestMesh MakeRevolution(
   return mesh;
 }
 
-/// Capsule along z: cylinder of radius r between z = -halfLength and z = +halfLength, closed
-/// by hemispheres. Medial curve: the axis segment between the cap centres. SDF = 2 r.
-inline TestMesh MakeCapsule(
-  double radius, double halfLength, int around = 48, int capRings = 12, int cylinderRings = 40)
+/// Farthest point of a capsule along the ray t * omega from the origin (origin inside).
+double CapsuleExit(const Arm& arm, const Eigen::Vector3d& omega)
+{
+  const double c = omega.dot(arm.Direction);
+  double exit = arm.Radius; // ball at the origin
+  if (c > 0.0)
+  {
+    const double sine = std::sqrt(std::max(0.0, 1.0 - c * c));
+    const double toWall = sine > 0.0 ? arm.Radius / sine : arm.Length;
+    exit = std::max(exit, std::min(toWall, arm.Length / c));
+  }
+  const double discriminant =
+    arm.Length * arm.Length * c * c - arm.Length * arm.Length + arm.Radius * arm.Radius;
+  if (discriminant >= 0.0)
+  {
+    exit = std::max(exit, arm.Length * c + std::sqrt(discriminant));
+  }
+  return exit;
+}
+
+} // namespace
+
+TestMesh Assemble(const std::vector<Eigen::Vector3d>& points,
+  const std::vector<std::array<std::int64_t, 3>>& triangles)
+{
+  TestMesh mesh;
+  mesh.Points.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    mesh.Points.row(static_cast<Eigen::Index>(i)) = points[i].transpose();
+  }
+  mesh.Triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      mesh.Triangles(static_cast<Eigen::Index>(i), c) = triangles[i][c];
+    }
+  }
+  return mesh;
+}
+
+TestMesh MakeIcosphere(int frequency, double radius,
+  const Eigen::Vector3d& centre)
+{
+  if (frequency < 1)
+  {
+    throw std::invalid_argument("MakeIcosphere: frequency must be >= 1");
+  }
+  const double phi = (1.0 + std::sqrt(5.0)) / 2.0;
+  const std::array<Eigen::Vector3d, 12> corners = { Eigen::Vector3d(-1, phi, 0),
+    Eigen::Vector3d(1, phi, 0), Eigen::Vector3d(-1, -phi, 0), Eigen::Vector3d(1, -phi, 0),
+    Eigen::Vector3d(0, -1, phi), Eigen::Vector3d(0, 1, phi), Eigen::Vector3d(0, -1, -phi),
+    Eigen::Vector3d(0, 1, -phi), Eigen::Vector3d(phi, 0, -1), Eigen::Vector3d(phi, 0, 1),
+    Eigen::Vector3d(-phi, 0, -1), Eigen::Vector3d(-phi, 0, 1) };
+  const int faces[20][3] = { { 0, 11, 5 }, { 0, 5, 1 }, { 0, 1, 7 }, { 0, 7, 10 }, { 0, 10, 11 },
+    { 1, 5, 9 }, { 5, 11, 4 }, { 11, 10, 2 }, { 10, 7, 6 }, { 7, 1, 8 }, { 3, 9, 4 }, { 3, 4, 2 },
+    { 3, 2, 6 }, { 3, 6, 8 }, { 3, 8, 9 }, { 4, 9, 5 }, { 2, 4, 11 }, { 6, 2, 10 }, { 8, 6, 7 },
+    { 9, 8, 1 } };
+
+  // A grid point is identified by its (corner, integer weight) pairs sorted by corner, so
+  // points on shared icosahedron edges get the same key (and bit-identical coordinates)
+  // from both faces.
+  using Key = std::vector<std::pair<int, int>>;
+  std::map<Key, std::int64_t> indexOfKey;
+  std::vector<Eigen::Vector3d> points;
+  auto pointIndex = [&](const int corner[3], int i, int j, int k) {
+    Key key;
+    const int weights[3] = { i, j, k };
+    for (int c = 0; c < 3; ++c)
+    {
+      if (weights[c] > 0)
+      {
+        key.emplace_back(corner[c], weights[c]);
+      }
+    }
+    std::sort(key.begin(), key.end());
+    auto found = indexOfKey.find(key);
+    if (found != indexOfKey.end())
+    {
+      return found->second;
+    }
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (const auto& [c, w] : key)
+    {
+      p += static_cast<double>(w) * corners[c];
+    }
+    p = centre + radius * p.normalized();
+    const auto index = static_cast<std::int64_t>(points.size());
+    points.push_back(p);
+    indexOfKey.emplace(std::move(key), index);
+    return index;
+  };
+
+  std::vector<std::array<std::int64_t, 3>> triangles;
+  const int n = frequency;
+  for (const auto& face : faces)
+  {
+    // Barycentric grid (i, j, k), i + j + k = n; row j walks from corner 0 to corner 1.
+    for (int j = 0; j < n; ++j)
+    {
+      for (int k = 0; k < n - j; ++k)
+      {
+        const int i = n - j - k;
+        const std::int64_t a = pointIndex(face, i, j, k);
+        const std::int64_t b = pointIndex(face, i - 1, j + 1, k);
+        const std::int64_t c = pointIndex(face, i - 1, j, k + 1);
+        triangles.push_back({ a, b, c });
+        if (k + j + 1 < n)
+        {
+          const std::int64_t d = pointIndex(face, i - 2, j + 1, k + 1);
+          triangles.push_back({ b, d, c });
+        }
+      }
+    }
+  }
+  OrientAwayFrom(points, triangles, centre);
+  return Assemble(points, triangles);
+}
+
+TestMesh MakeBox(const Eigen::Vector3d& size, int divisions)
+{
+  if (divisions < 1 || !(size.array() > 0).all())
+  {
+    throw std::invalid_argument("MakeBox: bad parameters");
+  }
+  const int n = divisions;
+  std::map<std::array<int, 3>, std::int64_t> indexOfGridPoint;
+  std::vector<Eigen::Vector3d> points;
+  auto pointIndex = [&](const std::array<int, 3>& g) {
+    auto found = indexOfGridPoint.find(g);
+    if (found != indexOfGridPoint.end())
+    {
+      return found->second;
+    }
+    const auto index = static_cast<std::int64_t>(points.size());
+    points.emplace_back(size.x() * g[0] / n, size.y() * g[1] / n, size.z() * g[2] / n);
+    indexOfGridPoint.emplace(g, index);
+    return index;
+  };
+  std::vector<std::array<std::int64_t, 3>> triangles;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int side = 0; side <= n; side += n)
+    {
+      for (int i = 0; i < n; ++i)
+      {
+        for (int j = 0; j < n; ++j)
+        {
+          std::array<int, 3> g00{}, g10{}, g11{}, g01{};
+          for (auto* g : { &g00, &g10, &g11, &g01 })
+          {
+            (*g)[axis] = side;
+          }
+          g00[u] = i, g00[v] = j;
+          g10[u] = i + 1, g10[v] = j;
+          g11[u] = i + 1, g11[v] = j + 1;
+          g01[u] = i, g01[v] = j + 1;
+          triangles.push_back({ pointIndex(g00), pointIndex(g10), pointIndex(g11) });
+          triangles.push_back({ pointIndex(g00), pointIndex(g11), pointIndex(g01) });
+        }
+      }
+    }
+  }
+  OrientAwayFrom(points, triangles, size / 2);
+  return Assemble(points, triangles);
+}
+
+TestMesh MakeCapsule(
+  double radius, double halfLength, int around, int capRings, int cylinderRings)
 {
   std::vector<std::pair<double, double>> profile;
   for (int i = 1; i <= capRings; ++i)
@@ -126,8 +293,7 @@ inline TestMesh MakeCapsule(
   return mesh;
 }
 
-/// Sphere of the given radius at the origin; SDF = diameter.
-inline TestMesh MakeSphere(double radius, int around = 48, int rings = 24)
+TestMesh MakeSphere(double radius, int around, int rings)
 {
   std::vector<std::pair<double, double>> profile;
   for (int i = 1; i < rings; ++i)
@@ -140,11 +306,7 @@ inline TestMesh MakeSphere(double radius, int around = 48, int rings = 24)
   return mesh;
 }
 
-/// Prolate spheroid x^2/b^2 + y^2/b^2 + z^2/a^2 = 1 (a > b). Its medial curve is the axis
-/// segment |z| <= a - b^2/a; the inward normal from a surface point s meets the axis after
-/// t = b^2 |grad| with grad = (s_x/b^2, s_y/b^2, s_z/a^2), and SDF = 2 t (evaluated at the
-/// face centroid scaled onto the surface).
-inline TestMesh MakeProlateSpheroid(double a, double b, int around = 48, int rings = 120)
+TestMesh MakeProlateSpheroid(double a, double b, int around, int rings)
 {
   std::vector<std::pair<double, double>> profile;
   for (int i = 1; i < rings; ++i)
@@ -170,9 +332,7 @@ inline TestMesh MakeProlateSpheroid(double a, double b, int around = 48, int rin
   return mesh;
 }
 
-/// Torus about the z axis: core circle of radius R in the plane z = 0, tube radius r.
-/// SDF = 2 r everywhere (every inward normal meets the core circle after r).
-inline TestMesh MakeTorus(double coreRadius, double tubeRadius, int around = 144, int tube = 24)
+TestMesh MakeTorus(double coreRadius, double tubeRadius, int around, int tube)
 {
   TestMesh mesh;
   mesh.Points.resize(around * tube, 3);
@@ -203,39 +363,7 @@ inline TestMesh MakeTorus(double coreRadius, double tubeRadius, int around = 144
   return mesh;
 }
 
-/// A capsule from the origin to length * direction (unit), radius r.
-struct Arm
-{
-  Eigen::Vector3d Direction;
-  double Length;
-  double Radius;
-};
-
-/// Farthest point of a capsule along the ray t * omega from the origin (origin inside).
-inline double CapsuleExit(const Arm& arm, const Eigen::Vector3d& omega)
-{
-  const double c = omega.dot(arm.Direction);
-  double exit = arm.Radius; // ball at the origin
-  if (c > 0.0)
-  {
-    const double sine = std::sqrt(std::max(0.0, 1.0 - c * c));
-    const double toWall = sine > 0.0 ? arm.Radius / sine : arm.Length;
-    exit = std::max(exit, std::min(toWall, arm.Length / c));
-  }
-  const double discriminant =
-    arm.Length * arm.Length * c * c - arm.Length * arm.Length + arm.Radius * arm.Radius;
-  if (discriminant >= 0.0)
-  {
-    exit = std::max(exit, arm.Length * c + std::sqrt(discriminant));
-  }
-  return exit;
-}
-
-/// Star-shaped union of capsules that all start at the origin (each convex and containing the
-/// origin, so the union is star-shaped about it): a UV sphere whose vertex in direction omega
-/// is moved to the farthest capsule exit. Closed, one component, outward oriented. SDF of a
-/// face = 2 * radius of the capsule whose surface it lies on (the one giving the exit).
-inline TestMesh MakeCapsuleStar(
+TestMesh MakeCapsuleStar(
   const std::vector<Arm>& arms, int around, int rings, const Eigen::Vector3d& pole)
 {
   // A UV sphere about `pole`, so that arms away from the pole get regular triangles.
@@ -283,9 +411,7 @@ inline TestMesh MakeCapsuleStar(
   return mesh;
 }
 
-/// Three capsules of radius r and length L (origin to cap centre) in the xy plane at 120
-/// degrees: junction at the origin, arm axes along the three directions.
-inline std::vector<Arm> TripodArms(double length, double radius)
+std::vector<Arm> TripodArms(double length, double radius)
 {
   std::vector<Arm> arms;
   for (int k = 0; k < 3; ++k)
@@ -296,23 +422,12 @@ inline std::vector<Arm> TripodArms(double length, double radius)
   return arms;
 }
 
-inline TestMesh MakeTripod(double length, double radius, int around = 240, int rings = 120)
+TestMesh MakeTripod(double length, double radius, int around, int rings)
 {
   return MakeCapsuleStar(TripodArms(length, radius), around, rings, Eigen::Vector3d::UnitZ());
 }
 
-/// Moves a mesh rigidly: rotation taking z to `axis`, then translation.
-inline void Place(TestMesh& mesh, const Eigen::Vector3d& axis, const Eigen::Vector3d& offset)
-{
-  const Eigen::Matrix3d rotation = RotationFromZ(axis);
-  for (Eigen::Index v = 0; v < mesh.Points.rows(); ++v)
-  {
-    mesh.Points.row(v) = (rotation * Eigen::Vector3d(mesh.Points.row(v).transpose()) + offset).transpose();
-  }
-}
-
-/// Disjoint union of two meshes.
-inline TestMesh Concatenate(const TestMesh& first, const TestMesh& second)
+TestMesh Concatenate(const TestMesh& first, const TestMesh& second)
 {
   TestMesh mesh;
   mesh.Points.resize(first.Points.rows() + second.Points.rows(), 3);
@@ -326,8 +441,29 @@ inline TestMesh Concatenate(const TestMesh& first, const TestMesh& second)
   return mesh;
 }
 
-/// Signed volume (positive for an outward-oriented closed mesh).
-inline double SignedVolume(const TestMesh& mesh)
+TestMesh Flipped(TestMesh mesh)
+{
+  mesh.Triangles.col(1).swap(mesh.Triangles.col(2));
+  return mesh;
+}
+
+TestMesh Transformed(TestMesh mesh, const Eigen::Matrix3d& rotation,
+  const Eigen::Vector3d& translation)
+{
+  for (Eigen::Index i = 0; i < mesh.Points.rows(); ++i)
+  {
+    const Eigen::Vector3d p = mesh.Points.row(i).transpose();
+    mesh.Points.row(i) = (rotation * p + translation).transpose();
+  }
+  return mesh;
+}
+
+void Place(TestMesh& mesh, const Eigen::Vector3d& axis, const Eigen::Vector3d& offset)
+{
+  mesh = Transformed(std::move(mesh), RotationFromZ(axis), offset);
+}
+
+double SignedVolume(const TestMesh& mesh)
 {
   double volume = 0.0;
   for (Eigen::Index f = 0; f < mesh.Faces(); ++f)
@@ -340,8 +476,7 @@ inline double SignedVolume(const TestMesh& mesh)
   return volume;
 }
 
-/// Multiplies every SDF value by 1 + amplitude * u, u uniform in [-1, 1) (fixed seed).
-inline void AddSdfNoise(TestMesh& mesh, double amplitude, std::uint64_t seed = 7)
+void AddSdfNoise(TestMesh& mesh, double amplitude, std::uint64_t seed)
 {
   std::mt19937_64 generator(seed);
   for (double& value : mesh.Sdf)
@@ -351,12 +486,7 @@ inline void AddSdfNoise(TestMesh& mesh, double amplitude, std::uint64_t seed = 7
   }
 }
 
-/// A brute-force SDF in the spirit of the paper's section 3 (not the production one): rays in
-/// a cone of half-angle 60 degrees around the inward normal of each face centroid (the axis
-/// and rings at 20, 40, 60 degrees of 8 rays), the nearest hit on a face seen from inside,
-/// lengths outside median +- one standard deviation dropped, the rest averaged with weights
-/// 1 / angle (the axis weighted as 10 degrees). O(faces^2): small meshes only.
-inline std::vector<double> RayCastSdf(const TestMesh& mesh)
+std::vector<double> RayCastSdf(const TestMesh& mesh)
 {
   const Eigen::Index faces = mesh.Faces();
   std::vector<Eigen::Vector3d> a(faces), edge1(faces), edge2(faces), normal(faces), centroid(faces);
@@ -463,5 +593,42 @@ inline std::vector<double> RayCastSdf(const TestMesh& mesh)
   return sdf;
 }
 
-} // namespace skeletontest
+void EdgeAdjacency(const TriangleMatrix& triangles, std::vector<std::int64_t>& offsets,
+  std::vector<std::int64_t>& indices)
+{
+  std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::int64_t>> facesOfEdge;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      std::int64_t a = triangles(t, c), b = triangles(t, (c + 1) % 3);
+      facesOfEdge[{ std::min(a, b), std::max(a, b) }].push_back(t);
+    }
+  }
+  std::vector<std::vector<std::int64_t>> neighbours(static_cast<std::size_t>(triangles.rows()));
+  for (const auto& [edge, edgeFaces] : facesOfEdge)
+  {
+    for (auto f : edgeFaces)
+    {
+      for (auto g : edgeFaces)
+      {
+        if (f != g)
+        {
+          neighbours[static_cast<std::size_t>(f)].push_back(g);
+        }
+      }
+    }
+  }
+  offsets.assign(1, 0);
+  indices.clear();
+  for (auto& list : neighbours)
+  {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    indices.insert(indices.end(), list.begin(), list.end());
+    offsets.push_back(static_cast<std::int64_t>(indices.size()));
+  }
+}
+
+} // namespace testshapes
 } // namespace shapediameter
