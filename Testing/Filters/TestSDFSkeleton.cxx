@@ -79,6 +79,17 @@ bool ArraysFinite(vtkPolyData* data)
   return true;
 }
 
+/// The second pose of the figure tests: every limb bent, by different angles.
+figure::FigurePose BentLimbs()
+{
+  figure::FigurePose bent;
+  bent.LeftArm = 0.9;
+  bent.RightArm = -0.6;
+  bent.LeftLeg = 0.5;
+  bent.RightLeg = -0.4;
+  return bent;
+}
+
 /// Fraction of the faces of each limb whose bone is that limb's most frequent bone, and the
 /// set of those bones.
 std::map<int, vtkIdType> LimbBones(vtkPolyData* surface, const std::vector<int>& parts, double& worstShare)
@@ -109,11 +120,7 @@ std::map<int, vtkIdType> LimbBones(vtkPolyData* surface, const std::vector<int>&
 TEST(SDFSkeleton, FigureBonesFollowTheLimbsInTwoPoses)
 {
   const figure::ArticulatedFigureTemplate figureTemplate;
-  figure::FigurePose bent;
-  bent.LeftArm = 0.9;
-  bent.RightArm = -0.6;
-  bent.LeftLeg = 0.5;
-  bent.RightLeg = -0.4;
+  const figure::FigurePose bent = BentLimbs();
   const figure::ArticulatedFigure rest = figureTemplate.Rest();
   const figure::ArticulatedFigure posed = figureTemplate.Pose(bent);
   const SkeletonRun a = Skeletonize(ToPolyData(rest.Points, rest.Triangles));
@@ -208,11 +215,7 @@ SurfaceLink Link(vtkPolyData* input, bool bySegment)
 TEST(SDFSkeleton, EverySegmentIsLinkedToOneBone)
 {
   const figure::ArticulatedFigureTemplate figureTemplate;
-  figure::FigurePose bent;
-  bent.LeftArm = 0.9;
-  bent.RightArm = -0.6;
-  bent.LeftLeg = 0.5;
-  bent.RightLeg = -0.4;
+  const figure::FigurePose bent = BentLimbs();
   const vtkSmartPointer<vtkPolyData> rest = PartitionedFigure(figureTemplate.Rest());
   const vtkSmartPointer<vtkPolyData> posed = PartitionedFigure(figureTemplate.Pose(bent));
   const SurfaceLink bySegment = Link(rest, true);
