@@ -3,8 +3,9 @@
 // part takes one bone, the one holding most of its area under the nearest-node link; faces
 // keep a node of their bone; the labels are taken per surface component; bad labels throw.
 #include "Skeleton.h"
-#include "SkeletonTestShapes.h"
+#include "TestShapes.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,7 +17,7 @@ namespace
 {
 
 using namespace shapediameter;
-using namespace shapediameter::skeletontest;
+using namespace shapediameter::testshapes;
 
 SkeletonResult Link(const TestMesh& mesh, const std::vector<std::int64_t>& parts,
   const ParallelFor& parallelFor = SerialFor, const std::vector<std::int64_t>& components = {})
