@@ -1,9 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFBilateralSmooth.h"
 
-#include "BilateralSmoothing.h"
-#include "FaceGraph.h"
-#include "Normalization.h"
+#include "SmoothAndNormalize.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
 #include "vtkShapeDiameterFilter.h"
@@ -26,14 +24,15 @@ vtkStandardNewMacro(vtkSDFBilateralSmooth);
 vtkSDFBilateralSmooth::vtkSDFBilateralSmooth()
   : vtkSDFSurfaceAlgorithm("smooth the SDF", "nothing to smooth", 0, false)
 {
-  // The defaults live in the core's options (BilateralSmoothing.h, Normalization.h); the XML
-  // mirrors them. NormalizationRange [0, 0] is the filter's own "automatic".
-  const shapediameter::BilateralSmoothingOptions smoothing;
-  this->NumberOfIterations = smoothing.NumberOfIterations;
-  this->SpatialSigma = smoothing.SpatialSigma;
-  this->NeighborhoodRadius = smoothing.NeighborhoodRadius;
-  this->RangeThreshold = smoothing.RangeThreshold;
-  this->Alpha = shapediameter::NormalizationOptions{}.Alpha;
+  // The defaults live in the core's options (SmoothAndNormalize.h: BilateralSmoothing.h,
+  // Normalization.h); the XML mirrors them. NormalizationRange [0, 0] is the filter's own
+  // "automatic".
+  const shapediameter::SmoothAndNormalizeOptions defaults;
+  this->NumberOfIterations = defaults.Smoothing.NumberOfIterations;
+  this->SpatialSigma = defaults.Smoothing.SpatialSigma;
+  this->NeighborhoodRadius = defaults.Smoothing.NeighborhoodRadius;
+  this->RangeThreshold = defaults.Smoothing.RangeThreshold;
+  this->Alpha = defaults.Normalization.Alpha;
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
     vtkShapeDiameterFilter::SDF_ARRAY_NAME);
 }
@@ -55,43 +54,37 @@ bool vtkSDFBilateralSmooth::ExecuteSurface(const shapediameter::adapter::Surface
 
   std::vector<std::int64_t> offsets, connectivity;
   adapter::PolygonCells(input, offsets, connectivity);
-  const ParallelFor& parallelFor = request.Parallel;
-  const FaceGraph graph = BuildFaceGraph(adapter::PointsOf(input), offsets, connectivity, parallelFor);
-  this->UpdateProgress(0.1);
-
-  BilateralSmoothingOptions options;
-  options.NumberOfIterations = this->NumberOfIterations;
-  options.SpatialSigma = this->SpatialSigma;
-  options.NeighborhoodRadius = this->NeighborhoodRadius;
-  options.RangeThreshold = this->RangeThreshold;
-  const BilateralSmoothingResult smoothed =
-    SmoothBilateral(graph, values, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.95));
-  if (smoothed.Aborted)
+  // Normalise over the polygons only: other cells would drag min/max to their fill value.
+  const auto [first, last] = adapter::PolygonCellRange(input);
+  SmoothAndNormalizeOptions options;
+  options.Smoothing.NumberOfIterations = this->NumberOfIterations;
+  options.Smoothing.SpatialSigma = this->SpatialSigma;
+  options.Smoothing.NeighborhoodRadius = this->NeighborhoodRadius;
+  options.Smoothing.RangeThreshold = this->RangeThreshold;
+  options.Normalization.Alpha = this->Alpha;
+  // max <= min means automatic; anything else, a non-finite bound included, is a given range
+  // (the core rejects a non-finite one).
+  options.Normalization.UseGivenRange = !(this->NormalizationRange[1] <= this->NormalizationRange[0]);
+  options.Normalization.RangeMinimum = this->NormalizationRange[0];
+  options.Normalization.RangeMaximum = this->NormalizationRange[1];
+  const PointMatrix points = adapter::PointsOf(input);
+  const SmoothAndNormalizeResult result = SmoothAndNormalize(
+    SmoothAndNormalizeInput{ points, offsets, connectivity, values, static_cast<std::size_t>(first),
+      static_cast<std::size_t>(last) },
+    options, request.Parallel, adapter::MakeProgress(this, 0.0, 1.0));
+  if (result.Aborted)
   {
     return false;
   }
 
-  // Normalise over the polygons only: other cells would drag min/max to their fill value.
-  const auto [first, last] = adapter::PolygonCellRange(input);
-  const std::vector<double> polygonValues(smoothed.Values.begin() + first, smoothed.Values.begin() + last);
-  NormalizationOptions normalization;
-  normalization.Alpha = this->Alpha;
-  // max <= min means automatic; anything else, a non-finite bound included, is a given range
-  // (the core rejects a non-finite one).
-  normalization.UseGivenRange = !(this->NormalizationRange[1] <= this->NormalizationRange[0]);
-  normalization.RangeMinimum = this->NormalizationRange[0];
-  normalization.RangeMaximum = this->NormalizationRange[1];
-  const std::vector<double> normalized = NormalizeLogarithmic(polygonValues, normalization);
-  const auto [rangeMinimum, rangeMaximum] = shapediameter::NormalizationRange(polygonValues, normalization);
-  output->GetFieldData()->AddArray(
-    adapter::MakeArray<vtkDoubleArray>(NORMALIZATION_RANGE_ARRAY_NAME, std::vector<double>{ rangeMinimum, rangeMaximum }));
-
-  output->GetCellData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SMOOTHED_ARRAY_NAME, smoothed.Values));
+  output->GetFieldData()->AddArray(adapter::MakeArray<vtkDoubleArray>(
+    NORMALIZATION_RANGE_ARRAY_NAME, std::vector<double>{ result.RangeMinimum, result.RangeMaximum }));
+  output->GetCellData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SMOOTHED_ARRAY_NAME, result.Smoothed));
   vtkNew<vtkDoubleArray> normalizedArray;
   normalizedArray->SetName(NORMALIZED_ARRAY_NAME);
   normalizedArray->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
   normalizedArray->FillValue(0.0);
-  std::copy(normalized.begin(), normalized.end(), normalizedArray->GetPointer(first));
+  std::copy(result.Normalized.begin(), result.Normalized.end(), normalizedArray->GetPointer(first));
   output->GetCellData()->AddArray(normalizedArray);
   // Active, so ParaView's array selection of the next stage (the partition) defaults to it.
   output->GetCellData()->SetActiveScalars(NORMALIZED_ARRAY_NAME);

@@ -2,6 +2,7 @@
 #include "vtkShapeDiameterFilter.h"
 
 #include "EmbreeRayCaster.h"
+#include "MeshGeometry.h"
 #include "Orientation.h"
 #include "ShapeDiameter.h"
 #include "SurfaceConversion.h"
@@ -14,13 +15,10 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
-#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
-
-#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <optional>
@@ -31,22 +29,6 @@ namespace
 {
 using namespace shapediameter;
 using adapter::TriangulatedSurface;
-
-vtkNew<vtkDoubleArray> MakeDoubleArray(const char* name, vtkIdType count)
-{
-  vtkNew<vtkDoubleArray> array;
-  array->SetName(name);
-  array->SetNumberOfTuples(count);
-  return array;
-}
-
-vtkNew<vtkIntArray> MakeIntArray(const char* name, vtkIdType count)
-{
-  vtkNew<vtkIntArray> array;
-  array->SetName(name);
-  array->SetNumberOfTuples(count);
-  return array;
-}
 
 /// The input's polygons with the winding of every flipped cell reversed (a polygon's
 /// triangles share its winding, so its first triangle decides).
@@ -73,49 +55,6 @@ vtkSmartPointer<vtkCellArray> ReorientedPolygons(
     polygons->InsertNextCell(count, ids.data());
   }
   return polygons;
-}
-
-/// Area-weighted vertex normals of the (oriented) triangles.
-PointMatrix VertexNormals(const TriangulatedSurface& surface)
-{
-  PointMatrix normals = PointMatrix::Zero(surface.Points.rows(), 3);
-  for (Eigen::Index t = 0; t < surface.Triangles.rows(); ++t)
-  {
-    const Eigen::RowVector3d a = surface.Points.row(surface.Triangles(t, 0));
-    const Eigen::RowVector3d areaVector =
-      (surface.Points.row(surface.Triangles(t, 1)) - a).cross(surface.Points.row(surface.Triangles(t, 2)) - a);
-    for (int corner = 0; corner < 3; ++corner)
-    {
-      normals.row(surface.Triangles(t, corner)) += areaVector;
-    }
-  }
-  return normals; // MakeVertexOrigins normalises, and skips zero normals
-}
-
-/// Point adjacency over triangle edges, CSR, sorted and unique.
-void PointAdjacency(const TriangulatedSurface& surface, std::vector<std::int64_t>& offsets,
-  std::vector<std::int64_t>& neighbours)
-{
-  std::vector<std::vector<std::int64_t>> lists(static_cast<std::size_t>(surface.Points.rows()));
-  for (Eigen::Index t = 0; t < surface.Triangles.rows(); ++t)
-  {
-    for (int corner = 0; corner < 3; ++corner)
-    {
-      const auto a = surface.Triangles(t, corner);
-      const auto b = surface.Triangles(t, (corner + 1) % 3);
-      lists[static_cast<std::size_t>(a)].push_back(b);
-      lists[static_cast<std::size_t>(b)].push_back(a);
-    }
-  }
-  offsets.assign(1, 0);
-  neighbours.clear();
-  for (auto& list : lists)
-  {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-    neighbours.insert(neighbours.end(), list.begin(), list.end());
-    offsets.push_back(static_cast<std::int64_t>(neighbours.size()));
-  }
 }
 } // namespace
 
@@ -203,19 +142,20 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
   options.Rule = this->HitRule == 1 ? shapediameter::HitRule::SkipSameFacing : shapediameter::HitRule::FirstHitLeaving;
   options.Mode = this->Mode == ADAPTIVE ? ShapeDiameterMode::Adaptive : ShapeDiameterMode::Exact;
   options.Tolerance = this->Tolerance;
+  // MakeVertexOrigins normalises the area-weighted normals, and skips zero ones.
   RayOrigins origins = this->PerPoint
-    ? MakeVertexOrigins(surface.Points, VertexNormals(surface))
+    ? MakeVertexOrigins(surface.Points, AreaWeightedVertexNormals(surface.Points, surface.Triangles))
     : MakeFaceOrigins(surface.Points, surface.Triangles);
-  std::vector<std::int64_t> pointOffsets, pointNeighbors;
+  PointAdjacency pointAdjacency;
   if (this->PerPoint)
   {
-    PointAdjacency(surface, pointOffsets, pointNeighbors);
+    pointAdjacency = BuildPointAdjacency(surface.Points.rows(), surface.Triangles);
   }
   if (options.Mode == ShapeDiameterMode::Adaptive)
   {
     // The adaptive mode interpolates over the surface: the same graph as the fill below.
-    origins.NeighborOffsets = this->PerPoint ? pointOffsets : triangleAdjacency().Offsets;
-    origins.Neighbors = this->PerPoint ? pointNeighbors : triangleAdjacency().Neighbors;
+    origins.NeighborOffsets = this->PerPoint ? pointAdjacency.Offsets : triangleAdjacency().Offsets;
+    origins.Neighbors = this->PerPoint ? pointAdjacency.Neighbors : triangleAdjacency().Neighbors;
   }
   ShapeDiameterResult result = ComputeShapeDiameter(
     caster, origins, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.9));
@@ -226,7 +166,7 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
 
   if (this->PerPoint)
   {
-    FillFromNeighbors(result.Values, result.ValidRays, pointOffsets, pointNeighbors);
+    FillFromNeighbors(result.Values, result.ValidRays, pointAdjacency.Offsets, pointAdjacency.Neighbors);
     output->GetPointData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SDF_ARRAY_NAME, result.Values));
     output->GetPointData()->AddArray(adapter::MakeArray<vtkIntArray>(VALID_RAYS_ARRAY_NAME, result.ValidRays));
     output->GetPointData()->SetActiveScalars(SDF_ARRAY_NAME);
@@ -238,36 +178,12 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
       FillFromNeighbors(
         result.Values, result.ValidRays, triangleAdjacency().Offsets, triangleAdjacency().Neighbors);
     }
-    auto triangleArea = [&surface](std::size_t t) {
-      const Eigen::RowVector3d a = surface.Points.row(surface.Triangles(t, 0));
-      return 0.5 *
-        (surface.Points.row(surface.Triangles(t, 1)) - a).cross(surface.Points.row(surface.Triangles(t, 2)) - a).norm();
-    };
-    const vtkIdType cellCount = surface.NumberOfCells();
-    auto sdf = MakeDoubleArray(SDF_ARRAY_NAME, cellCount);
-    auto rays = MakeIntArray(VALID_RAYS_ARRAY_NAME, cellCount);
-    for (vtkIdType cell = 0; cell < cellCount; ++cell)
-    {
-      const auto begin = surface.CellFirstTriangle[static_cast<std::size_t>(cell)];
-      const auto end = surface.CellFirstTriangle[static_cast<std::size_t>(cell) + 1];
-      double weighted = 0.0, area = 0.0, plain = 0.0;
-      int rayCount = 0;
-      for (auto t = static_cast<std::size_t>(begin); t < static_cast<std::size_t>(end); ++t)
-      {
-        // A cell of one triangle (the common case) needs no area.
-        const double triangleWeight = end - begin > 1 ? triangleArea(t) : 1.0;
-        weighted += triangleWeight * result.Values[t];
-        area += triangleWeight;
-        plain += result.Values[t];
-        rayCount += result.ValidRays[t];
-      }
-      // Vertices and lines own no triangle: 0 (documented); zero-area cells: plain mean.
-      const double value = end == begin ? 0.0 : area > 0.0 ? weighted / area : plain / double(end - begin);
-      sdf->SetValue(cell, value);
-      rays->SetValue(cell, rayCount);
-    }
-    output->GetCellData()->AddArray(sdf);
-    output->GetCellData()->AddArray(rays);
+    // Vertices and lines own no triangle: 0 (documented); a polygon: the area-weighted mean of
+    // its triangles.
+    output->GetCellData()->AddArray(adapter::MakeArray<vtkDoubleArray>(SDF_ARRAY_NAME,
+      AreaWeightedCellMeans(surface.Points, surface.Triangles, surface.CellFirstTriangle, result.Values)));
+    output->GetCellData()->AddArray(adapter::MakeArray<vtkIntArray>(
+      VALID_RAYS_ARRAY_NAME, CellSums(surface.CellFirstTriangle, result.ValidRays)));
     output->GetCellData()->SetActiveScalars(SDF_ARRAY_NAME);
   }
   return true;

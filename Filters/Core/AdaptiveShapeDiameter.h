@@ -41,8 +41,8 @@
 //      owner's value, then 8 Jacobi sweeps average it with its neighbours (cast origins stay
 //      fixed), not across concave creases: an edge where the normals differ by more than 60
 //      degrees and the neighbour lies on the outer side of the origin's tangent plane (where
-//      the partition cuts). validRays of such an origin is its owner's. Origins no region
-//      reached keep value 0 / validRays 0 (the adapter's FillFromNeighbors fills them).
+//      the partition cuts). ValidRays of such an origin is its owner's. Origins no region
+//      reached keep value 0 / ValidRays 0 (the adapter's FillFromNeighbors fills them).
 //
 // Options: Tolerance and SpacingFraction are in ShapeDiameterOptions (defaults 0.15 and 0.5);
 //   the rest are fixed here: K from a coarse cell of 1/32 of the bounding-box diagonal, 8
@@ -82,7 +82,7 @@
 // serial and in index order; the casts run through CastShapeDiameterCones (per-origin results)
 // and the sweeps are Jacobi steps (each origin reads the previous sweep), so any ParallelFor
 // gives bit-identical results. Progress is reported per chunk of each round's casts, mapped
-// to a monotone fraction; an abort stops at the next chunk and sets aborted.
+// to a monotone fraction; an abort stops at the next chunk and sets Aborted.
 #pragma once
 
 #include "ShapeDiameter.h"

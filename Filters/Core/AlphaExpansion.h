@@ -33,10 +33,10 @@
 // Progress and abort
 //   progress(fraction) is called after every move with (moves done) / (MaxCycles k), and 1 at
 //   the end; returning false stops after the current move: the result holds the best labelling
-//   so far, with aborted = true.
+//   so far, with Aborted = true.
 //
 // Degenerate cases
-//   FaceCount 0: empty result, energy 0, converged. k = 1: all zeros. Initial labels of the
+//   FaceCount 0: empty result, Energy 0, Converged. k = 1: all zeros. Initial labels of the
 //   wrong size or out of range: PartitionEnergyError.
 #pragma once
 

@@ -24,27 +24,27 @@
 //   - Initialisation: k-means++ seeding (first centre with probability proportional to the
 //     count, the next ones proportional to count x squared distance to the nearest centre),
 //     then weights and variances from the nearest-centre assignment. Random numbers: one
-//     std::mt19937_64 seeded with `seed`, mapped to [0, 1) by (r >> 11) * 2^-53 (bit-identical
-//     on every platform). `restarts` seedings are drawn one after another from that generator;
+//     std::mt19937_64 seeded with `Seed`, mapped to [0, 1) by (r >> 11) * 2^-53 (bit-identical
+//     on every platform). `Restarts` seedings are drawn one after another from that generator;
 //     each runs `ScreeningIterations` EM iterations, and only the one with the largest
 //     log-likelihood then (the first on ties) runs on to convergence. Screening keeps the cost
 //     of restarts low: EM crawls for hundreds of iterations when k exceeds the modes present.
-//   - Convergence: stop when the log-likelihood per value increases by less than `tolerance`,
-//     or after `MaxIterations` iterations in all (`converged` says which).
+//   - Convergence: stop when the log-likelihood per value increases by less than `Tolerance`,
+//     or after `MaxIterations` iterations in all (the model's `Converged` says which).
 //   - Posteriors (ComputePosteriors) are evaluated per value, exactly, from the fitted
 //     parameters with a log-sum-exp: every row sums to 1 (to rounding) and is finite.
 //
 // Parameters (GaussianMixtureOptions; the paper gives none of these)
-//   restarts        5       [1, 1000]   k-means++ seedings; the most likely is kept.
+//   Restarts        5       [1, 1000]   k-means++ seedings; the most likely is kept.
 //   MaxIterations   500     [1, 1e6]    EM iterations of the kept seeding, screening included.
 //   ScreeningIterations 20  [1, 1e6]    EM iterations given to every seeding before choosing.
-//   tolerance       1e-8    [0, 1]      stop when the log-likelihood per value gains less.
+//   Tolerance       1e-8    [0, 1]      stop when the log-likelihood per value gains less.
 //   BinCount        512     [0, 1e7]    histogram bins; 0 = exact EM on distinct values.
 //                                       Cost per iteration O(BinCount k), independent of n.
 //   MinSigmaRelative 1e-3   [1e-12, 1]  sigma floor, relative to the data range max - min
 //                                       (relative to max(|value|, 1) for constant data).
 //                                       Stops a component collapsing onto one value.
-//   seed            0x5DF2008
+//   Seed            0x5DF2008
 //   BIC k range (FitGaussianMixtureBic): 2..8 by default; BIC = -2 logL + (3k - 1) ln n with
 //   the (binned) log-likelihood above; lowest wins, the smaller k on ties.
 //

@@ -15,8 +15,8 @@ namespace shapediameter
 struct MeshPiece
 {
   OFFMesh Mesh;
-  std::vector<std::int64_t> GlobalPointIds; ///< one per vertex of `mesh`, increasing
-  std::vector<std::int64_t> GlobalFaceIds;  ///< one per face of `mesh`, increasing
+  std::vector<std::int64_t> GlobalPointIds; ///< one per vertex of `Mesh`, increasing
+  std::vector<std::int64_t> GlobalFaceIds;  ///< one per face of `Mesh`, increasing
 };
 
 /// How faces are dealt out to the pieces.

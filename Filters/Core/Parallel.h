@@ -25,6 +25,17 @@ using ParallelFor = std::function<void(std::size_t count, const RangeBody& body)
 /// Reports the fraction of work done in [0, 1]; returns false to request an abort.
 using ProgressCallback = std::function<bool(double fraction)>;
 
+/// Maps a step's progress [0, 1] to [begin, end] of the whole computation (empty without a
+/// callback). Refers to `progress`, which must outlive the returned callback.
+inline ProgressCallback SubProgress(const ProgressCallback& progress, double begin, double end)
+{
+  if (!progress)
+  {
+    return {};
+  }
+  return [&progress, begin, end](double fraction) { return progress(begin + (end - begin) * fraction); };
+}
+
 inline void SerialFor(std::size_t count, const RangeBody& body)
 {
   if (count > 0)

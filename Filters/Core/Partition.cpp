@@ -21,16 +21,6 @@ double Lap(Clock::time_point& start)
   return ms;
 }
 
-/// Maps a step's progress [0, 1] to [begin, end] of the whole computation.
-ProgressCallback SubProgress(const ProgressCallback& progress, double begin, double end)
-{
-  if (!progress)
-  {
-    return {};
-  }
-  return [&progress, begin, end](double fraction) { return progress(begin + (end - begin) * fraction); };
-}
-
 PartitionResult AbortedResult()
 {
   PartitionResult result;

@@ -17,7 +17,7 @@
 //      kept; the threshold is max(sigma, that half gap) to keep this true under rounding;
 //   4. f_v(p) = sum(w_i L_i) / sum(w_i) over the kept rays, w_i = 1 / angle(ray_i, axis)
 //      (ConeSampling.h defines the floor for a ray on the axis).
-//   Outputs per origin: values (length units of the mesh) and validRays (rays kept in step 3).
+//   Outputs per origin: Values (length units of the mesh) and ValidRays (rays kept in step 3).
 //
 // Parameters (ShapeDiameterOptions)
 //   NumberOfRays      default 30 (paper), range [1, 4096].
@@ -62,9 +62,9 @@
 //
 // Degenerate cases
 //   - An origin listed in Skip, or with a non-finite point or a zero/non-finite normal, is not
-//     cast: value 0, validRays 0. MakeFaceOrigins marks zero-area faces this way.
+//     cast: value 0, ValidRays 0. MakeFaceOrigins marks zero-area faces this way.
 //   - An origin whose rays all miss (open mesh, inverted orientation, ...) gets value 0 and
-//     validRays 0. FillFromNeighbors then replaces every validRays == 0 value (see below).
+//     ValidRays 0. FillFromNeighbors then replaces every validRays == 0 value (see below).
 //   - Inverted (inward-facing) triangles: the cone points outward. On a convex component no
 //     ray hits anything, the whole component becomes invalid and receives the fallback of
 //     FillFromNeighbors; on a non-convex one the rays measure the gaps between parts. The
@@ -75,8 +75,8 @@
 // ParallelFor; every origin's result depends on that origin only, so SerialFor and any
 // ThreadedFor give bit-identical results. The ProgressCallback is called once per finished
 // chunk (possibly from a worker thread, never concurrently; it must not throw) with the
-// fraction done; returning false aborts: the remaining chunks are skipped, aborted is set and
-// unprocessed origins keep value 0 / validRays 0.
+// fraction done; returning false aborts: the remaining chunks are skipped, Aborted is set and
+// unprocessed origins keep value 0 / ValidRays 0.
 #pragma once
 
 #include "MeshTypes.h"
@@ -134,7 +134,7 @@ struct RayOrigins
   /// The triangle each origin lies on, never hit from that origin; empty = none (vertex
   /// origins, which then use VertexOriginOffset). -1 entries = none for that origin.
   std::vector<std::int64_t> SourceTriangles;
-  /// Nonzero = do not cast from this origin (value 0, validRays 0); empty = cast from all.
+  /// Nonzero = do not cast from this origin (value 0, ValidRays 0); empty = cast from all.
   std::vector<std::uint8_t> Skip;
   /// Neighbors of each origin over the surface, CSR (neighbours of i: Neighbors[
   /// NeighborOffsets[i] .. NeighborOffsets[i + 1])), e.g. the triangle adjacency of face
@@ -169,7 +169,7 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
   const ProgressCallback& progress = ProgressCallback());
 
 /// Casts the cones of the origins listed in `subset` (distinct indices; nullptr = all) into
-/// result.values / validRays (sized by the caller), as ComputeShapeDiameter's Exact mode does
+/// result.Values / ValidRays (sized by the caller), as ComputeShapeDiameter's Exact mode does
 /// for each of them; adds the casts to result.CastCount. Progress as ComputeShapeDiameter's,
 /// over the listed origins. Returns false when aborted. Used by the Adaptive mode.
 bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,

@@ -37,18 +37,6 @@ std::vector<std::int64_t> DenseLabels(const std::vector<std::int64_t>& labels)
   return result;
 }
 
-/// Maps a step's progress [0, 1] to [begin, end] of the whole computation.
-ProgressCallback SubProgress(const ProgressCallback& progress, double begin, double end)
-{
-  if (!progress)
-  {
-    return {};
-  }
-  return [&progress, begin, end](double fraction) {
-    return progress(begin + (end - begin) * fraction);
-  };
-}
-
 /// The bone of every face's part: each part (faces with one label within one surface
 /// component) takes the bone that holds the largest area of it under the nearest-node link
 /// (ties: the lowest bone id). Returns that bone per face.

@@ -23,14 +23,13 @@
 //
 // Run: build with -DSHAPEDIAMETER_BUILD_BENCHMARKS=ON (Release), then bin/BenchMaxFlow.
 #include "AlphaExpansion.h"
-#include "BilateralSmoothing.h"
 #include "FaceGraph.h"
 #include "GaussianMixture.h"
 #include "MaxFlow.h"
-#include "Normalization.h"
 #include "OFFParser.h"
 #include "PartitionEnergy.h"
 #include "ShapeDiameter.h"
+#include "SmoothAndNormalize.h"
 
 #include <benchmark/benchmark.h>
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
@@ -86,8 +85,7 @@ RecordedExpansionRun RecordRun(const std::string& name)
   const ParallelFor parallelFor = ThreadedFor(2);
   const ShapeDiameterResult sdf = ComputeFaceShapeDiameter(points, triangles, ShapeDiameterOptions(), parallelFor);
   const FaceGraph graph = BuildFaceGraph(points, triangles, parallelFor);
-  const BilateralSmoothingResult smoothed = SmoothBilateral(graph, sdf.Values, {}, parallelFor);
-  const std::vector<double> normalized = NormalizeLogarithmic(smoothed.Values);
+  const std::vector<double> normalized = SmoothAndNormalize(points, triangles, sdf.Values, {}, parallelFor).Normalized;
   const Eigen::Map<const Eigen::VectorXd> values(normalized.data(), static_cast<Eigen::Index>(normalized.size()));
   const GaussianMixtureModel model = FitGaussianMixture(values, 5);
   const PartitionEnergy energy = BuildPartitionEnergy(ComputePosteriors(model, values), MakeDualGraphView(graph));
