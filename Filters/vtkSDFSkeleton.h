@@ -16,6 +16,8 @@
  *    line in both directions.
  * 4. k-terminal shortest paths through P (a priority-queue growth from all segments at
  *    once) join the segments: one connected tree per connected surface component.
+ * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor)
+ *    gets a branch through P to its farthest point.
  * Every face is linked to the node nearest to its projected centre (face centre pushed
  * inward by SDF/2). When the input has `SDFSegment` (the partition's connected parts; the
  * product chain puts vtkSDFGMMPartition before this filter) and LinkBySegment is on, every
@@ -23,8 +25,7 @@
  * nearest-node link, and each of its faces to the nearest node of that bone. This follows
  * the paper's Fig. 15 (the projected points keep their face's part) and is what makes
  * `SkeletonBoneId` consistent across poses: the skeleton's junctions move with the pose,
- * the partition's boundaries much less (ten elephant poses: 22.3 % of the faces change
- * bone with the nearest node alone, 9.5 % by segment; README "Skeleton against a rig").
+ * the partition's boundaries much less (measurements: README "Skeleton against a rig").
  * Algorithm details, the remaining (advanced) defaults and the deviations:
  * Filters/Core/Skeleton*.h.
  *
@@ -42,6 +43,10 @@
  *   its points and only its longest limbs get a branch; 0 = the threshold alone; see
  *   Filters/Core/SkeletonThinning.h for the measurements).
  * - SpacingFactor ε 0.25, [0, 10], in units of the local radius SDF/2.
+ * - UncoveredFactor 4, [0, 1e6]: after step 4, every large group of projected points farther
+ *   than this many radii from the skeleton gets a branch (deviation: the paper's skeleton
+ *   only joins confident segments, so a bent or stubby limb or an ear gets a branch in some
+ *   poses and not in others; 0 = the paper's; Filters/Core/SkeletonCoverage.h).
  * - LinkBySegment on: the segment link above (deviation: the paper draws the parts on the
  *   projected points but does not say how faces are assigned to bones).
  * - Seed 0x5DF5EED; NumberOfThreads 0 = all cores (the output does not depend on it;
@@ -125,6 +130,14 @@ public:
   ///@}
 
   ///@{
+  /// Projected points farther than this many radii from the skeleton are uncovered, and every
+  /// group of them holding 1 % of the points gets a branch (default 4, range [0, 1e6]; 0 = off;
+  /// not in the paper, see Filters/Core/SkeletonCoverage.h).
+  vtkSetClampMacro(UncoveredFactor, double, 0.0, 1e6);
+  vtkGetMacro(UncoveredFactor, double);
+  ///@}
+
+  ///@{
   /// Link every segment of the input's `SDFSegment` (vtkSDFGMMPartition) to one bone (default
   /// on); off, or without that array, each face is linked to its nearest node alone.
   vtkSetMacro(LinkBySegment, vtkTypeBool);
@@ -157,6 +170,7 @@ protected:
   double ConfidenceThreshold;
   double MinimumConfidentShare;
   double SpacingFactor;
+  double UncoveredFactor;
   vtkTypeBool LinkBySegment = 1;
   int Seed;
 

@@ -219,7 +219,7 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
     return result;
   }
 
-  ExpansionGraph graph(energy, options.beforeEachCut);
+  ExpansionGraph graph(energy, options.BeforeEachCut);
   std::vector<int> candidate;
   const long totalMoves = static_cast<long>(options.MaxCycles) * k;
   int movesWithoutDecrease = 0;

@@ -58,7 +58,7 @@ struct AlphaExpansionOptions
   /// Not a parameter of the method: called with the s-t graph of every move just before it is
   /// solved (capacities set), so a benchmark can record the graphs of a real run and time
   /// max-flow implementations on them alone. Called on the thread that solves the move.
-  std::function<void(const MaxFlowGraph&)> beforeEachCut;
+  std::function<void(const MaxFlowGraph&)> BeforeEachCut;
 };
 
 struct AlphaExpansionResult

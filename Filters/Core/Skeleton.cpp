@@ -20,6 +20,7 @@ void ValidateSkeletonOptions(const SkeletonOptions& options)
   ValidateThinningOptions(options.Thinning);
   ValidateSegmentOptions(options.Segments);
   ValidateConnectionOptions(options.Connection);
+  ValidateCoverageOptions(options.Coverage);
 }
 
 namespace
@@ -131,6 +132,13 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   SkeletonGraph graph = ConnectPolySegments(cloud, thinned, segments, pointComponent,
     options.Connection, parallelFor, SubProgress(progress, 0.7, 0.9), aborted, &volume);
   if (aborted)
+  {
+    return AbortedResult();
+  }
+
+  // 5. Branches into the parts the skeleton does not reach (ours; SkeletonCoverage.h).
+  ReachUncoveredParts(graph, cloud, thinned, pointComponent, options.Coverage, parallelFor, &volume);
+  if (progress && !progress(0.92))
   {
     return AbortedResult();
   }

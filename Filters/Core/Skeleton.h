@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// SDF-guided curve skeleton: the four steps of the paper's section 5, in order.
+// SDF-guided curve skeleton: the four steps of the paper's section 5, in order, and ours.
 //
 // What it computes
 //   A curve skeleton (nodes with a medial radius and a confidence, joined by polylines) of a
@@ -11,7 +11,10 @@
 //     3. GrowPolySegments      - ordered poly-segments grown through T
 //     4. ConnectPolySegments   - k-terminal shortest paths through P join the segments into
 //                                one tree per connected surface component
-//   Steps 3 and 4 move only through the volume: an Embree BVH of the mesh (EmbreeRayCaster)
+//     5. ReachUncoveredParts   - (ours) a branch into every large group of projected points
+//                                far from the tree: parts with no confident segment (a bent
+//                                or stubby limb, an ear) still get one, in every pose
+//   Steps 3, 4 and 5 move only through the volume: an Embree BVH of the mesh (EmbreeRayCaster)
 //   rejects growth steps and neighbour-graph edges whose straight segment meets the surface
 //   (the face link below does not use it: measured, it changed 0.0 points of the elephant
 //   poses' bone change and costs two rays per face).
@@ -25,8 +28,7 @@
 //   (faces whose nearest node is on that bone keep it). Why: a junction's position along the
 //   torso moves with the pose, so the nearest-node boundary between two bones sweeps across
 //   the body, while the partition's boundaries sit at the concave creases where limbs meet
-//   it and hardly move (ten elephant poses: 22.3 % of the faces change bone with the nearest
-//   node alone, 9.5 % by part; the articulated figure's two poses 18.2 -> 8.1 %).
+//   it and hardly move (measurements: README "Skeleton against a rig").
 //
 // Bones
 //   Bones are the branches of the tree: the maximal paths of the skeleton graph (the union of
@@ -58,10 +60,10 @@
 //   A per-face cluster label (SDFCluster) is not needed here: the adapter reads it through
 //   CloudSourceFace for the cloud output.
 //
-// Parameters: SkeletonOptions gathers the options of the four steps; their defaults and valid
-// ranges are documented in SkeletonSampling.h, SkeletonThinning.h, SkeletonSegments.h and
-// SkeletonConnection.h. All lengths are relative to the local medial radius SDF/2, so the
-// result does not depend on the mesh's scale.
+// Parameters: SkeletonOptions gathers the options of the five steps; their defaults and valid
+// ranges are documented in SkeletonSampling.h, SkeletonThinning.h, SkeletonSegments.h,
+// SkeletonConnection.h and SkeletonCoverage.h. All lengths are relative to the local medial
+// radius SDF/2, so the result does not depend on the mesh's scale.
 //
 // Degenerate input
 //   No triangles -> empty result (not an error). Invalid input -> SkeletonError (see
@@ -80,6 +82,7 @@
 #include "MeshTypes.h"
 #include "Parallel.h"
 #include "SkeletonConnection.h"
+#include "SkeletonCoverage.h"
 #include "SkeletonSampling.h"
 #include "SkeletonSegments.h"
 #include "SkeletonThinning.h"
@@ -96,6 +99,7 @@ struct SkeletonOptions
   SkeletonThinningOptions Thinning;
   SkeletonSegmentOptions Segments;
   SkeletonConnectionOptions Connection;
+  SkeletonCoverageOptions Coverage;
 };
 
 struct SkeletonResult

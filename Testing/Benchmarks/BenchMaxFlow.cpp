@@ -10,7 +10,7 @@
 // The run: Data/<mesh>.off through the core steps of the default chain (SDF with Embree,
 // bilateral smoothing, logarithmic normalisation, EM with k = 5, energy with the default
 // lambda), then MinimizeByAlphaExpansion -- what vtkSDFGMMPartition runs below 60k faces
-// (MultilevelOptions::directBelowFaces) -- with AlphaExpansionOptions::beforeEachCut recording
+// (MultilevelOptions::DirectBelowFaces) -- with AlphaExpansionOptions::BeforeEachCut recording
 // the terminal and arc capacities of every move. Both solvers get the same capacities; the
 // topology (our CSR arcs, Boost's compressed_sparse_row_graph with explicit terminal edges) is
 // built once outside the timing, as the alpha-expansion does. Timed per move: filling the
@@ -95,7 +95,7 @@ RecordedExpansionRun RecordRun(const std::string& name)
   run.pairFirst = energy.PairFirst;
   run.pairSecond = energy.PairSecond;
   AlphaExpansionOptions options;
-  options.beforeEachCut = [&run](const MaxFlowGraph& cut) {
+  options.BeforeEachCut = [&run](const MaxFlowGraph& cut) {
     run.arcCount = cut.ArcCount();
     std::vector<double> terminal(cut.NodeCount()), arc(cut.ArcCount());
     for (std::size_t i = 0; i < terminal.size(); ++i)

@@ -287,6 +287,46 @@ TEST(SDFSkeleton, EverySegmentIsLinkedToOneBone)
   EXPECT_EQ(fallback.Bone, nearest.Bone);
 }
 
+TEST(SDFSkeleton, PartsWithoutASegmentGetABranch)
+{
+  // The dino's legs and tail have no confident poly-segment: the paper's skeleton stops at the
+  // hips. Share of the projected points farther than 4 radii from every node, measured 11.0 %
+  // with UncoveredFactor 0 and 3.6 % at the default.
+  vtkNew<vtkSDFOFFReader> reader;
+  reader->SetFileName(DataFile("dino.off").c_str());
+  vtkNew<vtkShapeDiameterFilter> sdf;
+  sdf->SetInputConnection(reader->GetOutputPort());
+  vtkNew<vtkSDFBilateralSmooth> smooth;
+  smooth->SetInputConnection(sdf->GetOutputPort());
+  smooth->Update();
+  auto uncoveredShare = [&](double factor) {
+    vtkNew<vtkSDFSkeleton> skeleton;
+    skeleton->SetInputData(smooth->GetOutput());
+    skeleton->SetUncoveredFactor(factor);
+    skeleton->Update();
+    vtkPolyData* nodes = skeleton->GetSkeleton();
+    vtkPolyData* cloud = skeleton->GetProjectedPoints();
+    vtkDataArray* radius = cloud->GetPointData()->GetArray("Radius");
+    vtkIdType uncovered = 0;
+    for (vtkIdType p = 0; p < cloud->GetNumberOfPoints(); ++p)
+    {
+      double nearest = VTK_DOUBLE_MAX;
+      for (vtkIdType n = 0; n < nodes->GetNumberOfPoints(); ++n)
+      {
+        nearest = std::min(nearest, vtkMath::Distance2BetweenPoints(cloud->GetPoint(p), nodes->GetPoint(n)));
+      }
+      uncovered += std::sqrt(nearest) > 4.0 * radius->GetComponent(p, 0) ? 1 : 0;
+    }
+    return static_cast<double>(uncovered) / static_cast<double>(cloud->GetNumberOfPoints());
+  };
+  const double paper = uncoveredShare(0.0);
+  const double covered = uncoveredShare(4.0);
+  std::printf("dino: %.1f %% of the projected points uncovered without step 5, %.1f %% with it\n",
+    100.0 * paper, 100.0 * covered);
+  EXPECT_GE(paper, 0.08);
+  EXPECT_LE(covered, 0.06);
+}
+
 TEST(SDFSkeleton, OutputsAreLinkedAndDeterministic)
 {
   vtkNew<vtkSDFOFFReader> reader;

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Skeleton step 5 (ours, not the paper's): a branch into every part the skeleton misses.
+//
+// What it does
+//   The paper's skeleton only grows from confident, curve-like points of T, and its connection
+//   step only joins the poly-segments found: a part whose projected points never form a
+//   confident segment (a limb that bends or is short and thick, a sheet such as an ear) gets
+//   no branch, and whether it does changes from pose to pose. After the connection step:
+//     1. A point p of P is uncovered when its distance to the nearest skeleton node of its
+//        own component exceeds UncoveredFactor * radius(p) (never when radius(p) = 0). A point of a part the skeleton
+//        runs through lies within about its radius of it; one of a missed part lies far away.
+//     2. Uncovered points are grouped through the neighbour graph of P (each point's
+//        NumberOfNeighbors nearest points of its component, edges whose straight segment
+//        meets the surface dropped, as in the connection step).
+//     3. Every group holding at least MinimumShare of all points gets one branch: the
+//        shortest path through the neighbour graph from its point farthest from the skeleton
+//        (the part's tip) to the first covered point, joined to that point's nearest node.
+//        Its nodes are the MLS-projected positions (ThinnedCloud::Positions) of the path's
+//        points, kept when at least half their radius from the previous node (the tip is
+//        always kept). It is a connecting path (IsConnection 1).
+//   Then the bones are assigned again (AssignBranchBones).
+//
+// Why: on posed characters the missed parts are not missed in every pose (an ear's sheet of
+// points happens to form a confident segment in some poses only), so the paper's skeleton
+// changes its leaves from pose to pose; with this step every pose gets them. It also reaches
+// limbs whose branch stopped at the hip. Measurements: README "Skeleton against a rig".
+//
+// Parameters (SkeletonCoverageOptions)
+//   UncoveredFactor      4      [0, 1e6]  in units of the point's radius; 0 = step off.
+//   MinimumShare         0.01   [0, 1]    of all projected points, per group.
+//   NumberOfNeighbors    10     [1, 100]  neighbours per point in the graph of step 2.
+//
+// Determinism: the neighbour graph is built in parallel but each edge is tested once from its
+// lower index; groups, tips (ties: lowest index) and shortest paths (ties: lowest index) do
+// not depend on the thread count.
+#pragma once
+
+#include "MeshTypes.h"
+#include "Parallel.h"
+#include "RayCaster.h"
+#include "SkeletonBones.h"
+#include "SkeletonSampling.h"
+#include "SkeletonThinning.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace shapediameter
+{
+
+struct SkeletonCoverageOptions
+{
+  /// A projected point farther than this many radii from every node is uncovered; 0 = off.
+  double UncoveredFactor = 4.0;
+  /// A group of uncovered points gets a branch when it holds this share of all points.
+  double MinimumShare = 0.01;
+  /// Neighbours per point in the graph that groups the points and carries the paths.
+  int NumberOfNeighbors = 10;
+};
+
+/// Throws SkeletonError if an option is outside its documented range.
+void ValidateCoverageOptions(const SkeletonCoverageOptions& options);
+
+/// Step 5: adds a branch into every large group of uncovered points (see the header comment)
+/// and assigns the bones again when it added any. volume: the mesh's ray caster, or null to
+/// accept every neighbour edge. pointComponent: surface component of each point of P, or
+/// empty for one component. Returns the number of branches added.
+std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& cloud,
+  const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
+  const SkeletonCoverageOptions& options, const ParallelFor& parallelFor,
+  const RayCaster* volume = nullptr);
+
+} // namespace shapediameter

@@ -1,0 +1,150 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Tests of skeleton step 5 (SkeletonCoverage.h): a branch into every large group of projected
+// points far from the tree, on a hand-made cloud whose answer is known: an L of points where the
+// skeleton covers one arm only.
+#include "SkeletonCoverage.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace
+{
+
+using namespace shapediameter;
+
+struct LCloud
+{
+  ProjectedCloud Cloud;
+  ThinnedCloud Thinned;
+  SkeletonGraph Graph;
+};
+
+/// Points of radius 0.1 on a line from (0,0,0) to (4,0,0) (the skeleton: nodes every 0.2 on
+/// it) and, unless `armPoints` is 0, on a line from (4,0,0) up to (4,armLength,0) that no node
+/// covers; plus a few points around (0,0,0).
+LCloud MakeL(int armPoints, double armLength = 2.0)
+{
+  std::vector<Eigen::Vector3d> positions;
+  for (int i = 0; i <= 200; ++i)
+  {
+    positions.emplace_back(4.0 * i / 200.0, 0.0, 0.0);
+  }
+  for (int i = 1; i <= armPoints; ++i)
+  {
+    positions.emplace_back(4.0, armLength * i / armPoints, 0.0);
+  }
+  LCloud l;
+  const auto n = static_cast<Eigen::Index>(positions.size());
+  l.Cloud.Positions.resize(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i)
+  {
+    l.Cloud.Positions.row(i) = positions[static_cast<std::size_t>(i)].transpose();
+  }
+  l.Cloud.Radius.assign(positions.size(), 0.1);
+  l.Cloud.SourceFace.assign(positions.size(), 0);
+  l.Thinned.Positions = l.Cloud.Positions;
+  l.Thinned.Confidence.assign(positions.size(), 0.9);
+  const int nodes = 21;
+  l.Graph.NodePositions.resize(nodes, 3);
+  std::vector<std::int64_t> polyline;
+  for (int i = 0; i < nodes; ++i)
+  {
+    l.Graph.NodePositions.row(i) << 0.2 * i, 0.0, 0.0;
+    l.Graph.NodeRadius.push_back(0.1);
+    l.Graph.NodeConfidence.push_back(0.9);
+    l.Graph.NodeCloudIndex.push_back(10 * i);
+    l.Graph.NodeComponent.push_back(0);
+    polyline.push_back(i);
+  }
+  l.Graph.Polylines.push_back(polyline);
+  l.Graph.IsConnection.push_back(0);
+  AssignBranchBones(l.Graph);
+  return l;
+}
+
+} // namespace
+
+TEST(SkeletonCoverage, AnUncoveredArmGetsABranchToItsTip)
+{
+  LCloud l = MakeL(100);
+  const std::size_t added = ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, {}, {}, SerialFor);
+  ASSERT_EQ(added, 1u);
+  ASSERT_EQ(l.Graph.Polylines.size(), 2u) << "the old line and the new branch";
+  EXPECT_EQ(l.Graph.IsConnection.back(), 1);
+  const std::vector<std::int64_t>& branch = l.Graph.Polylines.back();
+  // It starts at the corner node (4,0,0) and ends at the tip of the arm (4,2,0).
+  EXPECT_NEAR((l.Graph.NodePositions.row(branch.front()) - Eigen::RowVector3d(4, 0, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((l.Graph.NodePositions.row(branch.back()) - Eigen::RowVector3d(4, 2, 0)).norm(), 0.0, 1e-12);
+  // Nodes follow the arm at a spacing of at least half the radius (the tip is always kept).
+  for (std::size_t i = 1; i + 1 < branch.size(); ++i)
+  {
+    const Eigen::RowVector3d node = l.Graph.NodePositions.row(branch[i]);
+    EXPECT_NEAR(node.x(), 4.0, 1e-12);
+    EXPECT_GE((node - l.Graph.NodePositions.row(branch[i - 1])).norm(), 0.05 - 1e-12);
+  }
+  // Every point of the cloud now lies within 4 radii of a node.
+  for (Eigen::Index p = 0; p < l.Cloud.Positions.rows(); ++p)
+  {
+    double nearest = 1e300;
+    for (Eigen::Index v = 0; v < l.Graph.NodePositions.rows(); ++v)
+    {
+      nearest = std::min(nearest, (l.Cloud.Positions.row(p) - l.Graph.NodePositions.row(v)).norm());
+    }
+    EXPECT_LE(nearest, 0.4) << "point " << p;
+  }
+  // The bones were assigned again: the line turns into the arm at (4,0,0), a node of degree
+  // 2, so the tree is one branch of length 4 + 2.
+  EXPECT_EQ(l.Graph.BoneLength.size(), 1u);
+  EXPECT_NEAR(l.Graph.BoneLength[0], 6.0, 1e-9);
+}
+
+TEST(SkeletonCoverage, SmallGroupsFactorZeroAndThreadsDoNotChangeTheResult)
+{
+  // An arm of 0.45: only its last point is farther than 4 radii from the line, 1 of 211
+  // points, below the default share of 1 %.
+  LCloud small = MakeL(10, 0.45);
+  EXPECT_EQ(ReachUncoveredParts(small.Graph, small.Cloud, small.Thinned, {}, {}, SerialFor), 0u);
+  EXPECT_EQ(small.Graph.Polylines.size(), 1u);
+
+  SkeletonCoverageOptions off;
+  off.UncoveredFactor = 0.0;
+  LCloud unchanged = MakeL(100);
+  EXPECT_EQ(ReachUncoveredParts(unchanged.Graph, unchanged.Cloud, unchanged.Thinned, {}, off, SerialFor), 0u);
+  EXPECT_EQ(unchanged.Graph.NodePositions.rows(), 21);
+
+  LCloud serial = MakeL(100);
+  LCloud threaded = MakeL(100);
+  ReachUncoveredParts(serial.Graph, serial.Cloud, serial.Thinned, {}, {}, SerialFor);
+  ReachUncoveredParts(threaded.Graph, threaded.Cloud, threaded.Thinned, {}, {}, ThreadedFor(3));
+  EXPECT_TRUE(serial.Graph.NodePositions == threaded.Graph.NodePositions);
+  EXPECT_EQ(serial.Graph.Polylines, threaded.Graph.Polylines);
+}
+
+TEST(SkeletonCoverage, PointsOfAnotherComponentAreNotJoined)
+{
+  // The arm is another surface component with no node of its own: nothing to join it to.
+  LCloud l = MakeL(100);
+  std::vector<std::int64_t> component(static_cast<std::size_t>(l.Cloud.Positions.rows()), 0);
+  for (std::size_t p = 201; p < component.size(); ++p)
+  {
+    component[p] = 1;
+  }
+  EXPECT_EQ(ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, component, {}, SerialFor), 0u);
+}
+
+TEST(SkeletonCoverage, OptionsOutsideTheirRangeThrow)
+{
+  SkeletonCoverageOptions options;
+  options.UncoveredFactor = -1.0;
+  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  options = {};
+  options.MinimumShare = 1.5;
+  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  options = {};
+  options.NumberOfNeighbors = 0;
+  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  EXPECT_NO_THROW(ValidateCoverageOptions({}));
+}
