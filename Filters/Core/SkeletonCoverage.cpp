@@ -170,6 +170,11 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
     }
   });
 
+  if (std::none_of(uncovered.begin(), uncovered.end(), [](char u) { return u != 0; }))
+  {
+    return 0; // the common case: no neighbour graph to build
+  }
+
   // 2. Groups of uncovered points.
   const Adjacency adjacency =
     UncoveredNeighborGraph(cloud, uncovered, componentOf, options.NumberOfNeighbors, parallelFor, volume);
