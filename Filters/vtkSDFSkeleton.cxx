@@ -91,25 +91,26 @@ void WriteSkeleton(const SkeletonResult& skeleton, vtkPolyData* output)
 std::vector<std::int64_t> TriangleSegments(vtkObject* self, vtkPolyData* input,
   const shapediameter::adapter::TriangulatedSurface& surface)
 {
-  vtkDataArray* segments = input->GetCellData()->GetArray(vtkSDFGMMPartition::SEGMENT_ARRAY_NAME);
-  if (!segments)
+  if (!input->GetCellData()->GetArray(vtkSDFGMMPartition::SEGMENT_ARRAY_NAME))
   {
     return {};
   }
-  if (segments->GetNumberOfComponents() != 1 || segments->GetNumberOfTuples() != input->GetNumberOfCells())
+  std::vector<double> cellSegments;
+  const std::string reason =
+    adapter::ReadNamedCellScalars(input, cellSegments, vtkSDFGMMPartition::SEGMENT_ARRAY_NAME);
+  if (!reason.empty())
   {
-    vtkWarningWithObjectMacro(self, "The cell array '" << vtkSDFGMMPartition::SEGMENT_ARRAY_NAME
-                                       << "' does not have one value per cell: faces are linked to their nearest node.");
+    vtkWarningWithObjectMacro(self, "Faces are linked to their nearest node: " << reason << ".");
     return {};
   }
   std::vector<std::int64_t> triangleSegments(surface.TriangleCell.size());
   for (std::size_t t = 0; t < triangleSegments.size(); ++t)
   {
-    const double value = segments->GetComponent(surface.TriangleCell[t], 0);
-    if (!(std::abs(value) < 9e15)) // NaN, infinite, or not an integer label
+    const double value = cellSegments[static_cast<std::size_t>(surface.TriangleCell[t])];
+    if (!(std::abs(value) < 9e15)) // too large to be an integer label
     {
       vtkWarningWithObjectMacro(self, "The cell array '" << vtkSDFGMMPartition::SEGMENT_ARRAY_NAME
-        << "' has non-finite or huge values: faces are linked to their nearest node.");
+        << "' has huge values: faces are linked to their nearest node.");
       return {};
     }
     triangleSegments[t] = static_cast<std::int64_t>(value);
