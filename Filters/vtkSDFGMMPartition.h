@@ -27,8 +27,8 @@
  *    (Filters/Core/PartitionEnergy.h). It starts from the per-face most probable cluster
  *    and never increases E. Above 60,000 faces the cut is multilevel
  *    (Filters/Core/MultilevelCut.h): alpha-expansion on clusters of 8 faces, then on an
- *    8-ring band around the boundaries at full resolution (208k faces: 2.5x faster than
- *    the plain alpha-expansion, E +1.1 %; 832k: 6x, E +2.3 %).
+ *    8-ring band around the boundaries at full resolution, because with this energy the
+ *    plain alpha-expansion's cost grows as faces^1.5 (measurements: README, "Performance").
  * 3. Clusters are numbered by GMM mean, largest first (`SDFCluster` 0 = thickest parts);
  *    the hierarchy `SDFLevel1` … `SDFLevel{k−1}` has level L = min(SDFCluster, L) (the
  *    paper's "sorting the means of the GMM from large to small"); connected parts of
@@ -41,8 +41,8 @@
  * things: one normalisation (every member's vtkSDFBilateralSmooth::NormalizationRange set
  * to the widest of the members' `SDFNormalizationRange`) and one model (partition the
  * appended members once and feed that output as Model); the pipeline command's `--family`
- * does both. On the ten elephant poses this changes 3.59 % of the faces between poses
- * against 5.01 % for each pose alone; on the test figure 0.85 % against 0.87 %.
+ * does both. Fewer faces then change cluster between poses than with each pose
+ * partitioned alone (README, "Consistency").
 
  * Parameters (default, range; the ParaView proxy `SDFGMMPartition` mirrors them):
  * - NumberOfClusters k 5, [0, 16]: with ClusterModel 1 the most clusters (the density's
@@ -50,7 +50,7 @@
  *   the k in [2, MaximumClusters] with the lowest BIC. The fit may use fewer clusters than asked when the data has fewer
  *   distinct values (e.g. a constant field gives one cluster), and the graph cut may
  *   leave a cluster without faces (a thickness level with no part large enough to pay
- *   for its boundary; k = 5 on the dinosaur keeps 3). `SDFClusterCount` is the k fitted.
+ *   for its boundary). `SDFClusterCount` is the k fitted.
  * - MaximumClusters 8, [2, 16]: the upper end of the automatic range.
  * - Lambda λ 0.03, [0, 1000] (the paper gives no value): a cut as long as √(area)
  *   across a flat region costs 0.35 × the mean data cost of all faces. Larger = fewer,
@@ -66,10 +66,10 @@
  *   estimate of bandwidth ModeBandwidth (default 0.02 of the value range, [0.001, 0.5]);
  *   each cluster is the basin between two valleys, modelled by one Gaussian of its weighted
  *   moments. Boundaries then lie where few faces are, so a small pose-dependent shift moves
- *   few faces: on the ten elephant poses 5.01 % of the faces change cluster against 8.76 %
- *   with EM at k = 5 (README, "Consistency"). 0 = the paper's EM fit above: exactly k
- *   clusters, whose boundaries may fall inside a dense part of the histogram. A shape with
- *   fewer thickness levels than k gets fewer clusters with the modes (the hand 2).
+ *   few faces: fewer faces change cluster between poses than with EM (README,
+ *   "Consistency"). 0 = the paper's EM fit above: exactly k clusters, whose boundaries may
+ *   fall inside a dense part of the histogram. A shape with fewer thickness levels than k
+ *   gets fewer clusters with the modes (README, "Partition quality").
  *
  * Output: the input with every cell and array plus cell arrays `SDFProbabilities`
  * (double, k components), `SDFCluster`, `SDFLevel1`…`SDFLevel{k−1}`, `SDFSegment`
@@ -89,15 +89,14 @@
  *
  * Deviations: by default the mixture comes from the modes of the SDF density, not from EM
  * with a user-given k (the paper's consistency claim fails with EM at k = 5: a boundary
- * inside a dense part of the histogram moves whole limbs between poses; measured in the
- * README); the multilevel cut above 60,000 faces (a local minimum of the coarse
- * problem refined near the boundaries, not of every fine expansion move); e2 has a floor
- * (finite cost on flat edges) and a convexity factor; both
- * terms carry the geometric weights w_f, w_fg (the paper's plain sums make the balance
- * depend on the resolution: with them the armadillo at 52k faces fell into 449 segments,
- * 207 of a single face, where it now gives 16, and 14 at 208k); λ and the EM settings are
- * ours (the paper gives none); EM fits a fine histogram as the paper does, with exact
- * per-bin moments.
+ * inside a dense part of the histogram moves whole limbs between poses; measurements:
+ * README, "Consistency"); the multilevel cut above 60,000 faces (a local minimum of the
+ * coarse problem refined near the boundaries, not of every fine expansion move); e2 has a
+ * floor (finite cost on flat edges) and a convexity factor; both terms carry the geometric
+ * weights w_f, w_fg (the paper's plain sums make the balance depend on the resolution: fine
+ * meshes fall into hundreds of segments; README, "Partition quality"); λ and the EM
+ * settings are ours (the paper gives none); EM fits a fine histogram as the paper does, with
+ * exact per-bin moments.
  */
 #ifndef vtkSDFGMMPartition_h
 #define vtkSDFGMMPartition_h

@@ -62,11 +62,9 @@
  * than 90 degrees)". Read as "skip and continue" (HitRule 1), a ray that meets such a face —
  * a neighbouring part touching or crossing in front of the limb — goes on into that part,
  * so the value depends on the pose. Read as "such a first hit is no measurement" (HitRule 0,
- * the default, as CGAL does), the ray is dropped. Measured on the ten elephant poses
- * (../shared/data/poses/elephant): mean pose divergence of the normalised SDF 3.28 % with
- * HitRule 1, 1.77 % with HitRule 0, and with the default partition 5.27 % vs 5.01 % of the
- * faces change cluster between poses (README, "Consistency"); a mesh against its Loop
- * subdivision differs less too on three of four meshes, and the camel keeps four clusters. HitRule 0 keeps the wide rays of
+ * the default, as CGAL does), the ray is dropped. HitRule 0 is the default because both the
+ * normalised SDF and the partition then change less between poses and between a mesh and
+ * its subdivision (measurements: README, "Consistency"). HitRule 0 keeps the wide rays of
  * the cone (HitRule 1 loses every ray more than 45 degrees off the normal on a sphere), so
  * its values are smaller: 0.77 of a sphere's diameter against 0.86. HitRule 0 tests the
  * ray against the hit's normal (leaving the volume), which also drops rays that start inside

@@ -48,35 +48,32 @@
 //   the rest are fixed here: K from a coarse cell of 1/32 of the bounding-box diagonal, 8
 //   sweeps, crease angle 60 degrees, extremes 1 %.
 //
-// What was tried (armadillo 52k / 208k / 832k against the Exact mode through the whole chain;
-// README, "Adaptive SDF", has the table)
-//   - Tolerance 0.1 / 0.2 / 0.3 / 0.5 at 52k: 69 / 43 / 30 / 19 % of the faces cast, mean
-//     |dSDFNormalized| 0.0020 / 0.0056 / 0.0093 / 0.015, p99 0.014 / 0.039 / 0.072 / 0.13.
-//     0.2 keeps p99 <= 0.05 up to 208k but gives 0.054 at 832k; 0.15 gives 0.035 there
-//     (mean 0.0060) and is the default (the dino's SDFCluster agreement then drops to 98.85 %
-//     of the area against 99.3 % with 0.2; 208k SDF 0.60 x raw Embree against ~0.35-0.46). SpacingFraction 1 instead of
-//     0.5 saves little: refinement, not the first spacing, decides the count.
+// What was tried (against the Exact mode through the whole chain; the measurements are in
+// README, "Adaptive SDF", "What was tried")
+//   - Tolerance: a smaller one casts more faces and is more accurate. 0.15 is the default:
+//     0.2 misses the p99 bar at 832k faces; 0.15 meets it there, at the cost of the dino's
+//     cluster agreement and of speed at 208k.
+//   - SpacingFraction 1 instead of 0.5 saves little: refinement, not the first spacing,
+//     decides the count.
 //   - A floor on refinement (no spacing below 1/8 or 1/4 of the SDF, to stop refining where
-//     neighbouring cones differ by noise rather than by shape): casts fall by a third to a
-//     half but mean |dSDFNormalized| rises to 0.008-0.028, mostly because the maximum of the
-//     SDF was missed and the normalisation shifted every value; hence step 4b, and no floor
-//     (with step 4b, a floor at 1/16 still raised p99 from 0.045 to 0.061 at 208k).
-//   - Step 4b casting the extreme regions completely instead of two levels finer: 5.4k
-//     instead of 1.8k casts at 208k, 34k at 832k, same accuracy.
+//     neighbouring cones differ by noise rather than by shape): far fewer casts, but the
+//     maximum of the SDF was missed and the normalisation shifted every value; hence step 4b,
+//     and no floor (with step 4b, a floor at 1/16 still raised p99 past the bar at 208k).
+//   - Step 4b casting the extreme regions completely instead of two levels finer: several
+//     times the casts, same accuracy.
 //   - A partition-of-unity blend of neighbouring regions' values (weights (1 - d^2/R^2)^2,
 //     R twice the cell size) before the sweeps, so that the blend spans a region whatever its
-//     size in hops: mean/p99 0.0070/0.0442 against 0.0070/0.0449 at 208k; not kept. The
-//     remaining error is where the exact field has structure finer than the spacing.
-//   - Piecewise-constant fill (owner value only, 0 sweeps) against 8 or 32 sweeps: mean
-//     0.0063 / 0.0055 / 0.0054 and p99 0.050 / 0.039 / 0.038; 8 sweeps.
-//   - Recomputing the regions from all casts every round took 0.58 s of a 4.7 s run at 208k
-//     (14 rounds over all faces); with the incremental update above the run took 2.4 s (the
-//     machine's load also fell between the two runs).
+//     size in hops: no measurable gain; not kept. The remaining error is where the exact
+//     field has structure finer than the spacing.
+//   - Piecewise-constant fill (owner value only, 0 sweeps) against 8 or 32 sweeps: 8 sweeps
+//     give nearly all of 32's gain.
+//   - Recomputing the regions from all casts every round instead of the incremental update
+//     above: a search over all faces per round, a large share of the run at 208k.
 //   - Selection by a hashed grid per level (this file) rather than geodesic farthest-point
 //     sampling: one sort per round, deterministic and independent of the thread count.
 //   - Not tried: fewer rays per cone where the first rays agree (the cast origins would no
-//     longer equal the Exact mode), Embree ray streams (the filter is already within 1.2x of
-//     raw Embree per ray; the saving here is in the number of cones).
+//     longer equal the Exact mode), Embree ray streams (the exact filter is already close to
+//     raw Embree per ray, README "Performance"; the saving here is in the number of cones).
 //
 // Determinism, progress, abort: the selection, the search and the refinement decisions are
 // serial and in index order; the casts run through CastShapeDiameterCones (per-origin results)

@@ -20,8 +20,8 @@
 //   pair per adjacent face pair) is built once per call; each move only refills the
 //   capacities (double precision), with the pair terms split evenly between the two faces so
 //   that equal-label pairs add no terminal capacity. Faces and arcs are limited to 2^31 - 2
-//   (std::invalid_argument beyond). Why our own max-flow rather than Boost.Graph's: the
-//   ratio measured on identical expansion graphs is in MaxFlow.h; the even split and the
+//   (std::invalid_argument beyond). Why our own max-flow rather than Boost.Graph's: see
+//   MaxFlow.h (measurements: README, "Performance"); the even split and the
 //   skipped moves below cut the work itself (fewer augmentations, fewer solves).
 //   A move whose result is known (no other move changed the labels since the last move of
 //   the same alpha) is counted as tried without solving it.

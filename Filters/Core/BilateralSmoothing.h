@@ -55,7 +55,8 @@
 // result says Aborted. Without a callback: one ParallelFor call over all faces.
 //
 // Cost: per face one bounded Dijkstra (about 20-30 settled faces) and NumberOfIterations
-// passes over its neighbours; about 0.75 us per face on one core (208k faces: ~155 ms CPU).
+// passes over its neighbours: linear in the faces (measurements: README, "Performance",
+// "Design measurements").
 // No per-mesh scratch memory beyond the output.
 //
 // Deviations from the paper

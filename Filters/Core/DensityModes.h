@@ -6,11 +6,11 @@
 //   The paper fits k Gaussians to the histogram of the normalised SDF by EM (section 4). With
 //   k above the number of thickness levels a shape really has, EM puts a component boundary
 //   inside a dense part of the histogram, where a small pose-dependent shift of the values
-//   moves a whole limb to another cluster. Measured on the ten elephant poses
-//   (../shared/data/poses/elephant, README "Consistency"): the EM argmax disagrees between
-//   poses by 10-28 % for k = 4..7, while the area-weighted density of the values has the same
-//   four modes in every pose. Clusters bounded by the density's valleys move little when the
-//   values shift a little, because few faces lie near a valley.
+//   moves a whole limb to another cluster. On the ten elephant poses
+//   (../shared/data/poses/elephant) the EM argmax disagrees between poses for every k tried,
+//   while the area-weighted density of the values has the same four modes in every pose
+//   (measurements: README, "Consistency"). Clusters bounded by the density's valleys move
+//   little when the values shift a little, because few faces lie near a valley.
 //
 // What it computes
 //   1. The area-weighted histogram (BinCount bins over [min, max]) smoothed by a Gaussian

@@ -31,10 +31,10 @@
 namespace shapediameter
 {
 
-/// Embree's BVH build quality. Measured on the 52k-face armadillo, one 30-ray SDF pass: High
-/// costs ~130 ms of build CPU instead of ~25 ms and saves 5-10% of the ~0.8 s traversal, a
-/// wash; Low builds fastest but traverses ~10% slower. Medium is the default. Robust costs
-/// ~15% of traversal time.
+/// Embree's BVH build quality. Medium is the default: High's longer build costs about what
+/// its faster traversal saves for one SDF pass, a wash; Low builds fastest but traverses
+/// slower. Robust costs traversal time. Measurements: README, "Performance", "Design
+/// measurements".
 enum class EmbreeBuildQuality
 {
   Low,

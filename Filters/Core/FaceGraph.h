@@ -51,9 +51,9 @@
 // are bucketed by their lower vertex with a counting sort, buckets sorted independently).
 // The adjacency lists are written in one parallel pass into slots sized by an upper bound,
 // and each pair's geometry (angle, concavity, centre distance) is computed once, by its lower
-// face, then copied to the mirror entry: 208k-face torus 103 -> 68 ms on 2 threads, output
-// bit-identical to the former count-then-fill construction (checked on a torus with quads,
-// a non-manifold fin, a degenerate face and a line).
+// face, then copied to the mirror entry (faster than the former count-then-fill construction:
+// README, "Performance", "Design measurements"); the output is bit-identical to it (checked
+// on a torus with quads, a non-manifold fin, a degenerate face and a line).
 #pragma once
 
 #include "MeshTypes.h"

@@ -17,12 +17,10 @@
 //
 // Why not Boost.Graph's boykov_kolmogorov_max_flow: on the same graphs -- the recorded
 //   expansion moves of one alpha-expansion run, replayed to both in one process
-//   (Testing/Benchmarks/BenchMaxFlow.cpp, 2026-12-02, Release, one thread, shared 2-core VM) --
-//   Boost takes 1.3-1.5x our time on the camel (19,536 nodes, 58,608 arcs, 10 moves: 17.6 vs
-//   24.1 ms per sequence, paired) and 2.5-2.8x on the armadillo (52,000 nodes, 156,000 arcs,
-//   11 moves: 56 vs 142 ms), at a load average of 2; at 4-6 (other builds on the machine)
-//   1.6-2.3x on both. Ours was faster in every run. Topology built once for both; timed:
-//   filling the capacities and solving. Same flow value on every move.
+//   (Testing/Benchmarks/BenchMaxFlow.cpp; topology built once for both, timed: filling the
+//   capacities and solving) -- ours was faster in every run, by more on the larger graph,
+//   with the same flow value on every move (measurements: README, "Performance", "Design
+//   measurements").
 //
 // Result
 //   InSourceSet(i): i is reachable from s in the final residual graph. This is the unique
@@ -100,7 +98,7 @@ private:
   std::int64_t OriginDistance(std::int32_t node);
 
   // Arcs and nodes as records: a search step touches every field of one arc or node, so
-  // keeping them together saves cache misses (measured: about 1.4x on the armadillo).
+  // keeping them together saves cache misses (measurement: README, "Design measurements").
   struct Arc
   {
     std::int32_t head = 0;

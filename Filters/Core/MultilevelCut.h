@@ -5,10 +5,10 @@
 // Why
 //   With the resolution-independent energy (PartitionEnergy.h) the cut weight of an edge
 //   grows as sqrt(faces) relative to a face's data cost, so every max-flow of a plain
-//   alpha-expansion routes flow across whole parts and its cost grows as faces^1.5
-//   (armadillo: 0.07 s at 52k faces, 0.67 s at 208k, 6 s at 832k). The energy approximates an
-//   integral over the surface, so its minimiser is nearly the same on a coarser graph; only
-//   the exact position of the boundaries needs the fine faces.
+//   alpha-expansion routes flow across whole parts and its cost grows as faces^1.5 (README,
+//   "Performance"). The energy approximates an integral over the surface, so its minimiser is
+//   nearly the same on a coarser graph; only the exact position of the boundaries needs the
+//   fine faces.
 //
 // What it computes
 //   1. The most probable label of each face (MostProbableLabels).
@@ -26,44 +26,43 @@
 //      with the faces outside the band fixed (their pairs with band faces become data costs of
 //      the band faces). The second kind of band is for parts the coarse solve lost: a thin
 //      part whose clusters have ragged boundaries costs more on the coarse graph than its
-//      straight fine cut, vanishes there and leaves no boundary to refine from (the camel
-//      linearly subdivided to 78k faces lost a cluster on 16 % of its area; with it 0.5 %).
-//      It also makes the result follow the energy as the plain alpha-expansion does: on the
-//      84k-face elephant poses 5.01 % of the faces change cluster between poses, the plain
-//      cut 4.96 %, the coarse solve without this band 3.61 % (it smoothed more than λ asks).
+//      straight fine cut, vanishes there and leaves no boundary to refine from (seen on the
+//      linear subdivisions of the camel and the man: README, "Consistency", "Resolution").
+//      It also makes the result follow the energy as the plain alpha-expansion does: without
+//      it the coarse solve smoothed more than λ asks (the elephant poses: README,
+//      "Consistency").
 //   Graphs with at most DirectBelowFaces faces go straight to MinimizeByAlphaExpansion, so
 //   small meshes get exactly the plain alpha-expansion.
 //   The band's connected components (one per part boundary, typically) are independent once
 //   the faces around them are fixed: each is solved on its own, concurrently through
 //   `parallelFor`. The source side of a max-flow is the set reachable from s, so a move's cut
 //   on a union of components is the union of their cuts: the labels are those of one
-//   alpha-expansion on the whole band (measured bit-identical, labels and E, on eight meshes of
-//   85k-208k faces, 1 and 2 threads), and do not depend on the thread count. Armadillo 208k,
-//   2 threads: the cut 344 -> 264 ms. Also tried: solving coarse levels of 15k-60k nodes by
-//   coarsening once more (the coarse solve is the largest serial step, 113 ms at 208k):
-//   45 ms faster, but E +3.8 % on the linearly subdivided armadillo; not kept.
+//   alpha-expansion on the whole band (checked bit-identical, labels and E, on eight meshes of
+//   85k-208k faces, 1 and 2 threads), and do not depend on the thread count. Also tried:
+//   solving coarse levels of 15k-60k nodes by coarsening once more (the coarse solve is the
+//   largest serial step): a little faster, but a clearly higher E; not kept. Measurements:
+//   README, "Performance", "Design measurements".
 //
 // Guarantees and deviation
 //   E never exceeds the energy of the projected coarse labelling, which is the coarse
 //   minimum's energy (above). It is not a local minimum of every expansion move of the whole
 //   fine graph (faces outside the band are fixed): another local minimum than the plain
-//   alpha-expansion finds. Measured against the plain alpha-expansion on the armadillo:
-//   208k faces 0.31 s instead of 0.76 s, E +1.1 %, 2.5 % of the faces labelled differently,
-//   14 segments both; 832k faces 1.1 s instead of 6.4 s, E +2.3 %, 2.2 % of the faces, 13
-//   segments instead of 14. Below DirectBelowFaces the plain alpha-expansion is used: on 35k-
-//   52k meshes the multilevel cut gained only 1.4-1.7x and moved 3-6 % of the faces.
+//   alpha-expansion finds: against the plain alpha-expansion, several times faster above
+//   DirectBelowFaces for a slightly higher E and a few percent of the faces labelled
+//   differently. Below DirectBelowFaces the plain alpha-expansion is used: there the multilevel
+//   cut gained too little for the faces it moved. Measurements: README, "Performance",
+//   "Design measurements".
 //
 // Parameters (MultilevelOptions)
 //   DirectBelowFaces  60000  [16, inf)  solve directly up to this many faces/nodes.
 //   ClusterSize       8      [2, 1024]  faces per cluster at most (coarsening factor); 16
-//                                        was 10 % faster and 3 % of faces off.
+//                                        was a little faster but moved more faces.
 //   BandRings         8      [1, 64]    rings around the projected boundaries that are
-//                                        re-solved; 4 gave E +3 %, 16 only 0.3 % better than 8.
+//                                        re-solved; 4 raised E, 16 gained little over 8.
 //   LostRegionFaces   1024   [1, inf)   smallest region off its most probable label that is
-//                                        re-solved. Armadillo 208k: band 24.5k faces without
-//                                        it, 28.2k with 1024 (E -0.05 %), 46.9k with 64 (E
-//                                        -0.3 %); the camel's and the man's linear
-//                                        subdivisions gave the same clusters with 64 and 1024.
+//                                        re-solved; smaller values enlarge the band for little
+//                                        lower E and the same clusters.
+//   (Measurements of the three: README, "Design measurements".)
 //
 // Progress and abort: as MinimizeByAlphaExpansion (the coarse solve reports the first half).
 // While bands run concurrently, `progress` is called from the worker threads, one call at a

@@ -16,10 +16,9 @@
 //   w_fg = shared edge length * F / sqrt(A), F faces of total area A. Then
 //     E / F = (1/A) integral of e1 dA  +  lambda (1/sqrt(A)) integral over the cuts of e2 ds,
 //   a property of the surface, not of its triangulation: the same lambda gives the same parts
-//   at any resolution, in any unit, on irregular meshes (measured: armadillo 52k and its Loop
-//   subdivision 208k, 16 and 14 segments). Without them (the paper's sums) the smoothness
-//   weight falls as 1/sqrt(F) relative to the data term: fine meshes fragment (armadillo 52k:
-//   449 segments, 207 of one face, with the former lambda 0.3), coarse ones collapse.
+//   at any resolution, in any unit, on irregular meshes. Without them (the paper's sums) the
+//   smoothness weight falls as 1/sqrt(F) relative to the data term: fine meshes fragment,
+//   coarse ones collapse. Measurements of both: README, "Partition quality".
 //   Also here: the functions of a final labelling over the same graph -- the hierarchy levels
 //   (paper: "by sorting the means of the GMM from large to small ... the first level separates
 //   the largest value from all other values") and connected segments.
@@ -35,9 +34,10 @@
 //                                         value). A cut of length sqrt(A) across a flat region
 //                                         costs 0.03 * 11.5 = 0.35 times the mean data cost of
 //                                         all faces; along a 90-degree concave crease 0.02.
-//                                         Chosen on the articulated test figure (Table 2 measure
-//                                         lowest at 0.02-0.03; at 0.08 a cluster vanishes in one
-//                                         pose) and checked on 8 meshes of 1k-208k faces.
+//                                         Chosen on the articulated test figure (lowest pose
+//                                         difference by the paper's Table 2 measure; larger
+//                                         values lose thin clusters) and checked on the meshes
+//                                         of README, "Partition quality".
 //   ProbabilityEpsilon  1e-8   [1e-300, 1] epsilon of e1: a zero posterior costs 18.4.
 //   ConvexityFactor     0.08   [0, 1]     phi scale on convex edges (convex creases are not
 //                                         part boundaries; 1 = ignore convexity).
