@@ -9,6 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
+#include <tuple>
+#include <unordered_map>
 #include <utility>
 
 namespace shapediameter
@@ -29,7 +32,7 @@ namespace
 /// Dense labels 0.. in order of first appearance, so that any integers can be passed in.
 std::vector<std::int64_t> DenseLabels(const std::vector<std::int64_t>& labels)
 {
-  std::map<std::int64_t, std::int64_t> dense;
+  std::unordered_map<std::int64_t, std::int64_t> dense;
   std::vector<std::int64_t> result(labels.size());
   for (std::size_t i = 0; i < labels.size(); ++i)
   {
@@ -45,23 +48,49 @@ std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& face
   const std::vector<std::int64_t>& faceComponent, const std::vector<double>& faceArea,
   const std::vector<std::int64_t>& nearestBone)
 {
-  std::map<std::pair<std::int64_t, std::int64_t>, std::map<std::int64_t, double>> areaByBone;
+  // One dense id per (component, part) pair; components are dense already.
+  const std::vector<std::int64_t> densePart = DenseLabels(faceParts);
+  const std::int64_t partCount =
+    faceParts.empty() ? 0 : *std::max_element(densePart.begin(), densePart.end()) + 1;
+  std::vector<std::int64_t> combined(faceParts.size());
   for (std::size_t f = 0; f < faceParts.size(); ++f)
   {
-    areaByBone[{ faceComponent[f], faceParts[f] }][nearestBone[f]] += faceArea[f];
+    combined[f] = faceComponent[f] * partCount + densePart[f];
   }
-  std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t> bestBone;
-  for (const auto& [part, areas] : areaByBone)
+  const std::vector<std::int64_t> part = DenseLabels(combined);
+  const std::size_t parts =
+    part.empty() ? 0 : static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1);
+
+  // Area per (part, bone): faces sorted by that pair, in face order within it (stable), so
+  // each sum adds its faces in the same order whatever the labels' values.
+  std::vector<std::size_t> order(faceParts.size());
+  std::iota(order.begin(), order.end(), std::size_t{ 0 });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::tie(part[a], nearestBone[a]) < std::tie(part[b], nearestBone[b]);
+  });
+  std::vector<std::int64_t> bestBone(parts, -1);
+  std::vector<double> bestArea(parts, 0.0);
+  for (std::size_t i = 0; i < order.size();)
   {
-    // std::max_element keeps the first of equal areas, i.e. the lowest bone id.
-    bestBone[part] = std::max_element(areas.begin(), areas.end(), [](const auto& a, const auto& b) {
-      return a.second < b.second;
-    })->first;
+    const std::size_t first = order[i];
+    double area = 0.0;
+    for (; i < order.size() && part[order[i]] == part[first] && nearestBone[order[i]] == nearestBone[first]; ++i)
+    {
+      area += faceArea[order[i]];
+    }
+    // Bones come in increasing order within a part: a strictly larger area is needed to
+    // replace the lower bone (ties: the lowest bone id).
+    const auto p = static_cast<std::size_t>(part[first]);
+    if (bestBone[p] < 0 || area > bestArea[p])
+    {
+      bestBone[p] = nearestBone[first];
+      bestArea[p] = area;
+    }
   }
   std::vector<std::int64_t> faceBone(faceParts.size());
   for (std::size_t f = 0; f < faceParts.size(); ++f)
   {
-    faceBone[f] = bestBone[{ faceComponent[f], faceParts[f] }];
+    faceBone[f] = bestBone[static_cast<std::size_t>(part[f])];
   }
   return faceBone;
 }
@@ -160,16 +189,18 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
       faceArea[f] = std::isfinite(area) ? area : 0.0;
     }
   });
-  std::map<std::int64_t, bool> componentHasNode;
+  // Surface components are dense labels (LabelFaceComponents, DenseLabels).
+  std::vector<char> componentHasNode(
+    static_cast<std::size_t>(*std::max_element(faceComponent.begin(), faceComponent.end()) + 1), 0);
   for (const std::int64_t c : graph.NodeComponent)
   {
-    componentHasNode[c] = true;
+    componentHasNode[static_cast<std::size_t>(c)] = 1;
   }
   std::map<std::int64_t, std::size_t> largestFace;
   for (std::size_t f = 0; f < faces; ++f)
   {
     const std::int64_t c = faceComponent[f];
-    if (componentHasNode[c])
+    if (componentHasNode[static_cast<std::size_t>(c)])
     {
       continue;
     }
