@@ -156,17 +156,19 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     return AbortedResult();
   }
 
-  // 4. Connection, through the volume only.
+  // 4. Connection, through the volume only; its neighbour graph on P is kept for step 5.
   bool aborted = false;
+  CloudNeighborGraph neighbours;
   SkeletonGraph graph = ConnectPolySegments(cloud, thinned, segments, pointComponent,
-    options.Connection, parallelFor, SubProgress(progress, 0.7, 0.9), aborted, &volume);
+    options.Connection, parallelFor, SubProgress(progress, 0.7, 0.9), aborted, &volume,
+    &neighbours);
   if (aborted)
   {
     return AbortedResult();
   }
 
   // 5. Branches into the parts the skeleton does not reach (ours; SkeletonCoverage.h).
-  ReachUncoveredParts(graph, cloud, thinned, pointComponent, options.Coverage, parallelFor, &volume);
+  ReachUncoveredParts(graph, cloud, thinned, pointComponent, neighbours, options.Coverage, parallelFor);
   if (progress && !progress(0.92))
   {
     return AbortedResult();

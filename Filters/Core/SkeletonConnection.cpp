@@ -74,19 +74,13 @@ private:
 
 using Edge = std::pair<std::int64_t, std::int64_t>;
 
-/// Adjacency in compressed rows; edges are undirected and stored both ways.
-struct NeighborGraph
-{
-  std::vector<std::size_t> Offsets;
-  std::vector<std::int64_t> Targets;
-  std::vector<double> Weights;
-};
-
-NeighborGraph MakeGraph(const PointMatrix& positions, std::vector<Edge> edges)
+/// bridges: the edges of `edges` that BridgeGraphPieces added, sorted.
+CloudNeighborGraph MakeGraph(
+  const PointMatrix& positions, std::vector<Edge> edges, const std::vector<Edge>& bridges)
 {
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  NeighborGraph graph;
+  CloudNeighborGraph graph;
   const auto count = static_cast<std::size_t>(positions.rows());
   std::vector<std::size_t> degree(count, 0);
   for (const auto& [a, b] : edges)
@@ -101,12 +95,17 @@ NeighborGraph MakeGraph(const PointMatrix& positions, std::vector<Edge> edges)
   }
   graph.Targets.resize(graph.Offsets[count]);
   graph.Weights.resize(graph.Offsets[count]);
+  graph.IsBridge.assign(graph.Offsets[count], 0);
   std::vector<std::size_t> fill(graph.Offsets.begin(), graph.Offsets.end() - 1);
-  for (const auto& [a, b] : edges)
+  for (const auto& edge : edges)
   {
+    const auto [a, b] = edge;
     const double weight = (positions.row(a) - positions.row(b)).norm();
+    const char bridge = std::binary_search(bridges.begin(), bridges.end(), edge) ? 1 : 0;
+    graph.IsBridge[fill[a]] = bridge;
     graph.Targets[fill[a]] = b;
     graph.Weights[fill[a]++] = weight;
+    graph.IsBridge[fill[b]] = bridge;
     graph.Targets[fill[b]] = a;
     graph.Weights[fill[b]++] = weight;
   }
@@ -261,6 +260,29 @@ void DropSurfaceCrossings(const RayCaster& volume, const PointMatrix& positions,
   edges.resize(kept);
 }
 
+/// Stage 1 on a tree of P's positions: nearest-neighbour edges, surface crossings dropped,
+/// pieces bridged. between (may be empty) runs before the bridging; returning false stops
+/// there with an empty graph (the connection's progress report and abort).
+CloudNeighborGraph NeighborGraphOnCloud(const SkeletonPointTree& tree, const ProjectedCloud& cloud,
+  const std::vector<std::int64_t>& component, std::size_t k, const ParallelFor& parallelFor,
+  const RayCaster* volume, const std::function<bool()>& between)
+{
+  std::vector<Edge> edges = NearestNeighborEdges(tree, cloud, component, k, parallelFor);
+  if (volume)
+  {
+    DropSurfaceCrossings(*volume, cloud.Positions, parallelFor, edges);
+  }
+  if (between && !between())
+  {
+    return {};
+  }
+  const std::size_t unbridged = edges.size();
+  BridgeGraphPieces(tree, cloud.Positions, component, edges);
+  std::vector<Edge> bridges(edges.begin() + static_cast<std::ptrdiff_t>(unbridged), edges.end());
+  std::sort(bridges.begin(), bridges.end());
+  return MakeGraph(cloud.Positions, std::move(edges), bridges);
+}
+
 /// The vertices of the connecting paths: segment nodes [0, SegmentNodes()) in segment order
 /// (at their MLS positions), then point j of P as vertex SegmentNodes() + j (at its P position).
 class PathVertices
@@ -381,7 +403,7 @@ Growth SeedGrowth(const SkeletonPointTree& tree, const ProjectedCloud& cloud,
 }
 
 /// Stage 2, the growth: Dijkstra from all seeds at once; the queue orders by (distance, index).
-void GrowFromSeeds(const NeighborGraph& neighbours, Growth& growth)
+void GrowFromSeeds(const CloudNeighborGraph& neighbours, Growth& growth)
 {
   const std::size_t count = growth.Owner.size();
   using QueueEntry = std::pair<double, std::int64_t>;
@@ -423,7 +445,7 @@ void GrowFromSeeds(const NeighborGraph& neighbours, Growth& growth)
 using Join = std::tuple<double, std::int64_t, std::int64_t>;
 
 /// Stage 3: every graph edge between points of different segments, cheapest first.
-std::vector<Join> JoinsWhereGrowthsMeet(const NeighborGraph& neighbours, const Growth& growth)
+std::vector<Join> JoinsWhereGrowthsMeet(const CloudNeighborGraph& neighbours, const Growth& growth)
 {
   const std::vector<std::int64_t>& owner = growth.Owner;
   std::vector<Join> joins;
@@ -684,7 +706,8 @@ private:
 SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
   const std::vector<PolySegment>& segments, const std::vector<std::int64_t>& pointComponent,
   const SkeletonConnectionOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress, bool& aborted, const RayCaster* volume)
+  const ProgressCallback& progress, bool& aborted, const RayCaster* volume,
+  CloudNeighborGraph* neighboursOut)
 {
   ValidateConnectionOptions(options);
   aborted = false;
@@ -707,18 +730,9 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
 
   // 1. Neighbour graph on P, restricted to surface components (and the volume), one piece
   // per component.
-  std::vector<Edge> edges = NearestNeighborEdges(
-    tree, cloud, component, static_cast<std::size_t>(options.NumberOfNeighbors), parallelFor);
-  if (volume)
-  {
-    DropSurfaceCrossings(*volume, positions, parallelFor, edges);
-  }
-  if (!report(0.3))
-  {
-    return {};
-  }
-  BridgeGraphPieces(tree, positions, component, edges);
-  const NeighborGraph neighbours = MakeGraph(positions, std::move(edges));
+  CloudNeighborGraph neighbours =
+    NeighborGraphOnCloud(tree, cloud, component, static_cast<std::size_t>(options.NumberOfNeighbors),
+      parallelFor, volume, [&] { return report(0.3); });
   if (!report(0.5))
   {
     return {};
@@ -760,7 +774,33 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
   {
     return {};
   }
+  if (neighboursOut)
+  {
+    *neighboursOut = std::move(neighbours);
+  }
   return graph;
+}
+
+CloudNeighborGraph BuildCloudNeighborGraph(const ProjectedCloud& cloud,
+  const std::vector<std::int64_t>& pointComponent, int numberOfNeighbors,
+  const ParallelFor& parallelFor, const RayCaster* volume)
+{
+  if (numberOfNeighbors < 1 || numberOfNeighbors > 64)
+  {
+    throw SkeletonError("skeleton: NumberOfNeighbors must be in [1, 64]");
+  }
+  const std::size_t count = cloud.Size();
+  if (count == 0)
+  {
+    CloudNeighborGraph empty;
+    empty.Offsets.assign(1, 0);
+    return empty;
+  }
+  const std::vector<std::int64_t> component =
+    pointComponent.empty() ? std::vector<std::int64_t>(count, 0) : pointComponent;
+  const SkeletonPointTree tree(cloud.Positions);
+  return NeighborGraphOnCloud(tree, cloud, component, static_cast<std::size_t>(numberOfNeighbors),
+    parallelFor, volume, {});
 }
 
 } // namespace shapediameter

@@ -16,6 +16,8 @@
 //      no such test (see SkeletonSegments.h for the measurement). If this graph splits a surface
 //      component into several pieces, the pieces are linked by their shortest gaps
 //      (Boruvka rounds), so that every surface component is one graph component.
+//      The graph (CloudNeighborGraph) is handed on to step 5 (SkeletonCoverage.h), which walks
+//      it instead of building its own.
 //   2. k-terminal growth: the points of P within SeedRadiusFactor * radius(node) of a segment
 //      node (and the nearest point of P to every node) start with their distance to that node
 //      and belong to that segment. A priority queue (Dijkstra) grows all segments at once;
@@ -73,6 +75,7 @@
 
 #include <Eigen/Core>
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -96,14 +99,38 @@ struct SkeletonConnectionOptions
 /// Throws SkeletonError if an option is outside its documented range.
 void ValidateConnectionOptions(const SkeletonConnectionOptions& options);
 
+/// The neighbour graph on P of stage 1, in compressed rows: the neighbours of point i are
+/// Targets[Offsets[i]] up to Targets[Offsets[i + 1]] (exclusive), at the Euclidean distances
+/// in Weights. Edges are undirected and stored both ways; Offsets has one entry per point
+/// plus one. Step 5 (SkeletonCoverage.h) walks the same graph, so that its paths obey the
+/// same inside test and the graph is built once.
+struct CloudNeighborGraph
+{
+  std::vector<std::size_t> Offsets;
+  std::vector<std::int64_t> Targets;
+  std::vector<double> Weights;
+  /// 1 for an edge that links two pieces of a component (BridgeGraphPieces): the shortest
+  /// gap, not tested against the surface.
+  std::vector<char> IsBridge;
+};
+
+/// Stage 1 alone, as ConnectPolySegments builds it (numberOfNeighbors: see
+/// SkeletonConnectionOptions; volume and pointComponent as there). The result does not
+/// depend on the thread count.
+CloudNeighborGraph BuildCloudNeighborGraph(const ProjectedCloud& cloud,
+  const std::vector<std::int64_t>& pointComponent, int numberOfNeighbors,
+  const ParallelFor& parallelFor, const RayCaster* volume = nullptr);
+
 /// Step 4: joins the poly-segments through P into one tree per surface component.
 /// volume: the mesh's ray caster for the inside test of step 1, or null for none.
 /// pointComponent: surface component of each cloud point, or empty for a single component.
 /// progress receives fractions in [0, 1] of this step; returning false aborts (the returned
-/// graph is then empty and `aborted` is set).
+/// graph is then empty and `aborted` is set). neighboursOut, if given, receives the neighbour
+/// graph of stage 1 (left untouched when P is empty or the step aborts).
 SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
   const std::vector<PolySegment>& segments, const std::vector<std::int64_t>& pointComponent,
   const SkeletonConnectionOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress, bool& aborted, const RayCaster* volume = nullptr);
+  const ProgressCallback& progress, bool& aborted, const RayCaster* volume = nullptr,
+  CloudNeighborGraph* neighboursOut = nullptr);
 
 } // namespace shapediameter

@@ -4,7 +4,6 @@
 #include "SkeletonPointTree.h"
 
 #include <algorithm>
-#include <cmath>
 #include <functional>
 #include <limits>
 #include <queue>
@@ -23,78 +22,18 @@ void ValidateCoverageOptions(const SkeletonCoverageOptions& options)
   {
     throw SkeletonError("skeleton: coverage MinimumShare must be in [0, 1]");
   }
-  if (options.NumberOfNeighbors < 1 || options.NumberOfNeighbors > 100)
-  {
-    throw SkeletonError("skeleton: coverage NumberOfNeighbors must be in [1, 100]");
-  }
 }
 
 namespace
 {
 
-using Adjacency = std::vector<std::vector<std::pair<std::int64_t, double>>>;
-
-/// Neighbour graph of P restricted to edges with an uncovered end, within one component and
-/// through the volume. Each pair is tested once, from its lower index, so the graph does not
-/// depend on the thread count.
-Adjacency UncoveredNeighborGraph(const ProjectedCloud& cloud, const std::vector<char>& uncovered,
-  const std::function<std::int64_t(std::size_t)>& componentOf, int neighbors,
-  const ParallelFor& parallelFor, const RayCaster* volume)
-{
-  const std::size_t n = cloud.Size();
-  const SkeletonPointTree tree(cloud.Positions);
-  std::vector<std::vector<std::pair<std::int64_t, double>>> edgesOf(n);
-  parallelFor(n, [&](std::size_t begin, std::size_t end) {
-    std::vector<std::int64_t> nearest;
-    std::vector<double> squaredDistances;
-    for (std::size_t i = begin; i < end; ++i)
-    {
-      tree.NearestNeighbors(cloud.Positions.row(static_cast<Eigen::Index>(i)).transpose(),
-        static_cast<std::size_t>(neighbors) + 1, nearest, squaredDistances);
-      for (std::size_t j = 0; j < nearest.size(); ++j)
-      {
-        const auto q = static_cast<std::size_t>(nearest[j]);
-        if (q == i || componentOf(q) != componentOf(i) || !(uncovered[i] || uncovered[q]))
-        {
-          continue;
-        }
-        const std::size_t low = std::min(i, q);
-        const std::size_t high = std::max(i, q);
-        if (volume && SegmentCrossesSurface(*volume,
-          cloud.Positions.row(static_cast<Eigen::Index>(low)).transpose(),
-          cloud.Positions.row(static_cast<Eigen::Index>(high)).transpose()))
-        {
-          continue;
-        }
-        edgesOf[i].push_back({ static_cast<std::int64_t>(q), std::sqrt(squaredDistances[j]) });
-      }
-    }
-  });
-  Adjacency adjacency(n);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    for (const auto& [q, length] : edgesOf[i])
-    {
-      const auto other = static_cast<std::size_t>(q);
-      const auto known = std::find_if(adjacency[i].begin(), adjacency[i].end(),
-        [q = q](const auto& edge) { return edge.first == q; });
-      if (known == adjacency[i].end())
-      {
-        adjacency[i].push_back({ q, length });
-        adjacency[other].push_back({ static_cast<std::int64_t>(i), length });
-      }
-    }
-  }
-  return adjacency;
-}
-
 /// Shortest path through the graph from `tip` to the nearest covered point (ties: lowest
 /// index), listed from that point to the tip; empty if no covered point is reachable.
 std::vector<std::int64_t> PathToCovered(
-  const Adjacency& adjacency, const std::vector<char>& uncovered, std::int64_t tip)
+  const CloudNeighborGraph& neighbours, const std::vector<char>& uncovered, std::int64_t tip)
 {
-  std::vector<double> distance(adjacency.size(), std::numeric_limits<double>::infinity());
-  std::vector<std::int64_t> previous(adjacency.size(), -1);
+  std::vector<double> distance(uncovered.size(), std::numeric_limits<double>::infinity());
+  std::vector<std::int64_t> previous(uncovered.size(), -1);
   using Entry = std::pair<double, std::int64_t>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   distance[static_cast<std::size_t>(tip)] = 0.0;
@@ -117,12 +56,18 @@ std::vector<std::int64_t> PathToCovered(
       }
       return path;
     }
-    for (const auto& [next, length] : adjacency[p])
+    // Only uncovered points are expanded: the path ends at the first covered point.
+    for (std::size_t e = neighbours.Offsets[p]; e < neighbours.Offsets[p + 1]; ++e)
     {
-      const auto q = static_cast<std::size_t>(next);
-      if (reached + length < distance[q])
+      if (neighbours.IsBridge[e])
       {
-        distance[q] = reached + length;
+        continue; // through the volume only (see the header comment)
+      }
+      const std::int64_t next = neighbours.Targets[e];
+      const auto q = static_cast<std::size_t>(next);
+      if (reached + neighbours.Weights[e] < distance[q])
+      {
+        distance[q] = reached + neighbours.Weights[e];
         previous[q] = point;
         queue.push({ distance[q], next });
       }
@@ -135,12 +80,20 @@ std::vector<std::int64_t> PathToCovered(
 
 std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& cloud,
   const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
-  const SkeletonCoverageOptions& options, const ParallelFor& parallelFor, const RayCaster* volume)
+  const CloudNeighborGraph& neighbours, const SkeletonCoverageOptions& options,
+  const ParallelFor& parallelFor)
 {
+  ValidateCoverageOptions(options);
   const std::size_t n = cloud.Size();
   if (!(options.UncoveredFactor > 0.0) || n == 0 || graph.NodePositions.rows() == 0)
   {
     return 0;
+  }
+  if (neighbours.Offsets.size() != n + 1 || neighbours.Targets.size() != neighbours.Offsets[n]
+    || neighbours.Weights.size() != neighbours.Offsets[n]
+    || neighbours.IsBridge.size() != neighbours.Offsets[n])
+  {
+    throw SkeletonError("skeleton: the neighbour graph does not match the projected cloud");
   }
   const auto componentOf = [&](std::size_t point) {
     return pointComponent.empty() ? std::int64_t{ 0 } : pointComponent[point];
@@ -172,12 +125,11 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
 
   if (std::none_of(uncovered.begin(), uncovered.end(), [](char u) { return u != 0; }))
   {
-    return 0; // the common case: no neighbour graph to build
+    return 0; // the common case
   }
 
-  // 2. Groups of uncovered points.
-  const Adjacency adjacency =
-    UncoveredNeighborGraph(cloud, uncovered, componentOf, options.NumberOfNeighbors, parallelFor, volume);
+  // 2. Groups of uncovered points: connected through neighbour edges between uncovered
+  // points (the graph's edges stay within a surface component; bridges are not used).
   std::vector<std::int64_t> group(n, -1);
   std::vector<std::size_t> groupSize;
   std::vector<std::int64_t> groupTip;
@@ -202,10 +154,10 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
       {
         groupTip.back() = static_cast<std::int64_t>(point);
       }
-      for (const auto& [next, length] : adjacency[point])
+      for (std::size_t e = neighbours.Offsets[point]; e < neighbours.Offsets[point + 1]; ++e)
       {
-        const auto q = static_cast<std::size_t>(next);
-        if (uncovered[q] && group[q] < 0)
+        const auto q = static_cast<std::size_t>(neighbours.Targets[e]);
+        if (!neighbours.IsBridge[e] && uncovered[q] && group[q] < 0)
         {
           group[q] = label;
           stack.push_back(q);
@@ -222,7 +174,7 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
     {
       continue;
     }
-    const std::vector<std::int64_t> path = PathToCovered(adjacency, uncovered, groupTip[g]);
+    const std::vector<std::int64_t> path = PathToCovered(neighbours, uncovered, groupTip[g]);
     if (path.empty())
     {
       continue;

@@ -9,9 +9,15 @@
 //     1. A point p of P is uncovered when its distance to the nearest skeleton node of its
 //        own component exceeds UncoveredFactor * radius(p) (never when radius(p) = 0). A point of a part the skeleton
 //        runs through lies within about its radius of it; one of a missed part lies far away.
-//     2. Uncovered points are grouped through the neighbour graph of P (each point's
-//        NumberOfNeighbors nearest points of its component, edges whose straight segment
-//        meets the surface dropped, as in the connection step).
+//     2. Uncovered points are grouped through the connection step's neighbour graph of P
+//        (CloudNeighborGraph, SkeletonConnection.h: each point's NumberOfNeighbors nearest
+//        points of its component, edges whose straight segment meets the surface dropped,
+//        pieces of a component bridged): a group is a connected set of uncovered points
+//        linked by edges between uncovered points. The graph is the connection's, not one
+//        of its own, so that the work is done once and the paths obey the same edges. Its
+//        bridges (IsBridge: shortest gaps, not tested against the surface) are not used, so
+//        that a branch runs through the volume only and a piece the inside test cuts off
+//        gets none; with them, two elephant poses grew an 11th leaf (README).
 //     3. Every group holding at least MinimumShare of all points gets one branch: the
 //        shortest path through the neighbour graph from its point farthest from the skeleton
 //        (the part's tip) to the first covered point, joined to that point's nearest node.
@@ -28,17 +34,16 @@
 // Parameters (SkeletonCoverageOptions)
 //   UncoveredFactor      4      [0, 1e6]  in units of the point's radius; 0 = step off.
 //   MinimumShare         0.01   [0, 1]    of all projected points, per group.
-//   NumberOfNeighbors    10     [1, 100]  neighbours per point in the graph of step 2.
+//   (The graph's neighbour count is the connection's, SkeletonConnectionOptions.)
 //
-// Determinism: the neighbour graph is built in parallel but each edge is tested once from its
-// lower index; groups, tips (ties: lowest index) and shortest paths (ties: lowest index) do
-// not depend on the thread count.
+// Determinism: the neighbour graph does not depend on the thread count (SkeletonConnection.h);
+// groups, tips (ties: lowest index) and shortest paths (ties: lowest index) do not either.
 #pragma once
 
 #include "MeshTypes.h"
 #include "Parallel.h"
-#include "RayCaster.h"
 #include "SkeletonBones.h"
+#include "SkeletonConnection.h"
 #include "SkeletonSampling.h"
 #include "SkeletonThinning.h"
 
@@ -55,20 +60,20 @@ struct SkeletonCoverageOptions
   double UncoveredFactor = 4.0;
   /// A group of uncovered points gets a branch when it holds this share of all points.
   double MinimumShare = 0.01;
-  /// Neighbours per point in the graph that groups the points and carries the paths.
-  int NumberOfNeighbors = 10;
 };
 
 /// Throws SkeletonError if an option is outside its documented range.
 void ValidateCoverageOptions(const SkeletonCoverageOptions& options);
 
 /// Step 5: adds a branch into every large group of uncovered points (see the header comment)
-/// and assigns the bones again when it added any. volume: the mesh's ray caster, or null to
-/// accept every neighbour edge. pointComponent: surface component of each point of P, or
-/// empty for one component. Returns the number of branches added.
+/// and assigns the bones again when it added any. pointComponent: surface component of each
+/// point of P, or empty for one component. neighbours: the neighbour graph of P that the
+/// connection step used (ConnectPolySegments' neighboursOut, or BuildCloudNeighborGraph);
+/// throws SkeletonError if it does not have one row per point of P. Returns the number of
+/// branches added.
 std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& cloud,
   const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
-  const SkeletonCoverageOptions& options, const ParallelFor& parallelFor,
-  const RayCaster* volume = nullptr);
+  const CloudNeighborGraph& neighbours, const SkeletonCoverageOptions& options,
+  const ParallelFor& parallelFor);
 
 } // namespace shapediameter

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Tests of skeleton step 5 (SkeletonCoverage.h): a branch into every large group of projected
 // points far from the tree, on a hand-made cloud whose answer is known: an L of points where the
-// skeleton covers one arm only.
+// skeleton covers one arm only. The points are grouped and joined through the connection
+// step's neighbour graph (SkeletonConnection.h).
 #include "SkeletonCoverage.h"
 
 #include <gtest/gtest.h>
@@ -65,12 +66,21 @@ LCloud MakeL(int armPoints, double armLength = 2.0)
   return l;
 }
 
+/// Step 5 on the connection's neighbour graph of the L (default neighbour count, no volume).
+std::size_t Reach(LCloud& l, const std::vector<std::int64_t>& component = {},
+  const SkeletonCoverageOptions& options = {}, const ParallelFor& parallelFor = SerialFor)
+{
+  const CloudNeighborGraph neighbours = BuildCloudNeighborGraph(
+    l.Cloud, component, SkeletonConnectionOptions().NumberOfNeighbors, parallelFor);
+  return ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, component, neighbours, options, parallelFor);
+}
+
 } // namespace
 
 TEST(SkeletonCoverage, AnUncoveredArmGetsABranchToItsTip)
 {
   LCloud l = MakeL(100);
-  const std::size_t added = ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, {}, {}, SerialFor);
+  const std::size_t added = Reach(l);
   ASSERT_EQ(added, 1u);
   ASSERT_EQ(l.Graph.Polylines.size(), 2u) << "the old line and the new branch";
   EXPECT_EQ(l.Graph.IsConnection.back(), 1);
@@ -106,19 +116,19 @@ TEST(SkeletonCoverage, SmallGroupsFactorZeroAndThreadsDoNotChangeTheResult)
   // An arm of 0.45: only its last point is farther than 4 radii from the line, 1 of 211
   // points, below the default share of 1 %.
   LCloud small = MakeL(10, 0.45);
-  EXPECT_EQ(ReachUncoveredParts(small.Graph, small.Cloud, small.Thinned, {}, {}, SerialFor), 0u);
+  EXPECT_EQ(Reach(small), 0u);
   EXPECT_EQ(small.Graph.Polylines.size(), 1u);
 
   SkeletonCoverageOptions off;
   off.UncoveredFactor = 0.0;
   LCloud unchanged = MakeL(100);
-  EXPECT_EQ(ReachUncoveredParts(unchanged.Graph, unchanged.Cloud, unchanged.Thinned, {}, off, SerialFor), 0u);
+  EXPECT_EQ(Reach(unchanged, {}, off), 0u);
   EXPECT_EQ(unchanged.Graph.NodePositions.rows(), 21);
 
   LCloud serial = MakeL(100);
   LCloud threaded = MakeL(100);
-  ReachUncoveredParts(serial.Graph, serial.Cloud, serial.Thinned, {}, {}, SerialFor);
-  ReachUncoveredParts(threaded.Graph, threaded.Cloud, threaded.Thinned, {}, {}, ThreadedFor(3));
+  Reach(serial);
+  Reach(threaded, {}, {}, ThreadedFor(3));
   EXPECT_TRUE(serial.Graph.NodePositions == threaded.Graph.NodePositions);
   EXPECT_EQ(serial.Graph.Polylines, threaded.Graph.Polylines);
 }
@@ -132,7 +142,24 @@ TEST(SkeletonCoverage, PointsOfAnotherComponentAreNotJoined)
   {
     component[p] = 1;
   }
-  EXPECT_EQ(ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, component, {}, SerialFor), 0u);
+  EXPECT_EQ(Reach(l, component), 0u);
+}
+
+TEST(SkeletonCoverage, APieceReachedOnlyByABridgeGetsNoBranch)
+{
+  // The arm moved 1 up, away from the line: the neighbour graph has two pieces, linked by a
+  // bridge that was not tested against any surface; the branch would cross the gap.
+  LCloud l = MakeL(100);
+  for (Eigen::Index p = 201; p < l.Cloud.Positions.rows(); ++p)
+  {
+    l.Cloud.Positions(p, 1) += 1.0;
+  }
+  l.Thinned.Positions = l.Cloud.Positions;
+  const CloudNeighborGraph neighbours = BuildCloudNeighborGraph(l.Cloud, {}, 8, SerialFor);
+  EXPECT_EQ(std::count(neighbours.IsBridge.begin(), neighbours.IsBridge.end(), 1), 2)
+    << "one bridge, stored both ways";
+  EXPECT_EQ(ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, {}, neighbours, {}, SerialFor), 0u);
+  EXPECT_EQ(l.Graph.Polylines.size(), 1u);
 }
 
 TEST(SkeletonCoverage, OptionsOutsideTheirRangeThrow)
@@ -143,8 +170,29 @@ TEST(SkeletonCoverage, OptionsOutsideTheirRangeThrow)
   options = {};
   options.MinimumShare = 1.5;
   EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
-  options = {};
-  options.NumberOfNeighbors = 0;
-  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
   EXPECT_NO_THROW(ValidateCoverageOptions({}));
+}
+
+TEST(SkeletonCoverage, UsesTheConnectionsNeighbourGraph)
+{
+  // The graph ConnectPolySegments hands out is the one BuildCloudNeighborGraph builds alone
+  // (here without segments: the L is one blob for the connection).
+  LCloud l = MakeL(100);
+  bool aborted = false;
+  CloudNeighborGraph fromConnection;
+  ConnectPolySegments(l.Cloud, l.Thinned, {}, {}, {}, SerialFor, {}, aborted, nullptr, &fromConnection);
+  ASSERT_FALSE(aborted);
+  const CloudNeighborGraph alone = BuildCloudNeighborGraph(
+    l.Cloud, {}, SkeletonConnectionOptions().NumberOfNeighbors, ThreadedFor(3));
+  EXPECT_EQ(fromConnection.Offsets, alone.Offsets);
+  EXPECT_EQ(fromConnection.Targets, alone.Targets);
+  EXPECT_EQ(fromConnection.Weights, alone.Weights);
+  EXPECT_EQ(fromConnection.IsBridge, alone.IsBridge);
+  EXPECT_EQ(fromConnection.Offsets.size(), static_cast<std::size_t>(l.Cloud.Positions.rows()) + 1);
+
+  // A graph of another cloud is refused.
+  LCloud other = MakeL(10);
+  EXPECT_THROW(ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, {},
+                 BuildCloudNeighborGraph(other.Cloud, {}, 8, SerialFor), {}, SerialFor),
+    SkeletonError);
 }
