@@ -16,6 +16,9 @@
  *    line in both directions.
  * 4. k-terminal shortest paths through P (a priority-queue growth from all segments at
  *    once) join the segments: one connected tree per connected surface component.
+ *    (ours) A leaf whose branch points head-on at its part's end gets one more node where a
+ *    ball of its radius touches that end (exit normal within 40 degrees of the branch; a
+ *    core option, SkeletonLeafExtensionOptions); then short leaf stubs are pruned.
  * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor)
  *    gets a branch through P to its farthest point.
  * Every face is linked to the node nearest to its projected centre (face centre pushed

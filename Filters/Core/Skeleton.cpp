@@ -23,6 +23,7 @@ void ValidateSkeletonOptions(const SkeletonOptions& options)
   ValidateThinningOptions(options.Thinning);
   ValidateSegmentOptions(options.Segments);
   ValidateConnectionOptions(options.Connection);
+  ValidateLeafExtensionOptions(options.LeafExtension);
   ValidateCoverageOptions(options.Coverage);
 }
 
@@ -156,16 +157,23 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     return AbortedResult();
   }
 
-  // 4. Connection, through the volume only; its neighbour graph on P is kept for step 5.
+  // 4. Connection, through the volume only; its neighbour graph on P is kept for step 5. Its
+  // junction cleaning waits for 4b, so that a leaf branch is judged with its extension.
   bool aborted = false;
   CloudNeighborGraph neighbours;
+  SkeletonConnectionOptions connection = options.Connection;
+  connection.MinimumBranchFactor = 0.0;
   SkeletonGraph graph = ConnectPolySegments(cloud, thinned, segments, pointComponent,
-    options.Connection, parallelFor, SubProgress(progress, 0.7, 0.9), aborted, &volume,
-    &neighbours);
+    connection, parallelFor, SubProgress(progress, 0.7, 0.9), aborted, &volume, &neighbours);
   if (aborted)
   {
     return AbortedResult();
   }
+
+  // 4b. Leaves carried on to their parts' ends (ours; SkeletonLeafExtension.h), then the
+  // connection's junction cleaning and bones.
+  ExtendLeavesToPartEnds(graph, volume, options.LeafExtension);
+  CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor);
 
   // 5. Branches into the parts the skeleton does not reach (ours; SkeletonCoverage.h).
   ReachUncoveredParts(graph, cloud, thinned, pointComponent, neighbours, options.Coverage, parallelFor);

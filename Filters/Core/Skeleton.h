@@ -11,6 +11,10 @@
 //     3. GrowPolySegments      - ordered poly-segments grown through T
 //     4. ConnectPolySegments   - k-terminal shortest paths through P join the segments into
 //                                one tree per connected surface component
+//    4b. ExtendLeavesToPartEnds - (ours) a leaf whose branch points head-on at the end of its
+//                                part gets one node where a ball of its radius touches that
+//                                end; then the junctions are cleaned (CleanGraphJunctions),
+//                                so that a stub is judged by its part's length
 //     5. ReachUncoveredParts   - (ours) a branch into every large group of projected points
 //                                far from the tree: parts with no confident segment (a bent
 //                                or stubby limb, an ear) still get one, in every pose
@@ -60,9 +64,9 @@
 //   A per-face cluster label (SDFCluster) is not needed here: the adapter reads it through
 //   CloudSourceFace for the cloud output.
 //
-// Parameters: SkeletonOptions gathers the options of the five steps; their defaults and valid
+// Parameters: SkeletonOptions gathers the options of the steps; their defaults and valid
 // ranges are documented in SkeletonSampling.h, SkeletonThinning.h, SkeletonSegments.h,
-// SkeletonConnection.h and SkeletonCoverage.h. All lengths are relative to the local medial
+// SkeletonConnection.h, SkeletonLeafExtension.h and SkeletonCoverage.h. All lengths are relative to the local medial
 // radius SDF/2, so the result does not depend on the mesh's scale.
 //
 // Degenerate input
@@ -83,6 +87,7 @@
 #include "Parallel.h"
 #include "SkeletonConnection.h"
 #include "SkeletonCoverage.h"
+#include "SkeletonLeafExtension.h"
 #include "SkeletonSampling.h"
 #include "SkeletonSegments.h"
 #include "SkeletonThinning.h"
@@ -99,6 +104,7 @@ struct SkeletonOptions
   SkeletonThinningOptions Thinning;
   SkeletonSegmentOptions Segments;
   SkeletonConnectionOptions Connection;
+  SkeletonLeafExtensionOptions LeafExtension;
   SkeletonCoverageOptions Coverage;
 };
 

@@ -215,6 +215,51 @@ void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
   isConnection.swap(keptIsConnection);
 }
 
+void CleanGraphJunctions(SkeletonGraph& graph, double factor)
+{
+  CleanJunctions(graph.Polylines, graph.IsConnection,
+    [&graph](std::int64_t v) -> Eigen::Vector3d { return graph.NodePositions.row(v).transpose(); },
+    [&graph](std::int64_t v) { return graph.NodeRadius[v]; },
+    [&graph](std::int64_t v) { return graph.NodeComponent[v]; }, factor);
+  const auto nodeCount = static_cast<std::size_t>(graph.NodePositions.rows());
+  std::vector<char> used(nodeCount, 0);
+  for (const auto& polyline : graph.Polylines)
+  {
+    for (const std::int64_t v : polyline)
+    {
+      used[v] = 1;
+    }
+  }
+  std::vector<std::int64_t> newIndex(nodeCount, -1);
+  SkeletonGraph kept;
+  kept.NodePositions.resize(std::count(used.begin(), used.end(), char{ 1 }), 3);
+  for (std::size_t v = 0; v < nodeCount; ++v)
+  {
+    if (!used[v])
+    {
+      continue;
+    }
+    const auto row = static_cast<std::int64_t>(kept.NodeRadius.size());
+    newIndex[v] = row;
+    kept.NodePositions.row(row) = graph.NodePositions.row(static_cast<Eigen::Index>(v));
+    kept.NodeRadius.push_back(graph.NodeRadius[v]);
+    kept.NodeConfidence.push_back(graph.NodeConfidence[v]);
+    kept.NodeCloudIndex.push_back(graph.NodeCloudIndex[v]);
+    kept.NodeComponent.push_back(graph.NodeComponent[v]);
+  }
+  for (auto& polyline : graph.Polylines)
+  {
+    for (std::int64_t& v : polyline)
+    {
+      v = newIndex[v];
+    }
+  }
+  kept.Polylines = std::move(graph.Polylines);
+  kept.IsConnection = std::move(graph.IsConnection);
+  graph = std::move(kept);
+  AssignBranchBones(graph);
+}
+
 void AssignBranchBones(SkeletonGraph& graph)
 {
   const auto nodeCount = static_cast<std::size_t>(graph.NodePositions.rows());

@@ -75,6 +75,11 @@ void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
   const std::function<double(std::int64_t)>& radiusOf,
   const std::function<std::int64_t(std::int64_t)>& componentOf, double factor);
 
+/// CleanJunctions on the graph's polylines (positions, radii and components of its nodes),
+/// then the nodes left in no polyline are dropped (the others keep their order) and the bones
+/// assigned (AssignBranchBones). factor <= 0 cleans nothing but still assigns the bones.
+void CleanGraphJunctions(SkeletonGraph& graph, double factor);
+
 /// Bones are the branches of the skeleton forest: the maximal paths whose interior nodes have
 /// degree 2 in the skeleton graph (the union of the edges of all polylines), between nodes of
 /// degree 1 (ends) or >= 3 (junctions). A node of degree 0 is a bone by itself (a blob's
