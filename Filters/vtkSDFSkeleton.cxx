@@ -130,6 +130,7 @@ vtkSDFSkeleton::vtkSDFSkeleton()
   this->ConfidenceThreshold = defaults.Thinning.ConfidenceThreshold;
   this->MinimumConfidentShare = defaults.Thinning.MinimumConfidentShare;
   this->SpacingFactor = defaults.Thinning.SpacingFactor;
+  this->MaximumExitAngle = defaults.LeafExtension.MaximumExitAngle;
   this->UncoveredFactor = defaults.Coverage.UncoveredFactor;
   this->SetNumberOfOutputPorts(3);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
@@ -187,6 +188,7 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   options.Thinning.ConfidenceThreshold = this->ConfidenceThreshold;
   options.Thinning.MinimumConfidentShare = this->MinimumConfidentShare;
   options.Thinning.SpacingFactor = this->SpacingFactor;
+  options.LeafExtension.MaximumExitAngle = this->MaximumExitAngle;
   options.Coverage.UncoveredFactor = this->UncoveredFactor;
   const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
     PointMatrix(0, 3), {}, options, request.Parallel, adapter::MakeProgress(this, 0.0, 0.95),
@@ -265,6 +267,7 @@ void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ConfidenceThreshold: " << this->ConfidenceThreshold << "\n";
   os << indent << "MinimumConfidentShare: " << this->MinimumConfidentShare << "\n";
   os << indent << "SpacingFactor: " << this->SpacingFactor << "\n";
+  os << indent << "MaximumExitAngle: " << this->MaximumExitAngle << "\n";
   os << indent << "UncoveredFactor: " << this->UncoveredFactor << "\n";
   os << indent << "LinkBySegment: " << this->LinkBySegment << "\n";
   os << indent << "Seed: " << this->Seed << "\n";

@@ -17,8 +17,8 @@
  * 4. k-terminal shortest paths through P (a priority-queue growth from all segments at
  *    once) join the segments: one connected tree per connected surface component.
  *    (ours) A leaf whose branch points head-on at its part's end gets one more node where a
- *    ball of its radius touches that end (exit normal within 40 degrees of the branch; a
- *    core option, SkeletonLeafExtensionOptions); then short leaf stubs are pruned.
+ *    ball of its radius touches that end (exit normal within MaximumExitAngle of the
+ *    branch); then short leaf stubs are pruned.
  * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor)
  *    gets a branch through P to its farthest point.
  * Every face is linked to the node nearest to its projected centre (face centre pushed
@@ -46,6 +46,10 @@
  *   its points and only its longest limbs get a branch; 0 = the threshold alone; see
  *   Filters/Core/SkeletonThinning.h for the measurements).
  * - SpacingFactor ε 0.25, [0, 10], in units of the local radius SDF/2.
+ * - MaximumExitAngle 40 degrees, [0, 90]: a leaf is carried on to its part's end when its
+ *   branch leaves the volume within this angle of the exit surface's normal (deviation: the
+ *   paper's branches stop where the confident points stop, short of a hand or a head, by an
+ *   amount that changes with the pose; 0 = the paper's; Filters/Core/SkeletonLeafExtension.h).
  * - UncoveredFactor 4, [0, 1e6]: after step 4, every large group of projected points farther
  *   than this many radii from the skeleton gets a branch (deviation: the paper's skeleton
  *   only joins confident segments, so a bent or stubby limb or an ear gets a branch in some
@@ -133,6 +137,14 @@ public:
   ///@}
 
   ///@{
+  /// A leaf whose branch leaves the volume within this angle (degrees) of the exit surface's
+  /// normal gets a node where a ball of its radius touches the part's end (default 40, range
+  /// [0, 90]; 0 = off; not in the paper, see Filters/Core/SkeletonLeafExtension.h).
+  vtkSetClampMacro(MaximumExitAngle, double, 0.0, 90.0);
+  vtkGetMacro(MaximumExitAngle, double);
+  ///@}
+
+  ///@{
   /// Projected points farther than this many radii from the skeleton are uncovered, and every
   /// group of them holding 1 % of the points gets a branch (default 4, range [0, 1e6]; 0 = off;
   /// not in the paper, see Filters/Core/SkeletonCoverage.h).
@@ -173,6 +185,7 @@ protected:
   double ConfidenceThreshold;
   double MinimumConfidentShare;
   double SpacingFactor;
+  double MaximumExitAngle;
   double UncoveredFactor;
   vtkTypeBool LinkBySegment = 1;
   int Seed;

@@ -25,6 +25,7 @@
 #include <cstdio>
 #include <map>
 #include <set>
+#include <utility>
 #include <vector>
 
 using shapediameter::testing::DataFile;
@@ -405,4 +406,65 @@ TEST(SDFSkeleton, BadInputIsAnError)
   skeleton->Update();
   EXPECT_EQ(recorder->Errors, 1);
   EXPECT_EQ(recorder->Warnings, 1);
+}
+
+TEST(SDFSkeleton, LeavesReachTheirPartsEnds)
+{
+  // The test figure at rest: its head is a ball on a short neck, with no curve-like part of
+  // its own. With MaximumExitAngle 0 (the paper's skeleton) the branch towards it is a stub
+  // that the pruning removes: four ends, the limbs. At the default the stub is carried on to
+  // the top of the head first: five ends, the highest node near the head's top.
+  const figure::ArticulatedFigureTemplate figureTemplate;
+  const figure::ArticulatedFigure rest = figureTemplate.Rest();
+  vtkNew<vtkShapeDiameterFilter> sdf;
+  sdf->SetInputData(ToPolyData(rest.Points, rest.Triangles));
+  vtkNew<vtkSDFBilateralSmooth> smooth;
+  smooth->SetInputConnection(sdf->GetOutputPort());
+  smooth->Update();
+  double bounds[6];
+  smooth->GetOutput()->GetBounds(bounds);
+  auto endsAndTop = [&](double angle) {
+    vtkNew<vtkSDFSkeleton> skeleton;
+    skeleton->SetInputData(smooth->GetOutput());
+    skeleton->SetMaximumExitAngle(angle);
+    skeleton->Update();
+    vtkPolyData* nodes = skeleton->GetSkeleton();
+    std::set<std::pair<vtkIdType, vtkIdType>> edges;
+    for (vtkIdType c = 0; c < nodes->GetNumberOfCells(); ++c)
+    {
+      vtkIdType count = 0;
+      const vtkIdType* ids = nullptr;
+      nodes->GetCellPoints(c, count, ids);
+      for (vtkIdType i = 1; i < count; ++i)
+      {
+        if (ids[i - 1] != ids[i])
+        {
+          edges.insert({ std::min(ids[i - 1], ids[i]), std::max(ids[i - 1], ids[i]) });
+        }
+      }
+    }
+    std::map<vtkIdType, int> degree;
+    for (const auto& [a, b] : edges)
+    {
+      ++degree[a];
+      ++degree[b];
+    }
+    int ends = 0;
+    for (const auto& [node, d] : degree)
+    {
+      ends += d == 1 ? 1 : 0;
+    }
+    double top = -VTK_DOUBLE_MAX;
+    for (vtkIdType n = 0; n < nodes->GetNumberOfPoints(); ++n)
+    {
+      top = std::max(top, nodes->GetPoint(n)[1]);
+    }
+    return std::make_pair(ends, top);
+  };
+  const auto [paperEnds, paperTop] = endsAndTop(0.0);
+  const auto [ends, top] = endsAndTop(40.0);
+  EXPECT_EQ(paperEnds, 4);
+  EXPECT_EQ(ends, 5);
+  EXPECT_GT(top, paperTop + 0.2) << "the head's branch runs up into the head";
+  EXPECT_LT(top, bounds[3]) << "and stays inside it";
 }
