@@ -36,6 +36,8 @@
 //   5. Junctions are cleaned (CleanJunctions, SkeletonBones.h) with f = MinimumBranchFactor:
 //      leaf stubs shorter than about f * radius are removed and inner branches that short are
 //      contracted, so that the number of branches does not change with SDF noise and pose.
+//      ComputeSkeleton passes f = 0 here and cleans after step 4b instead (CleanGraphJunctions,
+//      SkeletonLeafExtension.h), so that a leaf branch is judged with its extension.
 //   6. Bones (AssignBranchBones, SkeletonBones.h): the polylines above are pieces of the
 //      algorithm (a fitted segment may run through a junction where a connecting path ends on
 //      it), so they are cut at junctions and grouped into the branches of the tree.
