@@ -785,10 +785,9 @@ CloudNeighborGraph BuildCloudNeighborGraph(const ProjectedCloud& cloud,
   const std::vector<std::int64_t>& pointComponent, int numberOfNeighbors,
   const ParallelFor& parallelFor, const RayCaster* volume)
 {
-  if (numberOfNeighbors < 1 || numberOfNeighbors > 64)
-  {
-    throw SkeletonError("skeleton: NumberOfNeighbors must be in [1, 64]");
-  }
+  SkeletonConnectionOptions options;
+  options.NumberOfNeighbors = numberOfNeighbors;
+  ValidateConnectionOptions(options);
   const std::size_t count = cloud.Size();
   if (count == 0)
   {

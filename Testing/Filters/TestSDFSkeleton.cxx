@@ -60,6 +60,18 @@ SkeletonRun Skeletonize(vtkPolyData* mesh, bool partition = false, int threads =
     recorder->Warnings };
 }
 
+/// The mesh through vtkShapeDiameterFilter and vtkSDFBilateralSmooth at their defaults: the
+/// skeleton's input without the partition.
+vtkSmartPointer<vtkPolyData> SmoothedSurface(vtkPolyData* mesh)
+{
+  vtkNew<vtkShapeDiameterFilter> sdf;
+  sdf->SetInputData(mesh);
+  vtkNew<vtkSDFBilateralSmooth> smooth;
+  smooth->SetInputConnection(sdf->GetOutputPort());
+  smooth->Update();
+  return smooth->GetOutput();
+}
+
 bool ArraysFinite(vtkPolyData* data)
 {
   for (vtkFieldData* field : { static_cast<vtkFieldData*>(data->GetPointData()),
@@ -295,14 +307,11 @@ TEST(SDFSkeleton, PartsWithoutASegmentGetABranch)
   // with UncoveredFactor 0 and 3.6 % at the default.
   vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(DataFile("dino.off").c_str());
-  vtkNew<vtkShapeDiameterFilter> sdf;
-  sdf->SetInputConnection(reader->GetOutputPort());
-  vtkNew<vtkSDFBilateralSmooth> smooth;
-  smooth->SetInputConnection(sdf->GetOutputPort());
-  smooth->Update();
+  reader->Update();
+  const vtkSmartPointer<vtkPolyData> smoothed = SmoothedSurface(reader->GetOutput());
   auto uncoveredShare = [&](double factor) {
     vtkNew<vtkSDFSkeleton> skeleton;
-    skeleton->SetInputData(smooth->GetOutput());
+    skeleton->SetInputData(smoothed);
     skeleton->SetUncoveredFactor(factor);
     skeleton->Update();
     vtkPolyData* nodes = skeleton->GetSkeleton();
@@ -416,16 +425,12 @@ TEST(SDFSkeleton, LeavesReachTheirPartsEnds)
   // the top of the head first: five ends, the highest node near the head's top.
   const figure::ArticulatedFigureTemplate figureTemplate;
   const figure::ArticulatedFigure rest = figureTemplate.Rest();
-  vtkNew<vtkShapeDiameterFilter> sdf;
-  sdf->SetInputData(ToPolyData(rest.Points, rest.Triangles));
-  vtkNew<vtkSDFBilateralSmooth> smooth;
-  smooth->SetInputConnection(sdf->GetOutputPort());
-  smooth->Update();
+  const vtkSmartPointer<vtkPolyData> smoothed = SmoothedSurface(ToPolyData(rest.Points, rest.Triangles));
   double bounds[6];
-  smooth->GetOutput()->GetBounds(bounds);
+  smoothed->GetBounds(bounds);
   auto endsAndTop = [&](double angle) {
     vtkNew<vtkSDFSkeleton> skeleton;
-    skeleton->SetInputData(smooth->GetOutput());
+    skeleton->SetInputData(smoothed);
     skeleton->SetMaximumExitAngle(angle);
     skeleton->Update();
     vtkPolyData* nodes = skeleton->GetSkeleton();
