@@ -113,6 +113,7 @@ vtkSDFGMMPartition::vtkSDFGMMPartition()
   this->ClusterModel = defaults.ClusterModel == shapediameter::PartitionClusterModel::ExpectationMaximization ? 0 : 1;
   this->ModeBandwidth = defaults.Modes.Bandwidth;
   this->ModeProminence = defaults.Modes.MinimumProminence;
+  this->ModeValleyDepth = defaults.Modes.MinimumValleyDepth;
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(2);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
@@ -183,6 +184,7 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
   options.Mixture.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
   options.Modes.Bandwidth = this->ModeBandwidth;
   options.Modes.MinimumProminence = this->ModeProminence;
+  options.Modes.MinimumValleyDepth = this->ModeValleyDepth;
   options.Energy.Lambda = this->Lambda;
   options.Energy.ProbabilityEpsilon = this->Epsilon;
   options.Energy.ConvexityFactor = this->ConvexityFactor;
@@ -245,4 +247,5 @@ void vtkSDFGMMPartition::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ClusterModel: " << this->ClusterModel << "\n";
   os << indent << "ModeBandwidth: " << this->ModeBandwidth << "\n";
   os << indent << "ModeProminence: " << this->ModeProminence << "\n";
+  os << indent << "ModeValleyDepth: " << this->ModeValleyDepth << "\n";
 }

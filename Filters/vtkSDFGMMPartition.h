@@ -62,8 +62,10 @@
  * - NumberOfThreads 0 = all cores (vtkSDFSurfaceAlgorithm).
  * - ClusterModel 1 (default) = clusters from the modes of the area-weighted density of the
  *   input values (Filters/Core/DensityModes.h): the at most k modes rising ModeProminence
- *   (default 0.05, [0, 1]) of the highest peak above their saddle, in a Gaussian kernel
- *   estimate of bandwidth ModeBandwidth (default 0.02 of the value range, [0.001, 0.5]);
+ *   (default 0.025, [0, 1]) of the highest peak and ModeValleyDepth (default 0.25, [0, 1])
+ *   of their own height above their saddle, in a Gaussian kernel estimate of bandwidth
+ *   ModeBandwidth (default 0.02 of the value range, [0.001, 0.5]). The valley depth keeps
+ *   shoulders of a larger mode, which come and go with the pose, from becoming clusters;
  *   each cluster is the basin between two valleys, modelled by one Gaussian of its weighted
  *   moments. Boundaries then lie where few faces are, so a small pose-dependent shift moves
  *   few faces: fewer faces change cluster between poses than with EM (README,
@@ -207,9 +209,16 @@ public:
 
   ///@{
   /// ClusterModel 1: smallest height of a mode above its saddle, relative to the highest peak
-  /// (default 0.05, range [0, 1]).
+  /// (default 0.025, range [0, 1]).
   vtkSetClampMacro(ModeProminence, double, 0.0, 1.0);
   vtkGetMacro(ModeProminence, double);
+  ///@}
+
+  ///@{
+  /// ClusterModel 1: smallest height of a mode above its saddle, relative to the mode's own
+  /// height (default 0.25, range [0, 1]); 0 = prominence alone.
+  vtkSetClampMacro(ModeValleyDepth, double, 0.0, 1.0);
+  vtkGetMacro(ModeValleyDepth, double);
   ///@}
 
   /// The histogram and fitted densities (output port 1).
@@ -235,6 +244,7 @@ protected:
   int ClusterModel;
   double ModeBandwidth;
   double ModeProminence;
+  double ModeValleyDepth;
 
 private:
   vtkSDFGMMPartition(const vtkSDFGMMPartition&) = delete;

@@ -33,28 +33,36 @@ void CheckInput(ValuesView values, ValuesView weights, const DensityModesOptions
     }
   }
   if (!(options.Bandwidth > 0 && options.Bandwidth <= 1) || !(options.MinimumProminence >= 0) ||
+    !(options.MinimumValleyDepth >= 0 && options.MinimumValleyDepth <= 1) ||
     options.MaximumModes < 1 || options.BinCount < 2 || options.GridSize < 3 || !(options.MinSigmaRelative > 0))
   {
     throw DensityModesError("invalid density-mode options");
   }
 }
 
-/// Height of each local maximum above its key saddle, relative to the highest point.
-std::vector<double> Prominences(const std::vector<double>& density, const std::vector<int>& peaks)
+struct PeakSeparation
+{
+  double Prominence; ///< height above the key saddle, relative to the highest point
+  double ValleyDepth; ///< height above the key saddle, relative to the peak's own height
+};
+
+/// How far each local maximum rises above its key saddle (see the header comment, step 2).
+std::vector<PeakSeparation> Separations(const std::vector<double>& density, const std::vector<int>& peaks)
 {
   const double highest = *std::max_element(density.begin(), density.end());
   const int last = static_cast<int>(density.size()) - 1;
-  std::vector<double> prominence;
+  std::vector<PeakSeparation> separations;
   for (const int peak : peaks)
   {
     // Towards each side: the lowest point before a higher one; a side that reaches the end of
     // the range without a higher point does not bound the peak (saddle 0 there).
+    const double height = density[static_cast<std::size_t>(peak)];
     double saddle = 0.0;
     for (const int step : { -1, 1 })
     {
-      double lowest = density[static_cast<std::size_t>(peak)];
+      double lowest = height;
       int i = peak;
-      while (i + step >= 0 && i + step <= last && density[static_cast<std::size_t>(i + step)] <= density[static_cast<std::size_t>(peak)])
+      while (i + step >= 0 && i + step <= last && density[static_cast<std::size_t>(i + step)] <= height)
       {
         i += step;
         lowest = std::min(lowest, density[static_cast<std::size_t>(i)]);
@@ -62,9 +70,9 @@ std::vector<double> Prominences(const std::vector<double>& density, const std::v
       const bool bounded = i + step >= 0 && i + step <= last;
       saddle = std::max(saddle, bounded ? lowest : 0.0);
     }
-    prominence.push_back((density[static_cast<std::size_t>(peak)] - saddle) / highest);
+    separations.push_back({ (height - saddle) / highest, (height - saddle) / height });
   }
-  return prominence;
+  return separations;
 }
 
 } // namespace
@@ -140,27 +148,30 @@ DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const 
       peaks.push_back(static_cast<int>(g));
     }
   }
-  const std::vector<double> prominence = Prominences(density, peaks);
+  const std::vector<PeakSeparation> separation = Separations(density, peaks);
   std::vector<std::size_t> order(peaks.size());
   std::iota(order.begin(), order.end(), std::size_t{ 0 });
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return prominence[a] > prominence[b]; });
+  std::stable_sort(order.begin(), order.end(),
+    [&](std::size_t a, std::size_t b) { return separation[a].Prominence > separation[b].Prominence; });
   std::vector<std::size_t> kept;
   for (const std::size_t p : order)
   {
-    if (prominence[p] >= options.MinimumProminence && static_cast<int>(kept.size()) < options.MaximumModes)
+    if (separation[p].Prominence >= options.MinimumProminence &&
+      separation[p].ValleyDepth >= options.MinimumValleyDepth && static_cast<int>(kept.size()) < options.MaximumModes)
     {
       kept.push_back(p);
     }
   }
   if (kept.empty())
   {
-    kept.push_back(order.front()); // the highest peak always has prominence 1
+    kept.push_back(order.front()); // the highest peak always has prominence and depth 1
   }
   std::sort(kept.begin(), kept.end());
   for (std::size_t m = 0; m < kept.size(); ++m)
   {
     result.Modes.push_back(grid[static_cast<std::size_t>(peaks[kept[m]])]);
-    result.Prominences.push_back(prominence[kept[m]]);
+    result.Prominences.push_back(separation[kept[m]].Prominence);
+    result.ValleyDepths.push_back(separation[kept[m]].ValleyDepth);
     if (m > 0)
     {
       const auto from = density.begin() + peaks[kept[m - 1]];

@@ -97,6 +97,33 @@ TEST(DensityModes, NoiseBumpsAndCapsAreHonoured)
   EXPECT_EQ(FitDensityModes(View(four), View(fourWeights), strict).Model.ComponentCount(), 1);
 }
 
+TEST(DensityModes, AShoulderIsNotAModeButASmallSeparatedModeIs)
+{
+  // A thickness level overlapping a larger one (0.52 next to 0.4) makes a shoulder with a
+  // shallow local maximum; a small level far from the others (0.85, 2.6 % of the values) makes
+  // a low but separated peak. Only the second is a cluster by default.
+  const std::vector<double> values = Mixture({ 0.4, 0.52, 0.85 }, { 0.05, 0.03, 0.02 }, { 8000, 3000, 300 });
+  const std::vector<double> ones(values.size(), 1.0);
+  DensityModesOptions prominenceAlone;
+  prominenceAlone.MinimumValleyDepth = 0.0;
+  const auto all = FitDensityModes(View(values), View(ones), prominenceAlone);
+  ASSERT_EQ(all.Modes.size(), 3u) << "the shoulder has a local maximum above the prominence floor";
+  EXPECT_NEAR(all.Modes[1], 0.52, 0.03);
+  EXPECT_GT(all.Prominences[1], 0.05) << "prominent enough for the former rule (prominence 0.05 alone)";
+  EXPECT_LT(all.ValleyDepths[1], 0.25);
+  EXPECT_GT(all.ValleyDepths[2], 0.9);
+  const auto result = FitDensityModes(View(values), View(ones));
+  ASSERT_EQ(result.Modes.size(), 2u);
+  EXPECT_NEAR(result.Modes[0], 0.4, 0.03);
+  EXPECT_NEAR(result.Modes[1], 0.85, 0.02);
+  ASSERT_EQ(result.ValleyDepths.size(), 2u);
+  EXPECT_DOUBLE_EQ(result.ValleyDepths[0], 1.0) << "the highest peak";
+  EXPECT_LT(result.Prominences[1], 0.15);
+  // The shoulder's values join the larger mode's basin.
+  ASSERT_EQ(result.Valleys.size(), 1u);
+  EXPECT_GT(result.Valleys[0], 0.62);
+}
+
 TEST(DensityModes, ValleysMoveWithTheValuesAndFewValuesChangeCluster)
 {
   // The consistency property: shift every value by 1 % of the range plus noise of 0.5 %; the
@@ -149,6 +176,13 @@ TEST(DensityModes, DegenerateAndBadInput)
   DensityModesOptions bad;
   bad.Bandwidth = 0.0;
   EXPECT_THROW(FitDensityModes(View(two), View(std::vector<double>(two.size(), 1.0)), bad), DensityModesError);
+  for (const double depth : { -0.1, 1.5, std::numeric_limits<double>::quiet_NaN() })
+  {
+    DensityModesOptions badDepth;
+    badDepth.MinimumValleyDepth = depth;
+    EXPECT_THROW(FitDensityModes(View(two), View(std::vector<double>(two.size(), 1.0)), badDepth), DensityModesError)
+      << depth;
+  }
 }
 
 } // namespace
