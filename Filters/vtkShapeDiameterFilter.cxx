@@ -142,6 +142,7 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
   options.Rule = this->HitRule == 1 ? shapediameter::HitRule::SkipSameFacing : shapediameter::HitRule::FirstHitLeaving;
   options.Mode = this->Mode == ADAPTIVE ? ShapeDiameterMode::Adaptive : ShapeDiameterMode::Exact;
   options.Tolerance = this->Tolerance;
+  options.IgnoreBuriedOrigins = this->IgnoreBuriedFaces != 0;
   // MakeVertexOrigins normalises the area-weighted normals, and skips zero ones.
   RayOrigins origins = this->PerPoint
     ? MakeVertexOrigins(surface.Points, AreaWeightedVertexNormals(surface.Points, surface.Triangles))
@@ -197,6 +198,7 @@ void vtkShapeDiameterFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PerPoint: " << this->PerPoint << "\n";
   os << indent << "HitRule: " << this->HitRule << "\n";
   os << indent << "AutoOrient: " << this->AutoOrient << "\n";
+  os << indent << "IgnoreBuriedFaces: " << this->IgnoreBuriedFaces << "\n";
   os << indent << "Mode: " << (this->Mode == ADAPTIVE ? "Adaptive" : "Exact") << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
 }

@@ -28,6 +28,12 @@
  *   connected component before casting (inward or mixed winding would send the cones out
  *   of the object). The output polygons carry the repaired winding and a warning says
  *   how many were flipped. Triangle strips are cast correctly but keep their winding.
+ * - IgnoreBuriedFaces, default on (ours): a face lying inside another part of a
+ *   self-intersecting mesh (a paw pushed into the torso) gets no value of its own and is filled
+ *   from its neighbours like a face without a valid ray; its rays would measure the distance to
+ *   the enclosing part's surface, which changes with the pose. Found by one ray along the
+ *   outward normal whose first hit is left, not entered (Filters/Core/ShapeDiameter.h, "Buried
+ *   origins"). Off = the paper's value for every face.
  * - Mode, default 0 = Exact: every face casts its cone (the paper). 1 = Adaptive: cones are
  *   cast from a subset of faces spaced at half the local SDF, refined where neighbouring cast
  *   values differ by more than Tolerance, and the other faces are interpolated over the
@@ -45,7 +51,7 @@
  * - `SDF` (double): the shape diameter in the mesh's length units;
  * - `SDFValidRays` (int): rays kept after filtering; 0 marks a value filled in from the
  *   neighbouring faces across manifold edges (no valid ray, e.g. a face looking out
- *   through a hole, or a degenerate face). A component with no valid face at all gets the median SDF of the
+ *   through a hole, a degenerate face, or a buried face). A component with no valid face at all gets the median SDF of the
  *   whole mesh (0 if no face has a value). Vertices and lines get SDF 0 and 0 rays.
  * Polygons of any size and triangle strips are split into triangles internally; a
  * cell's SDF is the area-weighted mean of its triangles' values and SDFValidRays their
@@ -123,6 +129,14 @@ public:
   vtkBooleanMacro(AutoOrient, vtkTypeBool);
   ///@}
 
+  ///@{
+  /// Give faces inside another part of a self-intersecting mesh their neighbours' value
+  /// instead of their own (default on).
+  vtkSetMacro(IgnoreBuriedFaces, vtkTypeBool);
+  vtkGetMacro(IgnoreBuriedFaces, vtkTypeBool);
+  vtkBooleanMacro(IgnoreBuriedFaces, vtkTypeBool);
+  ///@}
+
   /// Values of Mode.
   enum ModeType
   {
@@ -157,6 +171,7 @@ protected:
   vtkTypeBool PerPoint = false;
   int HitRule;
   vtkTypeBool AutoOrient = true;
+  vtkTypeBool IgnoreBuriedFaces = true;
   int Mode;
   double Tolerance;
 

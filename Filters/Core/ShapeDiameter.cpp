@@ -258,6 +258,16 @@ RayOrigins MakeVertexOrigins(const PointsView& points, const PointsView& normals
   return origins;
 }
 
+bool IsBuried(const RayCaster& caster, const RayOrigin& origin)
+{
+  // From just outside the surface along the outward normal, the first surface met is left
+  // (not entered) only when that point is inside the volume: the origin lies inside another
+  // part of a self-intersecting mesh.
+  RayOrigin outside = origin;
+  outside.Rule = HitRule::FirstHitLeaving;
+  return std::isfinite(caster.ClosestValidHit(outside, origin.Normal));
+}
+
 bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
   const ShapeDiameterOptions& options, const std::vector<std::size_t>* subset,
   ShapeDiameterResult& result, const ParallelFor& parallelFor, const ProgressCallback& progress)
@@ -286,6 +296,7 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
 
   std::atomic<bool> aborted{ false };
   std::atomic<std::size_t> castCount{ 0 };
+  std::atomic<std::size_t> buriedCount{ 0 };
   std::mutex progressMutex;
   std::size_t chunksDone = 0;
 
@@ -295,6 +306,7 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
     std::vector<double> distances(static_cast<std::size_t>(rayCount));
     std::vector<double> scratch(static_cast<std::size_t>(rayCount));
     std::size_t rangeCasts = 0;
+    std::size_t rangeBuried = 0;
     for (std::size_t chunk = chunkBegin; chunk < chunkEnd; ++chunk)
     {
       if (aborted.load(std::memory_order_relaxed))
@@ -335,8 +347,14 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
           distances.data());
         ++rangeCasts;
         int kept = 0;
-        const double value = RobustWeightedMeanOf(
+        double value = RobustWeightedMeanOf(
           distances.data(), pattern.Weights.data(), rayCount, scratch.data(), kept);
+        if (options.IgnoreBuriedOrigins && IsBuried(caster, origin))
+        {
+          value = 0.0;
+          kept = 0;
+          ++rangeBuried;
+        }
         result.Values[o] = value;
         result.ValidRays[o] = kept;
       }
@@ -352,8 +370,10 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
       }
     }
     castCount.fetch_add(rangeCasts, std::memory_order_relaxed);
+    buriedCount.fetch_add(rangeBuried, std::memory_order_relaxed);
   });
   result.CastCount += castCount.load();
+  result.BuriedCount += buriedCount.load();
   return !aborted.load();
 }
 

@@ -54,11 +54,25 @@
 //   - The ray pattern (golden-angle spiral, uniform in solid angle) and the weight of a ray
 //     on the axis: ConeSampling.h.
 //   - sigma is taken about the mean (see step 3).
+//   - Origins buried inside another part get no value and are filled (see "Buried origins").
 //   - "Angle difference less than 90 degrees" includes a 1e-6 tolerance on the cosine so
 //     that walls exactly perpendicular to the origin face are rejected whatever the rounding
 //     (RayCaster.h); this keeps symmetric meshes invariant under rigid motions.
 //   - The paper computes f_v at face centres and says nothing about faces without a valid
 //     ray; FillFromNeighbors is our documented fill. Vertex origins are an option.
+//
+// Buried origins (ours; IgnoreBuriedOrigins, default on)
+//   Posed characters often self-intersect (a paw pushed into the torso, skinning folds at a
+//   joint). A face inside another part's volume has no thickness of its own to measure: its
+//   rays leave the enclosing part's surface first, a short distance away, so its value
+//   collapses in the poses where it is buried and not in the others (on the cat poses of
+//   README "Consistency", up to 14 % of the area in one pose, with SDFs 5-100 times below
+//   their value in the other poses). One extra ray per origin, along the outward normal from
+//   the origin: when the first surface it meets is LEFT (FirstHitLeaving finds a hit), the
+//   point just outside the surface is inside the volume, and the origin gets value 0 and
+//   ValidRays 0 like an origin without a valid ray, so FillFromNeighbors gives it its
+//   unburied neighbours' values. A watertight mesh without self-intersections has no buried
+//   origin. Cost: 1 ray beside the cone's 30. Effect measured in README, "Consistency".
 //
 // Degenerate cases
 //   - An origin listed in Skip, or with a non-finite point or a zero/non-finite normal, is not
@@ -119,6 +133,9 @@ struct ShapeDiameterOptions
   double Tolerance = 0.15;
   /// Adaptive: spacing of cast origins as a fraction of the local SDF, (0, 8].
   double SpacingFraction = 0.5;
+  /// An origin buried inside another part of a self-intersecting mesh gets no value
+  /// (ValidRays 0, left for FillFromNeighbors); see "Buried origins" above. Default on.
+  bool IgnoreBuriedOrigins = true;
 };
 
 /// Where the cones start. All matrices have one row per origin (n rows), except FirstAxes and
@@ -161,7 +178,12 @@ struct ShapeDiameterResult
   std::vector<int> ValidRays;
   bool Aborted = false;       ///< the ProgressCallback asked to stop
   std::size_t CastCount = 0;  ///< origins whose cone was cast (all castable ones in Exact mode)
+  std::size_t BuriedCount = 0; ///< cast origins found buried (IgnoreBuriedOrigins), value 0
 };
+
+/// True when the origin lies inside the volume of another part of the mesh: the first surface
+/// a ray along its outward normal meets is one the ray leaves (see "Buried origins" above).
+bool IsBuried(const RayCaster& caster, const RayOrigin& origin);
 
 /// The SDF of every origin. Throws ShapeDiameterError on bad options or inconsistent sizes.
 ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigins& origins,

@@ -4,6 +4,7 @@
 #include "BruteForceRayCaster.h"
 #include "ConeSampling.h"
 #include "EmbreeRayCaster.h"
+#include "Orientation.h"
 #include "TestShapes.h"
 #include "ShapeDiameter.h"
 
@@ -463,6 +464,77 @@ TEST(ShapeDiameter, TwoDisjointSpheresEachGetTheirOwnDiameter)
       ASSERT_NEAR(v, expected, 0.06 * expected) << radius;
     }
   }
+}
+
+TEST(ShapeDiameter, FacesBuriedInAnotherPartAreLeftForFilling)
+{
+  // Two unit spheres interpenetrating like a paw pushed into a torso: the faces of each that
+  // lie inside the other measure the distance to the other's surface, not their own sphere.
+  const Eigen::Vector3d otherCentre(1.2, 0, 0);
+  const TestMesh sphere = testshapes::MakeIcosphere(20, 1.0);
+  const TestMesh both = testshapes::Concatenate(sphere, testshapes::MakeIcosphere(20, 1.0, otherCentre));
+  const auto faces = static_cast<std::size_t>(sphere.Triangles.rows());
+  const double expected = ExpectedSphereSDF(1.0, MakeConePattern(30, 120));
+  ShapeDiameterOptions paper;
+  paper.IgnoreBuriedOrigins = false;
+  const ShapeDiameterResult own = FaceSDF(both, paper);
+  const ShapeDiameterResult result = FaceSDF(both);
+  std::vector<double> buriedOwn;
+  std::size_t clearlyInside = 0, clearlyOutside = 0;
+  for (std::size_t f = 0; f < faces; ++f)
+  {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      centre += sphere.Points.row(sphere.Triangles(static_cast<Eigen::Index>(f), corner)).transpose() / 3.0;
+    }
+    const double depth = 1.0 - (centre - otherCentre).norm(); // > 0: inside the other sphere
+    if (depth > 0.02)
+    {
+      ++clearlyInside;
+      buriedOwn.push_back(own.Values[f]);
+      EXPECT_EQ(result.ValidRays[f], 0) << f;
+      EXPECT_EQ(result.Values[f], 0.0) << f;
+    }
+    else if (depth < -0.02)
+    {
+      ++clearlyOutside;
+      EXPECT_GT(result.ValidRays[f], 0) << f;
+      EXPECT_EQ(result.Values[f], own.Values[f]) << "an unburied face keeps its value exactly";
+    }
+  }
+  std::size_t newlyInvalid = 0, invalid = 0;
+  for (std::size_t f = 0; f < result.ValidRays.size(); ++f)
+  {
+    newlyInvalid += result.ValidRays[f] == 0 && own.ValidRays[f] > 0 ? 1 : 0;
+    invalid += result.ValidRays[f] == 0 ? 1 : 0;
+  }
+  ASSERT_GT(clearlyInside, faces / 20);
+  ASSERT_GT(clearlyOutside, faces / 2);
+  EXPECT_LT(Mean(buriedOwn), 0.5 * expected) << "the paper's value collapses on buried faces";
+  EXPECT_GE(result.BuriedCount, newlyInvalid);
+  EXPECT_LE(result.BuriedCount, invalid);
+  EXPECT_GT(result.BuriedCount, clearlyInside) << "both spheres have a buried cap";
+  EXPECT_EQ(own.BuriedCount, 0u);
+
+  // Filled from the unburied neighbours, the buried cap gets about its own sphere's value.
+  std::vector<double> values = result.Values;
+  const TriangleAdjacency adjacency = BuildTriangleAdjacency(both.Triangles);
+  FillFromNeighbors(values, result.ValidRays, adjacency.Offsets, adjacency.Neighbors);
+  std::vector<double> filled;
+  for (std::size_t f = 0; f < faces; ++f)
+  {
+    if (result.ValidRays[f] == 0)
+    {
+      filled.push_back(values[f]);
+    }
+  }
+  EXPECT_NEAR(Mean(filled), expected, 0.15 * expected);
+
+  // A mesh without self-intersections has no buried face: the option changes nothing.
+  const ShapeDiameterResult alone = FaceSDF(sphere);
+  EXPECT_EQ(alone.BuriedCount, 0u);
+  EXPECT_EQ(alone.Values, FaceSDF(sphere, paper).Values);
 }
 
 TEST(ShapeDiameter, ThreadSplitsGiveBitIdenticalResults)
