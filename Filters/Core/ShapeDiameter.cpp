@@ -343,18 +343,19 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
         MakeConeFrame(axis, preferred, firstAxis, secondAxis);
         OrientConePattern(pattern, axis, firstAxis, secondAxis, directions.data());
 
-        caster.CastCone(origin, directions.data(), static_cast<std::size_t>(rayCount),
-          distances.data());
         ++rangeCasts;
-        int kept = 0;
-        double value = RobustWeightedMeanOf(
-          distances.data(), pattern.Weights.data(), rayCount, scratch.data(), kept);
         if (options.IgnoreBuriedOrigins && IsBuried(caster, origin))
         {
-          value = 0.0;
-          kept = 0;
+          result.Values[o] = 0.0; // no cone: its rays would measure the enclosing part
+          result.ValidRays[o] = 0;
           ++rangeBuried;
+          continue;
         }
+        caster.CastCone(origin, directions.data(), static_cast<std::size_t>(rayCount),
+          distances.data());
+        int kept = 0;
+        const double value = RobustWeightedMeanOf(
+          distances.data(), pattern.Weights.data(), rayCount, scratch.data(), kept);
         result.Values[o] = value;
         result.ValidRays[o] = kept;
       }

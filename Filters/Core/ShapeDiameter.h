@@ -71,8 +71,10 @@
 //   the origin: when the first surface it meets is LEFT (FirstHitLeaving finds a hit), the
 //   point just outside the surface is inside the volume, and the origin gets value 0 and
 //   ValidRays 0 like an origin without a valid ray, so FillFromNeighbors gives it its
-//   unburied neighbours' values. A watertight mesh without self-intersections has no buried
-//   origin. Cost: 1 ray beside the cone's 30. Effect measured in README, "Consistency".
+//   unburied neighbours' values (a buried origin casts no cone). A watertight mesh without
+//   self-intersections has no buried origin. A closed component lying wholly inside another
+//   (an eyeball in a closed head) is buried everywhere and gets FillFromNeighbors' fallback,
+//   the median of the mesh. Cost: 1 ray beside the cone's 30. Effect: README, "Consistency".
 //
 // Degenerate cases
 //   - An origin listed in Skip, or with a non-finite point or a zero/non-finite normal, is not
@@ -177,7 +179,7 @@ struct ShapeDiameterResult
   /// was not cast carries the count of the cast origin its value comes from.
   std::vector<int> ValidRays;
   bool Aborted = false;       ///< the ProgressCallback asked to stop
-  std::size_t CastCount = 0;  ///< origins whose cone was cast (all castable ones in Exact mode)
+  std::size_t CastCount = 0;  ///< origins evaluated: cone cast or found buried (all castable ones in Exact mode)
   std::size_t BuriedCount = 0; ///< cast origins found buried (IgnoreBuriedOrigins), value 0
 };
 
