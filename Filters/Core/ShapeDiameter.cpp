@@ -337,12 +337,6 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
         origin.MinDistance = origin.SourceTriangle >= 0 ? 0.0 : vertexMinDistance;
         origin.Rule = options.Rule;
 
-        const double axis[3] = { -origin.Normal[0], -origin.Normal[1], -origin.Normal[2] };
-        double firstAxis[3], secondAxis[3];
-        const double* preferred = haveFirstAxes ? origins.FirstAxes.row(row).data() : nullptr;
-        MakeConeFrame(axis, preferred, firstAxis, secondAxis);
-        OrientConePattern(pattern, axis, firstAxis, secondAxis, directions.data());
-
         ++rangeCasts;
         if (options.IgnoreBuriedOrigins && IsBuried(caster, origin))
         {
@@ -351,6 +345,11 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
           ++rangeBuried;
           continue;
         }
+        const double axis[3] = { -origin.Normal[0], -origin.Normal[1], -origin.Normal[2] };
+        double firstAxis[3], secondAxis[3];
+        const double* preferred = haveFirstAxes ? origins.FirstAxes.row(row).data() : nullptr;
+        MakeConeFrame(axis, preferred, firstAxis, secondAxis);
+        OrientConePattern(pattern, axis, firstAxis, secondAxis, directions.data());
         caster.CastCone(origin, directions.data(), static_cast<std::size_t>(rayCount),
           distances.data());
         int kept = 0;
