@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Tests of the shape diameter function core: cone pattern, robust statistics, SDF on
 // analytic shapes, invariances, threading, abort, degenerate input and FillFromNeighbors.
+#include "ArticulatedFigure.h"
 #include "BruteForceRayCaster.h"
 #include "ConeSampling.h"
-#include "ArticulatedFigure.h"
 #include "EmbreeRayCaster.h"
-#include "Orientation.h"
 #include "TestShapes.h"
 #include "ShapeDiameter.h"
 
@@ -14,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <vector>
@@ -520,8 +520,9 @@ TEST(ShapeDiameter, FacesBuriedInAnotherPartAreLeftForFilling)
 
   // Filled from the unburied neighbours, the buried cap gets about its own sphere's value.
   std::vector<double> values = result.Values;
-  const TriangleAdjacency adjacency = BuildTriangleAdjacency(both.Triangles);
-  FillFromNeighbors(values, result.ValidRays, adjacency.Offsets, adjacency.Neighbors);
+  std::vector<std::int64_t> offsets, indices;
+  testshapes::EdgeAdjacency(both.Triangles, offsets, indices);
+  FillFromNeighbors(values, result.ValidRays, offsets, indices);
   std::vector<double> filled;
   for (std::size_t f = 0; f < faces; ++f)
   {
@@ -552,8 +553,9 @@ TEST(ShapeDiameter, AnArmPushedIntoTheTorsoKeepsItsDiameter)
     ShapeDiameterOptions options;
     options.IgnoreBuriedOrigins = ignoreBuried;
     ShapeDiameterResult result = ComputeFaceShapeDiameter(mesh.Points, mesh.Triangles, options, SerialFor);
-    const TriangleAdjacency adjacency = BuildTriangleAdjacency(mesh.Triangles);
-    FillFromNeighbors(result.Values, result.ValidRays, adjacency.Offsets, adjacency.Neighbors);
+    std::vector<std::int64_t> offsets, indices;
+    testshapes::EdgeAdjacency(mesh.Triangles, offsets, indices);
+    FillFromNeighbors(result.Values, result.ValidRays, offsets, indices);
     return result.Values;
   };
   const std::vector<double> restValues = filledSDF(rest, true);
