@@ -20,7 +20,8 @@
  *    ball of its radius touches that end (exit normal within MaximumExitAngle of the
  *    branch); then short leaf stubs are pruned.
  * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor)
- *    gets a branch through P to its farthest point.
+ *    gets a branch through P to its farthest point; junctions it creates closer than one
+ *    radius to another are merged (its leaves are not pruned).
  * Every face is linked to the node nearest to its projected centre (face centre pushed
  * inward by SDF/2). When the input has `SDFSegment` (the partition's connected parts; the
  * product chain puts vtkSDFGMMPartition before this filter) and LinkBySegment is on, every

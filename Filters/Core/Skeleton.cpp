@@ -176,7 +176,13 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor);
 
   // 5. Branches into the parts the skeleton does not reach (ours; SkeletonCoverage.h).
-  ReachUncoveredParts(graph, cloud, thinned, pointComponent, neighbours, options.Coverage, parallelFor);
+  // Its branches join the nearest node, which may lie a node or two from a junction: their
+  // junctions are cleaned too, but its leaves are not pruned: a branch reaching a part far
+  // from the skeleton (an ear) can be shorter than the radius at its junction (the torso's).
+  if (ReachUncoveredParts(graph, cloud, thinned, pointComponent, neighbours, options.Coverage, parallelFor) > 0)
+  {
+    CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor, LeafPruning::Keep);
+  }
   if (progress && !progress(0.92))
   {
     return AbortedResult();

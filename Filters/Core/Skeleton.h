@@ -17,7 +17,10 @@
 //                                so that a stub is judged by its part's length
 //     5. ReachUncoveredParts   - (ours) a branch into every large group of projected points
 //                                far from the tree: parts with no confident segment (a bent
-//                                or stubby limb, an ear) still get one, in every pose
+//                                or stubby limb, an ear) still get one, in every pose;
+//                                then the inner branches it made shorter than
+//                                MinimumBranchFactor radii are contracted (CleanGraphJunctions
+//                                without leaf pruning), so the output keeps step 4's rule
 //   Steps 3, 4 and 5 move only through the volume: an Embree BVH of the mesh (EmbreeRayCaster)
 //   rejects growth steps and neighbour-graph edges whose straight segment meets the surface
 //   (the face link below does not use it: measured, it changed 0.0 points of the elephant

@@ -22,7 +22,8 @@ void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
   std::vector<int>& isConnection,
   const std::function<Eigen::Vector3d(std::int64_t)>& positionOf,
   const std::function<double(std::int64_t)>& radiusOf,
-  const std::function<std::int64_t(std::int64_t)>& componentOf, double factor)
+  const std::function<std::int64_t(std::int64_t)>& componentOf, double factor,
+  LeafPruning leaves)
 {
   if (!(factor > 0.0))
   {
@@ -67,15 +68,15 @@ void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
   while (changed)
   {
     changed = false;
-    std::vector<std::int64_t> leaves;
+    std::vector<std::int64_t> leafVertices;
     for (const auto& [vertex, neighbours] : adjacency)
     {
-      if (neighbours.size() == 1)
+      if (neighbours.size() == 1 && leaves == LeafPruning::Prune)
       {
-        leaves.push_back(vertex);
+        leafVertices.push_back(vertex);
       }
     }
-    for (const std::int64_t leaf : leaves)
+    for (const std::int64_t leaf : leafVertices)
     {
       if (adjacency[leaf].size() != 1)
       {
@@ -215,12 +216,12 @@ void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
   isConnection.swap(keptIsConnection);
 }
 
-void CleanGraphJunctions(SkeletonGraph& graph, double factor)
+void CleanGraphJunctions(SkeletonGraph& graph, double factor, LeafPruning leaves)
 {
   CleanJunctions(graph.Polylines, graph.IsConnection,
     [&graph](std::int64_t v) -> Eigen::Vector3d { return graph.NodePositions.row(v).transpose(); },
     [&graph](std::int64_t v) { return graph.NodeRadius[v]; },
-    [&graph](std::int64_t v) { return graph.NodeComponent[v]; }, factor);
+    [&graph](std::int64_t v) { return graph.NodeComponent[v]; }, factor, leaves);
   const auto nodeCount = static_cast<std::size_t>(graph.NodePositions.rows());
   std::vector<char> used(nodeCount, 0);
   for (const auto& polyline : graph.Polylines)

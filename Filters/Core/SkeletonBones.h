@@ -62,23 +62,31 @@ struct SkeletonGraph
   std::vector<double> BoneLength;
 };
 
+/// Whether junction cleaning removes short leaf branches or only contracts short inner ones.
+enum class LeafPruning
+{
+  Prune,
+  Keep
+};
+
 /// Cleans the junctions of a forest given as polylines of vertex ids (any integers), see the
-/// header comment. Leaf branches: removed if shorter than factor * radiusOf(junction), or
-/// shorter than 2 * factor * radiusOf(v) with their leaf within factor * radiusOf(v) of a
-/// vertex v off the branch and of the same componentOf. Inner branches shorter than factor *
-/// the larger radius of their junctions: contracted into the junction of larger radius (ties:
-/// lower id). Polylines left with fewer than two vertices are dropped (single-vertex input
-/// polylines are kept unless removed). factor <= 0 does nothing.
+/// header comment. Leaf branches (unless leaves is LeafPruning::Keep): removed if shorter than
+/// factor * radiusOf(junction), or shorter than 2 * factor * radiusOf(v) with their leaf within
+/// factor * radiusOf(v) of a vertex v off the branch and of the same componentOf. Inner
+/// branches shorter than factor * the larger radius of their junctions: contracted into the
+/// junction of larger radius (ties: lower id). Polylines left with fewer than two vertices are
+/// dropped (single-vertex input polylines are kept unless removed). factor <= 0 does nothing.
 void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
   std::vector<int>& isConnection,
   const std::function<Eigen::Vector3d(std::int64_t)>& positionOf,
   const std::function<double(std::int64_t)>& radiusOf,
-  const std::function<std::int64_t(std::int64_t)>& componentOf, double factor);
+  const std::function<std::int64_t(std::int64_t)>& componentOf, double factor,
+  LeafPruning leaves = LeafPruning::Prune);
 
 /// CleanJunctions on the graph's polylines (positions, radii and components of its nodes),
 /// then the nodes left in no polyline are dropped (the others keep their order) and the bones
 /// assigned (AssignBranchBones). factor <= 0 cleans nothing but still assigns the bones.
-void CleanGraphJunctions(SkeletonGraph& graph, double factor);
+void CleanGraphJunctions(SkeletonGraph& graph, double factor, LeafPruning leaves = LeafPruning::Prune);
 
 /// Bones are the branches of the skeleton forest: the maximal paths whose interior nodes have
 /// degree 2 in the skeleton graph (the union of the edges of all polylines), between nodes of

@@ -168,6 +168,17 @@ TEST(SkeletonBones, JunctionCleaning)
   EXPECT_EQ(polylines, expected);
   EXPECT_EQ(isConnection, inputIsConnection);
 
+  // Without leaf pruning the stub 12-18-19 stays (so 12 stays a junction), and the inner
+  // branch 3-4 is still contracted.
+  polylines = input;
+  isConnection = inputIsConnection;
+  CleanJunctions(polylines, isConnection, positionOf, radiusOf, componentOf, 1.0, LeafPruning::Keep);
+  const std::vector<std::vector<std::int64_t>> contractedOnly{ { 0, 1, 2, 3, 5, 6, 7, 8, 9 },
+    { 3, 10, 11, 12 }, { 19, 18, 12, 13, 14, 15, 16, 17 }, { 3, 50 }, { 50, 51, 52, 53, 54, 55 },
+    { 6, 40, 41, 42, 43, 44, 45 }, { 99 } };
+  EXPECT_EQ(polylines, contractedOnly);
+  EXPECT_EQ(isConnection, inputIsConnection);
+
   // Factor 0 keeps everything; a single path is never cut.
   polylines = input;
   isConnection = inputIsConnection;
