@@ -132,6 +132,7 @@ vtkSDFSkeleton::vtkSDFSkeleton()
   this->SpacingFactor = defaults.Thinning.SpacingFactor;
   this->MaximumExitAngle = defaults.LeafExtension.MaximumExitAngle;
   this->UncoveredFactor = defaults.Coverage.UncoveredFactor;
+  this->OwnBoneShare = defaults.OwnBoneShare;
   this->SetNumberOfOutputPorts(3);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
     vtkSDFBilateralSmooth::SMOOTHED_ARRAY_NAME);
@@ -190,6 +191,7 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   options.Thinning.SpacingFactor = this->SpacingFactor;
   options.LeafExtension.MaximumExitAngle = this->MaximumExitAngle;
   options.Coverage.UncoveredFactor = this->UncoveredFactor;
+  options.OwnBoneShare = this->OwnBoneShare;
   const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
     PointMatrix(0, 3), {}, options, request.Parallel, adapter::MakeProgress(this, 0.0, 0.95),
     this->LinkBySegment ? TriangleSegments(this, input, surface) : std::vector<std::int64_t>());
@@ -270,5 +272,6 @@ void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumExitAngle: " << this->MaximumExitAngle << "\n";
   os << indent << "UncoveredFactor: " << this->UncoveredFactor << "\n";
   os << indent << "LinkBySegment: " << this->LinkBySegment << "\n";
+  os << indent << "OwnBoneShare: " << this->OwnBoneShare << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
 }

@@ -25,8 +25,9 @@
  * Every face is linked to the node nearest to its projected centre (face centre pushed
  * inward by SDF/2). When the input has `SDFSegment` (the partition's connected parts; the
  * product chain puts vtkSDFGMMPartition before this filter) and LinkBySegment is on, every
- * segment is then linked to one bone: the bone holding most of the segment's area under the
- * nearest-node link, and each of its faces to the nearest node of that bone. This follows
+ * segment is then linked to one bone (one of its own where a bone holds OwnBoneShare of it,
+ * else the bone holding most of its area under the nearest-node link), and each of its faces
+ * to the nearest node of that bone. This follows
  * the paper's Fig. 15 (the projected points keep their face's part) and is what makes
  * `SkeletonBoneId` consistent across poses: the skeleton's junctions move with the pose,
  * the partition's boundaries much less (measurements: README "Skeleton against a rig").
@@ -57,6 +58,11 @@
  *   poses and not in others; 0 = the paper's; Filters/Core/SkeletonCoverage.h).
  * - LinkBySegment on: the segment link above (deviation: the paper draws the parts on the
  *   projected points but does not say how faces are assigned to bones).
+ * - OwnBoneShare 0.15, [0, 1]: with the segment link, segments first get bones of their own,
+ *   largest overlaps first, among the bones holding at least this share of their area; a
+ *   segment left without one takes the bone holding most of it (a bone running through two
+ *   parts, such as an ear's across the head, no longer joins them in some poses only; above
+ *   0.5 = each segment the bone holding most of it).
  * - Seed 0x5DF5EED; NumberOfThreads 0 = all cores (the output does not depend on it;
  *   vtkSDFSurfaceAlgorithm).
  *
@@ -162,6 +168,15 @@ public:
   ///@}
 
   ///@{
+  /// With LinkBySegment: a segment takes a bone no other segment has taken when that bone holds
+  /// at least this share of its area under the nearest-node link (larger overlaps first), else
+  /// the bone holding most of it (default 0.15, range [0, 1]; above 0.5 every segment takes the
+  /// bone holding most of it; see Filters/Core/Skeleton.h).
+  vtkSetClampMacro(OwnBoneShare, double, 0.0, 1.0);
+  vtkGetMacro(OwnBoneShare, double);
+  ///@}
+
+  ///@{
   /// Seed of the surface sampling (default 0x5DF5EED = 98524909; fixed, so the same input
   /// gives the same skeleton).
   vtkSetMacro(Seed, int);
@@ -189,6 +204,7 @@ protected:
   double MaximumExitAngle;
   double UncoveredFactor;
   vtkTypeBool LinkBySegment = 1;
+  double OwnBoneShare;
   int Seed;
 
 private:

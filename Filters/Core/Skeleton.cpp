@@ -10,6 +10,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <set>
 #include <tuple>
 #include <unordered_map>
 #include <utility>
@@ -25,6 +26,10 @@ void ValidateSkeletonOptions(const SkeletonOptions& options)
   ValidateConnectionOptions(options.Connection);
   ValidateLeafExtensionOptions(options.LeafExtension);
   ValidateCoverageOptions(options.Coverage);
+  if (!(options.OwnBoneShare >= 0.0 && options.OwnBoneShare <= 1.0))
+  {
+    throw SkeletonError("skeleton: OwnBoneShare must lie in [0, 1]");
+  }
 }
 
 namespace
@@ -42,12 +47,18 @@ std::vector<std::int64_t> DenseLabels(const std::vector<std::int64_t>& labels)
   return result;
 }
 
-/// The bone of every face's part: each part (faces with one label within one surface
-/// component) takes the bone that holds the largest area of it under the nearest-node link
-/// (ties: the lowest bone id). Returns that bone per face.
+SkeletonResult AbortedResult()
+{
+  SkeletonResult result;
+  result.Aborted = true;
+  return result;
+}
+
+} // namespace
+
 std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& faceParts,
   const std::vector<std::int64_t>& faceComponent, const std::vector<double>& faceArea,
-  const std::vector<std::int64_t>& nearestBone)
+  const std::vector<std::int64_t>& nearestBone, double ownBoneShare)
 {
   // One dense id per (component, part) pair; components are dense already.
   const std::vector<std::int64_t> densePart = DenseLabels(faceParts);
@@ -69,8 +80,16 @@ std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& face
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return std::tie(part[a], nearestBone[a]) < std::tie(part[b], nearestBone[b]);
   });
+  struct Overlap
+  {
+    double Area;
+    std::size_t Part;
+    std::int64_t Bone;
+  };
+  std::vector<Overlap> overlaps; // in (part, bone) order
   std::vector<std::int64_t> bestBone(parts, -1);
   std::vector<double> bestArea(parts, 0.0);
+  std::vector<double> partArea(parts, 0.0);
   for (std::size_t i = 0; i < order.size();)
   {
     const std::size_t first = order[i];
@@ -79,14 +98,34 @@ std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& face
     {
       area += faceArea[order[i]];
     }
+    const auto p = static_cast<std::size_t>(part[first]);
+    overlaps.push_back({ area, p, nearestBone[first] });
+    partArea[p] += area;
     // Bones come in increasing order within a part: a strictly larger area is needed to
     // replace the lower bone (ties: the lowest bone id).
-    const auto p = static_cast<std::size_t>(part[first]);
     if (bestBone[p] < 0 || area > bestArea[p])
     {
       bestBone[p] = nearestBone[first];
       bestArea[p] = area;
     }
+  }
+
+  // Own bones first. Why: a bone often runs through two parts (an ear's branch across the
+  // head), and a part that holds less of it than its neighbour does would otherwise share it
+  // in the poses where it is that part's largest, and not in the others.
+  std::stable_sort(overlaps.begin(), overlaps.end(),
+    [](const Overlap& a, const Overlap& b) { return a.Area > b.Area; });
+  std::vector<char> hasOwnBone(parts, 0);
+  std::set<std::int64_t> takenBones;
+  for (const Overlap& overlap : overlaps)
+  {
+    if (hasOwnBone[overlap.Part] || overlap.Area < ownBoneShare * partArea[overlap.Part] ||
+      !takenBones.insert(overlap.Bone).second)
+    {
+      continue;
+    }
+    hasOwnBone[overlap.Part] = 1;
+    bestBone[overlap.Part] = overlap.Bone;
   }
   std::vector<std::int64_t> faceBone(faceParts.size());
   for (std::size_t f = 0; f < faceParts.size(); ++f)
@@ -95,15 +134,6 @@ std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& face
   }
   return faceBone;
 }
-
-SkeletonResult AbortedResult()
-{
-  SkeletonResult result;
-  result.Aborted = true;
-  return result;
-}
-
-} // namespace
 
 SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   const std::vector<double>& faceSdf, PointsView faceNormals,
@@ -269,7 +299,7 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   if (!faceParts.empty())
   {
     const std::vector<std::int64_t> partBone =
-      LinkPartsToBones(faceParts, faceComponent, faceArea, result.FaceBoneId);
+      LinkPartsToBones(faceParts, faceComponent, faceArea, result.FaceBoneId, options.OwnBoneShare);
     parallelFor(faces, [&](std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f)
       {

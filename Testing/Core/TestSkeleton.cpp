@@ -255,6 +255,12 @@ TEST(Skeleton, InvalidInputThrows)
   options = {};
   options.Connection.NumberOfNeighbors = 0;
   EXPECT_THROW(RunSkeleton(capsule, options), SkeletonError);
+  for (const double share : { -0.1, 1.5, std::nan("") })
+  {
+    options = {};
+    options.OwnBoneShare = share;
+    EXPECT_THROW(RunSkeleton(capsule, options), SkeletonError) << share;
+  }
 }
 
 TEST(Skeleton, ProgressAndAbort)

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Tests of the skeleton's surface link with part labels (ComputeSkeleton's faceParts): every
-// part takes one bone, the one holding most of its area under the nearest-node link; faces
-// keep a node of their bone; the labels are taken per surface component; bad labels throw.
+// part takes one bone (its own where one holds OwnBoneShare of it, else the one holding most
+// of its area under the nearest-node link); faces keep a node of their bone; the labels are
+// taken per surface component; bad labels throw.
 #include "Skeleton.h"
 #include "TestShapes.h"
 
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <utility>
 #include <vector>
 
 namespace
@@ -151,4 +153,47 @@ TEST(SkeletonSurfaceLink, LabelsAreTakenPerComponentAndBadLabelsThrow)
     ASSERT_EQ(result.FaceBoneId[static_cast<std::size_t>(f)], f < first.Faces() ? 0 : 1);
   }
   EXPECT_THROW(Link(both, { 1, 2, 3 }), SkeletonError);
+}
+
+TEST(SkeletonSurfaceLink, APartTakesABoneOfItsOwnBeforeSharingOne)
+{
+  // An ear (label 10) lies on bone 0 alone; the head (20) holds 4 of its 5.5 area units on the
+  // ear's bone 0 and 1.5 on bone 1; a torso (30) lies on bone 2. Faces of label 20 in a second
+  // surface component form a part of their own (on bone 0 only).
+  const std::vector<std::int64_t> parts{ 10, 20, 30, 10, 20, 20, 30, 10, 30, 30, 20 };
+  const std::vector<std::int64_t> components{ 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1 };
+  const std::vector<double> area{ 2, 2, 3, 2, 2, 1.5, 3, 2, 3, 3, 1 };
+  const std::vector<std::int64_t> nearest{ 0, 0, 2, 0, 0, 1, 2, 0, 2, 2, 0 };
+  using Part = std::pair<std::int64_t, std::int64_t>; // (component, label)
+  const auto boneOf = [&](double share) {
+    const std::vector<std::int64_t> bone = LinkPartsToBones(parts, components, area, nearest, share);
+    std::map<Part, std::set<std::int64_t>> byPart;
+    for (std::size_t f = 0; f < parts.size(); ++f)
+    {
+      byPart[{ components[f], parts[f] }].insert(bone[f]);
+    }
+    std::map<Part, std::int64_t> result;
+    for (const auto& [part, bones] : byPart)
+    {
+      EXPECT_EQ(bones.size(), 1u) << "one bone per part";
+      result[part] = *bones.begin();
+    }
+    return result;
+  };
+  // 0.15: the torso (12) and the ear (6) take their bones first; the head's largest overlap
+  // (bone 0) is taken, and bone 1 holds 1.5 / 5.5 = 27 % of it: its own bone.
+  auto bone = boneOf(0.15);
+  EXPECT_EQ(bone[Part(0, 10)], 0);
+  EXPECT_EQ(bone[Part(0, 20)], 1);
+  EXPECT_EQ(bone[Part(0, 30)], 2);
+  EXPECT_EQ(bone[Part(1, 20)], 0) << "bone 0 is taken: the other component's part shares it";
+  // 0.3: bone 1 holds too little of the head, which shares the ear's bone (the rule of every
+  // value above 0.5: each part the bone holding most of it).
+  for (const double share : { 0.3, 0.6, 1.0 })
+  {
+    bone = boneOf(share);
+    EXPECT_EQ(bone[Part(0, 10)], 0);
+    EXPECT_EQ(bone[Part(0, 20)], 0) << share;
+    EXPECT_EQ(bone[Part(0, 30)], 2);
+  }
 }
