@@ -27,8 +27,8 @@
  * product chain puts vtkSDFGMMPartition before this filter) and LinkBySegment is on, every
  * segment is then linked to one bone (one of its own where a bone holds OwnBoneShare of it,
  * else the bone holding most of its area under the nearest-node link), and each of its faces
- * to the nearest node of that bone. This follows
- * the paper's Fig. 15 (the projected points keep their face's part) and is what makes
+ * to the nearest node of that bone. This follows the paper's Fig. 15 (the projected points
+ * keep their face's part) and is what makes
  * `SkeletonBoneId` consistent across poses: the skeleton's junctions move with the pose,
  * the partition's boundaries much less (measurements: README "Skeleton against a rig").
  * Algorithm details, the remaining (advanced) defaults and the deviations:

@@ -71,7 +71,7 @@ void CleanJunctions(std::vector<std::vector<std::int64_t>>& polylines,
     std::vector<std::int64_t> leafVertices;
     for (const auto& [vertex, neighbours] : adjacency)
     {
-      if (neighbours.size() == 1 && leaves == LeafPruning::Prune)
+      if (leaves == LeafPruning::Prune && neighbours.size() == 1)
       {
         leafVertices.push_back(vertex);
       }
