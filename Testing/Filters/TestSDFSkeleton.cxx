@@ -11,7 +11,6 @@
 #include "vtkAppendPolyData.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
-#include "vtkIdList.h"
 #include "vtkIntArray.h"
 #include "vtkMath.h"
 #include "vtkNew.h"
@@ -128,6 +127,28 @@ std::map<int, vtkIdType> LimbBones(vtkPolyData* surface, const std::vector<int>&
     worstShare = std::min(worstShare, best->second / static_cast<double>(total));
   }
   return limbBone;
+}
+
+/// The skeleton as a graph: the neighbours of every node along the polylines (repeated nodes
+/// and repeated edges counted once).
+std::map<vtkIdType, std::set<vtkIdType>> SkeletonAdjacency(vtkPolyData* skeleton)
+{
+  std::map<vtkIdType, std::set<vtkIdType>> adjacency;
+  for (vtkIdType c = 0; c < skeleton->GetNumberOfCells(); ++c)
+  {
+    vtkIdType count = 0;
+    const vtkIdType* ids = nullptr;
+    skeleton->GetCellPoints(c, count, ids);
+    for (vtkIdType i = 1; i < count; ++i)
+    {
+      if (ids[i - 1] != ids[i])
+      {
+        adjacency[ids[i - 1]].insert(ids[i]);
+        adjacency[ids[i]].insert(ids[i - 1]);
+      }
+    }
+  }
+  return adjacency;
 }
 } // namespace
 
@@ -351,20 +372,7 @@ TEST(SDFSkeleton, NoInnerBranchIsShorterThanTheBranchFactor)
   const SkeletonRun run = Skeletonize(reader->GetOutput(), true);
   vtkPolyData* skeleton = run.Skeleton;
   vtkDataArray* radius = skeleton->GetPointData()->GetArray("Radius");
-  std::map<vtkIdType, std::set<vtkIdType>> adjacency;
-  vtkNew<vtkIdList> line;
-  for (vtkIdType c = 0; c < skeleton->GetNumberOfLines(); ++c)
-  {
-    skeleton->GetLines()->GetCellAtId(c, line);
-    for (vtkIdType i = 1; i < line->GetNumberOfIds(); ++i)
-    {
-      if (line->GetId(i) != line->GetId(i - 1))
-      {
-        adjacency[line->GetId(i)].insert(line->GetId(i - 1));
-        adjacency[line->GetId(i - 1)].insert(line->GetId(i));
-      }
-    }
-  }
+  std::map<vtkIdType, std::set<vtkIdType>> adjacency = SkeletonAdjacency(skeleton);
   const auto distance = [skeleton](vtkIdType a, vtkIdType b) {
     double pa[3], pb[3]; // GetPoint(id) returns one shared buffer
     skeleton->GetPoint(a, pa);
@@ -395,7 +403,6 @@ TEST(SDFSkeleton, NoInnerBranchIsShorterThanTheBranchFactor)
       {
         shortest = std::min(shortest,
           length / std::max(radius->GetComponent(junction, 0), radius->GetComponent(next, 0)));
-
       }
     }
   }
@@ -501,30 +508,10 @@ TEST(SDFSkeleton, LeavesReachTheirPartsEnds)
     skeleton->SetMaximumExitAngle(angle);
     skeleton->Update();
     vtkPolyData* nodes = skeleton->GetSkeleton();
-    std::set<std::pair<vtkIdType, vtkIdType>> edges;
-    for (vtkIdType c = 0; c < nodes->GetNumberOfCells(); ++c)
-    {
-      vtkIdType count = 0;
-      const vtkIdType* ids = nullptr;
-      nodes->GetCellPoints(c, count, ids);
-      for (vtkIdType i = 1; i < count; ++i)
-      {
-        if (ids[i - 1] != ids[i])
-        {
-          edges.insert({ std::min(ids[i - 1], ids[i]), std::max(ids[i - 1], ids[i]) });
-        }
-      }
-    }
-    std::map<vtkIdType, int> degree;
-    for (const auto& [a, b] : edges)
-    {
-      ++degree[a];
-      ++degree[b];
-    }
     int ends = 0;
-    for (const auto& [node, d] : degree)
+    for (const auto& [node, neighbours] : SkeletonAdjacency(nodes))
     {
-      ends += d == 1 ? 1 : 0;
+      ends += neighbours.size() == 1 ? 1 : 0;
     }
     double top = -VTK_DOUBLE_MAX;
     for (vtkIdType n = 0; n < nodes->GetNumberOfPoints(); ++n)
