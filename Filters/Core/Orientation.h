@@ -54,7 +54,9 @@ struct TriangleAdjacency
   std::vector<std::uint8_t> SameDirection;
 };
 
-/// The manifold-edge adjacency of a triangle mesh (sort of the 3m half-edges).
+/// The manifold-edge adjacency of a triangle mesh: the half-edges bucketed by their lower
+/// vertex, linear in the mesh; each triangle's neighbours in increasing order. Throws
+/// std::out_of_range on a negative vertex index.
 TriangleAdjacency BuildTriangleAdjacency(const TrianglesView& triangles);
 
 /// Computes which triangles to flip (see the header comment). Throws std::out_of_range on a

@@ -4,6 +4,10 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <stdexcept>
+#include <vector>
+
 using namespace shapediameter;
 
 namespace
@@ -101,4 +105,52 @@ TEST(Orientation, FlatComponentsKeepTheirWinding)
   const OrientationResult result = OrientOutward(points, triangles);
   EXPECT_EQ(result.ComponentCount, 2u);
   EXPECT_EQ(result.FlippedTriangles, 0u);
+}
+
+TEST(Orientation, TriangleAdjacencyLinksManifoldEdgesInOrder)
+{
+  PointMatrix points;
+  TriangleMatrix triangles;
+  Octahedron(points, triangles);
+  // Triangle 0 (0 2 4) meets 1 (2 1 4) on 2-4, 3 (3 0 4) on 0-4 and 4 (2 0 5) on 0-2.
+  TriangleAdjacency adjacency = BuildTriangleAdjacency(triangles);
+  ASSERT_EQ(adjacency.Offsets.size(), 9u);
+  for (std::size_t t = 0; t < 8; ++t)
+  {
+    EXPECT_EQ(adjacency.Offsets[t + 1] - adjacency.Offsets[t], 3) << "triangle " << t;
+  }
+  EXPECT_EQ(std::vector<std::int64_t>(adjacency.Neighbors.begin(), adjacency.Neighbors.begin() + 3),
+    (std::vector<std::int64_t>{ 1, 3, 4 }));
+  // Consistent winding: every shared edge is run in opposite directions.
+  for (const std::uint8_t same : adjacency.SameDirection)
+  {
+    EXPECT_EQ(same, 0);
+  }
+
+  // Reversing triangle 0: its three links (and their mirrors) run the edge the same way.
+  std::swap(triangles(0, 1), triangles(0, 2));
+  adjacency = BuildTriangleAdjacency(triangles);
+  EXPECT_EQ(std::count(adjacency.SameDirection.begin(), adjacency.SameDirection.end(), 1), 6);
+
+  // A third triangle on edge 0-2 makes it non-manifold: no link across it, the others stay.
+  TriangleMatrix fin(9, 3);
+  Octahedron(points, triangles);
+  fin << triangles, 0, 2, 1;
+  adjacency = BuildTriangleAdjacency(fin);
+  EXPECT_EQ(std::vector<std::int64_t>(adjacency.Neighbors.begin() + adjacency.Offsets[0],
+              adjacency.Neighbors.begin() + adjacency.Offsets[1]),
+    (std::vector<std::int64_t>{ 1, 3 }));
+  EXPECT_EQ(adjacency.Offsets[9] - adjacency.Offsets[8], 0);
+
+  // A degenerate triangle (4 4 0) runs edge 0-4 twice: four half-edges there, no link across
+  // it (two fewer of the 24), none for the degenerate triangle.
+  TriangleMatrix withDegenerate(9, 3);
+  withDegenerate << triangles, 4, 4, 0;
+  adjacency = BuildTriangleAdjacency(withDegenerate);
+  EXPECT_EQ(adjacency.Offsets[8], 22);
+  EXPECT_EQ(adjacency.Offsets[9], 22);
+
+  TriangleMatrix negative(1, 3);
+  negative << 0, -1, 2;
+  EXPECT_THROW(BuildTriangleAdjacency(negative), std::out_of_range);
 }
