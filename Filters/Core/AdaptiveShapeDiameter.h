@@ -75,8 +75,9 @@
 //     longer equal the Exact mode), Embree ray streams (the exact filter is already close to
 //     raw Embree per ray, README "Performance"; the saving here is in the number of cones).
 //
-// Determinism, progress, abort: the selection, the search and the refinement decisions are
-// serial and in index order; the casts run through CastShapeDiameterCones (per-origin results)
+// Determinism, progress, abort: the selection and the search are serial and in index order;
+// the refinement test runs in parallel but only sets flags (their union does not depend on
+// the order); the casts run through CastShapeDiameterCones (per-origin results)
 // and the sweeps are Jacobi steps (each origin reads the previous sweep), so any ParallelFor
 // gives bit-identical results. Progress is reported per chunk of each round's casts, mapped
 // to a monotone fraction; an abort stops at the next chunk and sets Aborted.
