@@ -133,6 +133,7 @@ vtkSDFSkeleton::vtkSDFSkeleton()
   this->MaximumExitAngle = defaults.LeafExtension.MaximumExitAngle;
   this->UncoveredFactor = defaults.Coverage.UncoveredFactor;
   this->OwnBoneShare = defaults.OwnBoneShare;
+  this->PartUncoveredFactor = defaults.Coverage.PartUncoveredFactor;
   this->SetNumberOfOutputPorts(3);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
     vtkSDFBilateralSmooth::SMOOTHED_ARRAY_NAME);
@@ -192,6 +193,7 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   options.LeafExtension.MaximumExitAngle = this->MaximumExitAngle;
   options.Coverage.UncoveredFactor = this->UncoveredFactor;
   options.OwnBoneShare = this->OwnBoneShare;
+  options.Coverage.PartUncoveredFactor = this->PartUncoveredFactor;
   const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
     PointMatrix(0, 3), {}, options, request.Parallel, adapter::MakeProgress(this, 0.0, 0.95),
     this->LinkBySegment ? TriangleSegments(this, input, surface) : std::vector<std::int64_t>());
@@ -273,5 +275,6 @@ void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "UncoveredFactor: " << this->UncoveredFactor << "\n";
   os << indent << "LinkBySegment: " << this->LinkBySegment << "\n";
   os << indent << "OwnBoneShare: " << this->OwnBoneShare << "\n";
+  os << indent << "PartUncoveredFactor: " << this->PartUncoveredFactor << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
 }

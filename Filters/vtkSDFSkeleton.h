@@ -22,6 +22,8 @@
  * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor)
  *    gets a branch through P to its farthest point; junctions it creates closer than one
  *    radius to another are merged (its leaves are not pruned).
+ * 6. (ours, with the segment link below) A large segment left without a bone of its own whose
+ *    farthest projected point is far from the skeleton (PartUncoveredFactor) gets a branch.
  * Every face is linked to the node nearest to its projected centre (face centre pushed
  * inward by SDF/2). When the input has `SDFSegment` (the partition's connected parts; the
  * product chain puts vtkSDFGMMPartition before this filter) and LinkBySegment is on, every
@@ -63,6 +65,10 @@
  *   segment left without one takes the bone holding most of it (a bone running through two
  *   parts, such as an ear's across the head, no longer joins them in some poses only; above
  *   0.5 = each segment the bone holding most of it).
+ * - PartUncoveredFactor 2, [0, 1e6]: with the segment link, step 6 (ours): a segment holding
+ *   at least 5 % of the projected points that got no bone of its own, and whose farthest
+ *   projected point lies more than this many radii from the skeleton, gets a branch into it
+ *   (an elephant's lowered head whose only bones were its ears'); 0 = off.
  * - Seed 0x5DF5EED; NumberOfThreads 0 = all cores (the output does not depend on it;
  *   vtkSDFSurfaceAlgorithm).
  *
@@ -177,6 +183,15 @@ public:
   ///@}
 
   ///@{
+  /// With LinkBySegment: a segment holding 5 % of the projected points that got no bone of its
+  /// own, and whose farthest projected point lies more than this many radii from the skeleton,
+  /// gets a branch into it (step 6; default 2, range [0, 1e6]; 0 = off; not in the paper, see
+  /// Filters/Core/Skeleton.h).
+  vtkSetClampMacro(PartUncoveredFactor, double, 0.0, 1e6);
+  vtkGetMacro(PartUncoveredFactor, double);
+  ///@}
+
+  ///@{
   /// Seed of the surface sampling (default 0x5DF5EED = 98524909; fixed, so the same input
   /// gives the same skeleton).
   vtkSetMacro(Seed, int);
@@ -205,6 +220,7 @@ protected:
   double UncoveredFactor;
   vtkTypeBool LinkBySegment = 1;
   double OwnBoneShare;
+  double PartUncoveredFactor;
   int Seed;
 
 private:

@@ -47,6 +47,22 @@ std::vector<std::int64_t> DenseLabels(const std::vector<std::int64_t>& labels)
   return result;
 }
 
+/// One dense label per (surface component, part label) pair, in order of first appearance: a
+/// part is taken within one component (faceComponent: dense labels 0..).
+std::vector<std::int64_t> PartsWithinComponents(
+  const std::vector<std::int64_t>& faceParts, const std::vector<std::int64_t>& faceComponent)
+{
+  const std::vector<std::int64_t> densePart = DenseLabels(faceParts);
+  const std::int64_t partCount =
+    faceParts.empty() ? 0 : *std::max_element(densePart.begin(), densePart.end()) + 1;
+  std::vector<std::int64_t> combined(faceParts.size());
+  for (std::size_t f = 0; f < faceParts.size(); ++f)
+  {
+    combined[f] = faceComponent[f] * partCount + densePart[f];
+  }
+  return DenseLabels(combined);
+}
+
 SkeletonResult AbortedResult()
 {
   SkeletonResult result;
@@ -58,18 +74,9 @@ SkeletonResult AbortedResult()
 
 std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& faceParts,
   const std::vector<std::int64_t>& faceComponent, const std::vector<double>& faceArea,
-  const std::vector<std::int64_t>& nearestBone, double ownBoneShare)
+  const std::vector<std::int64_t>& nearestBone, double ownBoneShare, std::vector<char>* partHasOwnBone)
 {
-  // One dense id per (component, part) pair; components are dense already.
-  const std::vector<std::int64_t> densePart = DenseLabels(faceParts);
-  const std::int64_t partCount =
-    faceParts.empty() ? 0 : *std::max_element(densePart.begin(), densePart.end()) + 1;
-  std::vector<std::int64_t> combined(faceParts.size());
-  for (std::size_t f = 0; f < faceParts.size(); ++f)
-  {
-    combined[f] = faceComponent[f] * partCount + densePart[f];
-  }
-  const std::vector<std::int64_t> part = DenseLabels(combined);
+  const std::vector<std::int64_t> part = PartsWithinComponents(faceParts, faceComponent);
   const std::size_t parts =
     part.empty() ? 0 : static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1);
 
@@ -131,6 +138,10 @@ std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& face
   for (std::size_t f = 0; f < faceParts.size(); ++f)
   {
     faceBone[f] = bestBone[static_cast<std::size_t>(part[f])];
+  }
+  if (partHasOwnBone)
+  {
+    *partHasOwnBone = std::move(hasOwnBone);
   }
   return faceBone;
 }
@@ -280,26 +291,74 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
 
   // Surface link: nearest node of the same component to each projected face centre; with part
   // labels, every part then takes one bone (see LinkPartsToBones).
-  result.FaceNodeId.assign(faces, 0);
-  result.FaceBoneId.assign(faces, 0);
-  const SkeletonPointTree nodeTree(graph.NodePositions);
   const bool singleComponent =
     *std::max_element(faceComponent.begin(), faceComponent.end()) == 0;
-  parallelFor(faces, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t f = begin; f < end; ++f)
-    {
-      const std::int64_t c = faceComponent[f];
-      const std::int64_t node = nodeTree.NearestAccepted(
-        projectedCentres.row(static_cast<Eigen::Index>(f)).transpose(),
-        [&](std::int64_t n) { return singleComponent || graph.NodeComponent[n] == c; });
-      result.FaceNodeId[f] = node;
-      result.FaceBoneId[f] = graph.NodeBone[node];
-    }
-  });
+  const auto linkToNearestNodes = [&](const SkeletonPointTree& nodeTree) {
+    result.FaceNodeId.assign(faces, 0);
+    result.FaceBoneId.assign(faces, 0);
+    parallelFor(faces, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t f = begin; f < end; ++f)
+      {
+        const std::int64_t c = faceComponent[f];
+        const std::int64_t node = nodeTree.NearestAccepted(
+          projectedCentres.row(static_cast<Eigen::Index>(f)).transpose(),
+          [&](std::int64_t n) { return singleComponent || graph.NodeComponent[n] == c; });
+        result.FaceNodeId[f] = node;
+        result.FaceBoneId[f] = graph.NodeBone[node];
+      }
+    });
+  };
+  std::vector<std::int64_t> partBone;
   if (!faceParts.empty())
   {
-    const std::vector<std::int64_t> partBone =
-      LinkPartsToBones(faceParts, faceComponent, faceArea, result.FaceBoneId, options.OwnBoneShare);
+    // 6. A branch into every large part left without a bone of its own (ours; header
+    // comment), largest part first, each part once; the link is made again after each.
+    const std::vector<std::int64_t> part = PartsWithinComponents(faceParts, faceComponent);
+    std::vector<std::size_t> partPoints(static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1), 0);
+    for (const std::int64_t face : cloud.SourceFace)
+    {
+      ++partPoints[static_cast<std::size_t>(part[static_cast<std::size_t>(face)])];
+    }
+    const double minimumPoints = options.Coverage.PartMinimumShare * static_cast<double>(cloud.Size());
+    std::vector<char> tried(partPoints.size(), 0);
+    while (true)
+    {
+      const SkeletonPointTree nodeTree(graph.NodePositions);
+      linkToNearestNodes(nodeTree);
+      std::vector<char> partHasOwnBone;
+      partBone = LinkPartsToBones(faceParts, faceComponent, faceArea, result.FaceBoneId, options.OwnBoneShare, &partHasOwnBone);
+      std::int64_t target = -1;
+      for (std::size_t q = 0; q < partPoints.size(); ++q)
+      {
+        if (!partHasOwnBone[q] && !tried[q] && static_cast<double>(partPoints[q]) >= minimumPoints && partPoints[q] > 0 &&
+          (target < 0 || partPoints[q] > partPoints[static_cast<std::size_t>(target)]))
+        {
+          target = static_cast<std::int64_t>(q);
+        }
+      }
+      if (target < 0 || !(options.Coverage.PartUncoveredFactor > 0.0))
+      {
+        break;
+      }
+      tried[static_cast<std::size_t>(target)] = 1;
+      std::vector<char> inPart(cloud.Size(), 0);
+      for (std::size_t i = 0; i < cloud.Size(); ++i)
+      {
+        inPart[i] = part[static_cast<std::size_t>(cloud.SourceFace[i])] == target;
+      }
+      if (ReachPartsWithoutBones(graph, cloud, thinned, pointComponent, neighbours, inPart, options.Coverage, parallelFor) > 0)
+      {
+        CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor, LeafPruning::Keep);
+      }
+    }
+  }
+  const SkeletonPointTree nodeTree(graph.NodePositions);
+  if (faceParts.empty())
+  {
+    linkToNearestNodes(nodeTree);
+  }
+  else
+  {
     parallelFor(faces, [&](std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f)
       {

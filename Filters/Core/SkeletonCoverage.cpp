@@ -22,6 +22,14 @@ void ValidateCoverageOptions(const SkeletonCoverageOptions& options)
   {
     throw SkeletonError("skeleton: coverage MinimumShare must be in [0, 1]");
   }
+  if (!(options.PartMinimumShare >= 0.0 && options.PartMinimumShare <= 1.0))
+  {
+    throw SkeletonError("skeleton: coverage PartMinimumShare must be in [0, 1]");
+  }
+  if (!(options.PartUncoveredFactor >= 0.0 && options.PartUncoveredFactor <= 1e6))
+  {
+    throw SkeletonError("skeleton: coverage PartUncoveredFactor must be in [0, 1e6]");
+  }
 }
 
 namespace
@@ -76,6 +84,74 @@ std::vector<std::int64_t> PathToCovered(
   return {};
 }
 
+/// Adds the branch along `path` (from its first point, outside the region, to the tip): it
+/// starts at the node nearest to the first point and runs through the MLS positions of the
+/// others, each kept when at least half its radius from the previous node (the tip always).
+/// Returns false (nothing added) for an empty path or one that adds no node.
+template <typename ComponentOf>
+bool AddBranch(SkeletonGraph& graph, const ProjectedCloud& cloud, const ThinnedCloud& thinned,
+  const std::vector<std::int64_t>& path, const std::vector<std::int64_t>& nearestNode,
+  const ComponentOf& componentOf)
+{
+  if (path.empty())
+  {
+    return false;
+  }
+  std::vector<std::int64_t> polyline{ nearestNode[static_cast<std::size_t>(path.front())] };
+  Eigen::Vector3d last = graph.NodePositions.row(polyline.front()).transpose();
+  for (std::size_t j = 1; j < path.size(); ++j)
+  {
+    const auto point = static_cast<std::size_t>(path[j]);
+    const Eigen::Vector3d position = thinned.Positions.row(static_cast<Eigen::Index>(point)).transpose();
+    if (j + 1 < path.size() && (position - last).norm() < 0.5 * cloud.Radius[point])
+    {
+      continue;
+    }
+    const Eigen::Index row = graph.NodePositions.rows();
+    graph.NodePositions.conservativeResize(row + 1, 3);
+    graph.NodePositions.row(row) = position.transpose();
+    graph.NodeRadius.push_back(cloud.Radius[point]);
+    graph.NodeConfidence.push_back(thinned.Confidence[point]);
+    graph.NodeCloudIndex.push_back(static_cast<std::int64_t>(point));
+    graph.NodeComponent.push_back(componentOf(point));
+    polyline.push_back(static_cast<std::int64_t>(row));
+    last = position;
+  }
+  if (polyline.size() < 2)
+  {
+    return false;
+  }
+  graph.Polylines.push_back(std::move(polyline));
+  graph.IsConnection.push_back(1);
+  return true;
+}
+
+/// Nearest node of its own component for every point of P, and the distance to it.
+void NearestNodes(const SkeletonGraph& graph, const ProjectedCloud& cloud,
+  const std::vector<std::int64_t>& pointComponent, const ParallelFor& parallelFor,
+  std::vector<std::int64_t>& nearestNode, std::vector<double>& gap)
+{
+  const std::size_t n = cloud.Size();
+  const SkeletonPointTree nodes(graph.NodePositions);
+  nearestNode.assign(n, -1);
+  gap.assign(n, 0.0);
+  parallelFor(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      const Eigen::Vector3d point = cloud.Positions.row(static_cast<Eigen::Index>(i)).transpose();
+      const std::int64_t component = pointComponent.empty() ? 0 : pointComponent[i];
+      const std::int64_t node = nodes.NearestAccepted(point, [&](std::int64_t candidate) {
+        return pointComponent.empty() || graph.NodeComponent[static_cast<std::size_t>(candidate)] == component;
+      });
+      nearestNode[i] = node;
+      if (node >= 0)
+      {
+        gap[i] = (point - graph.NodePositions.row(node).transpose()).norm();
+      }
+    }
+  });
+}
+
 } // namespace
 
 std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& cloud,
@@ -98,30 +174,17 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
   const auto componentOf = [&](std::size_t point) {
     return pointComponent.empty() ? std::int64_t{ 0 } : pointComponent[point];
   };
-  const auto nodeComponent = [&](std::int64_t node) {
-    return pointComponent.empty() ? std::int64_t{ 0 } : graph.NodeComponent[static_cast<std::size_t>(node)];
-  };
 
   // 1. Distance of every point to the skeleton of its component.
-  const SkeletonPointTree nodes(graph.NodePositions);
-  std::vector<double> gap(n, 0.0);
-  std::vector<std::int64_t> nearestNode(n, -1);
+  std::vector<std::int64_t> nearestNode;
+  std::vector<double> gap;
+  NearestNodes(graph, cloud, pointComponent, parallelFor, nearestNode, gap);
   std::vector<char> uncovered(n, 0);
-  parallelFor(n, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-    {
-      const Eigen::Vector3d point = cloud.Positions.row(static_cast<Eigen::Index>(i)).transpose();
-      const std::int64_t node = nodes.NearestAccepted(
-        point, [&](std::int64_t candidate) { return nodeComponent(candidate) == componentOf(i); });
-      nearestNode[i] = node;
-      if (node >= 0)
-      {
-        gap[i] = (point - graph.NodePositions.row(node).transpose()).norm();
-        // A point without thickness (SDF 0) has no scale to be far at.
-        uncovered[i] = cloud.Radius[i] > 0.0 && gap[i] > options.UncoveredFactor * cloud.Radius[i];
-      }
-    }
-  });
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    // A point without thickness (SDF 0) has no scale to be far at.
+    uncovered[i] = nearestNode[i] >= 0 && cloud.Radius[i] > 0.0 && gap[i] > options.UncoveredFactor * cloud.Radius[i];
+  }
 
   if (std::none_of(uncovered.begin(), uncovered.end(), [](char u) { return u != 0; }))
   {
@@ -170,48 +233,91 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
   std::size_t added = 0;
   for (std::size_t g = 0; g < groupSize.size(); ++g)
   {
-    if (static_cast<double>(groupSize[g]) < options.MinimumShare * static_cast<double>(n))
+    if (static_cast<double>(groupSize[g]) >= options.MinimumShare * static_cast<double>(n) &&
+      AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, groupTip[g]), nearestNode, componentOf))
     {
-      continue;
+      ++added;
     }
-    const std::vector<std::int64_t> path = PathToCovered(neighbours, uncovered, groupTip[g]);
-    if (path.empty())
-    {
-      continue;
-    }
-    std::vector<std::int64_t> polyline{ nearestNode[static_cast<std::size_t>(path.front())] };
-    Eigen::Vector3d last = graph.NodePositions.row(polyline.front()).transpose();
-    for (std::size_t j = 1; j < path.size(); ++j)
-    {
-      const auto point = static_cast<std::size_t>(path[j]);
-      const Eigen::Vector3d position = thinned.Positions.row(static_cast<Eigen::Index>(point)).transpose();
-      if (j + 1 < path.size() && (position - last).norm() < 0.5 * cloud.Radius[point])
-      {
-        continue;
-      }
-      const Eigen::Index row = graph.NodePositions.rows();
-      graph.NodePositions.conservativeResize(row + 1, 3);
-      graph.NodePositions.row(row) = position.transpose();
-      graph.NodeRadius.push_back(cloud.Radius[point]);
-      graph.NodeConfidence.push_back(thinned.Confidence[point]);
-      graph.NodeCloudIndex.push_back(static_cast<std::int64_t>(point));
-      graph.NodeComponent.push_back(componentOf(point));
-      polyline.push_back(static_cast<std::int64_t>(row));
-      last = position;
-    }
-    if (polyline.size() < 2)
-    {
-      continue;
-    }
-    graph.Polylines.push_back(std::move(polyline));
-    graph.IsConnection.push_back(1);
-    ++added;
   }
   if (added > 0)
   {
     AssignBranchBones(graph);
   }
   return added;
+}
+
+std::size_t ReachPartsWithoutBones(SkeletonGraph& graph, const ProjectedCloud& cloud,
+  const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
+  const CloudNeighborGraph& neighbours, const std::vector<char>& inPart,
+  const SkeletonCoverageOptions& options, const ParallelFor& parallelFor)
+{
+  ValidateCoverageOptions(options);
+  const std::size_t n = cloud.Size();
+  if (!(options.PartUncoveredFactor > 0.0) || n == 0 || graph.NodePositions.rows() == 0)
+  {
+    return 0;
+  }
+  if (inPart.size() != n || neighbours.Offsets.size() != n + 1)
+  {
+    throw SkeletonError("skeleton: the part flags or the neighbour graph do not match the projected cloud");
+  }
+  const auto componentOf = [&](std::size_t point) {
+    return pointComponent.empty() ? std::int64_t{ 0 } : pointComponent[point];
+  };
+  std::vector<std::int64_t> nearestNode;
+  std::vector<double> gap;
+  NearestNodes(graph, cloud, pointComponent, parallelFor, nearestNode, gap);
+  // The part's points, grouped through the neighbour graph as step 5 groups uncovered points;
+  // the largest group's point farthest from the skeleton is the tip.
+  std::vector<char> visited(n, 0);
+  std::int64_t bestTip = -1;
+  std::size_t bestSize = 0;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (!inPart[seed] || visited[seed])
+    {
+      continue;
+    }
+    std::size_t size = 0;
+    auto tip = static_cast<std::int64_t>(seed);
+    std::vector<std::size_t> stack{ seed };
+    visited[seed] = 1;
+    while (!stack.empty())
+    {
+      const std::size_t point = stack.back();
+      stack.pop_back();
+      ++size;
+      const auto t = static_cast<std::size_t>(tip);
+      if (gap[point] > gap[t] || (gap[point] == gap[t] && point < t))
+      {
+        tip = static_cast<std::int64_t>(point);
+      }
+      for (std::size_t e = neighbours.Offsets[point]; e < neighbours.Offsets[point + 1]; ++e)
+      {
+        const auto q = static_cast<std::size_t>(neighbours.Targets[e]);
+        if (!neighbours.IsBridge[e] && inPart[q] && !visited[q])
+        {
+          visited[q] = 1;
+          stack.push_back(q);
+        }
+      }
+    }
+    if (size > bestSize)
+    {
+      bestSize = size;
+      bestTip = tip;
+    }
+  }
+  // A part the skeleton runs through (its points within a radius or two of a bone it shares)
+  // is not given a second, parallel branch.
+  if (bestTip < 0 || !(cloud.Radius[static_cast<std::size_t>(bestTip)] > 0.0) ||
+    !(gap[static_cast<std::size_t>(bestTip)] > options.PartUncoveredFactor * cloud.Radius[static_cast<std::size_t>(bestTip)]) ||
+    !AddBranch(graph, cloud, thinned, PathToCovered(neighbours, inPart, bestTip), nearestNode, componentOf))
+  {
+    return 0;
+  }
+  AssignBranchBones(graph);
+  return 1;
 }
 
 } // namespace shapediameter

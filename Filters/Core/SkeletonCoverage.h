@@ -66,6 +66,12 @@ struct SkeletonCoverageOptions
   double UncoveredFactor = 4.0;
   /// A group of uncovered points gets a branch when it holds this share of all points.
   double MinimumShare = 0.01;
+  /// Step 6 (with part labels): a part without a bone of its own gets a branch when it holds
+  /// this share of all points of P, [0, 1]; 1 = step 6 off in practice.
+  double PartMinimumShare = 0.05;
+  /// Step 6: ... and when its point farthest from the skeleton lies more than this many of
+  /// its radii away, [0, 1e6]; 0 = step 6 off.
+  double PartUncoveredFactor = 2.0;
 };
 
 /// Throws SkeletonError if an option is outside its documented range.
@@ -81,5 +87,17 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
   const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
   const CloudNeighborGraph& neighbours, const SkeletonCoverageOptions& options,
   const ParallelFor& parallelFor);
+
+/// Step 6 (ours, with part labels): one branch into a part that has no bone of its own (see
+/// Skeleton.h, which picks the parts). inPart flags the points of P of that part; they are
+/// grouped through the neighbour graph as in step 5 (bridges not used), and the tip of the
+/// largest group, its point farthest from the skeleton, gets a branch along the shortest path
+/// to the first point outside the part, joined to that point's nearest node, when the tip lies
+/// more than PartUncoveredFactor of its radii from the skeleton. Assigns the bones again when
+/// it added the branch. Returns the number of branches added (0 or 1).
+std::size_t ReachPartsWithoutBones(SkeletonGraph& graph, const ProjectedCloud& cloud,
+  const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
+  const CloudNeighborGraph& neighbours, const std::vector<char>& inPart,
+  const SkeletonCoverageOptions& options, const ParallelFor& parallelFor);
 
 } // namespace shapediameter

@@ -162,6 +162,44 @@ TEST(SkeletonCoverage, APieceReachedOnlyByABridgeGetsNoBranch)
   EXPECT_EQ(l.Graph.Polylines.size(), 1u);
 }
 
+TEST(SkeletonCoverage, APartWithoutABoneGetsABranchWhenItsTipIsFarFromTheSkeleton)
+{
+  // Step 6: an arm of 0.3 (three radii): within step 5's four radii, so step 5 leaves it, but
+  // as a part of its own with no bone it gets a branch (tip 3 radii > PartUncoveredFactor 2).
+  LCloud l = MakeL(30, 0.3);
+  EXPECT_EQ(Reach(l), 0u);
+  const CloudNeighborGraph neighbours = BuildCloudNeighborGraph(l.Cloud, {}, 8, SerialFor);
+  const auto n = static_cast<std::size_t>(l.Cloud.Positions.rows());
+  std::vector<char> arm(n, 0);
+  std::fill(arm.begin() + 201, arm.end(), 1);
+  LCloud threaded = l;
+  ASSERT_EQ(ReachPartsWithoutBones(l.Graph, l.Cloud, l.Thinned, {}, neighbours, arm, {}, SerialFor), 1u);
+  const std::vector<std::int64_t>& branch = l.Graph.Polylines.back();
+  EXPECT_EQ(l.Graph.IsConnection.back(), 1);
+  EXPECT_NEAR((l.Graph.NodePositions.row(branch.front()) - Eigen::RowVector3d(4, 0, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((l.Graph.NodePositions.row(branch.back()) - Eigen::RowVector3d(4, 0.3, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(l.Graph.BoneLength[0], 4.3, 1e-9) << "bones assigned again: the line turns into the arm";
+  ASSERT_EQ(ReachPartsWithoutBones(threaded.Graph, threaded.Cloud, threaded.Thinned, {}, neighbours, arm, {},
+              ThreadedFor(3)), 1u);
+  EXPECT_TRUE(threaded.Graph.NodePositions == l.Graph.NodePositions);
+  EXPECT_EQ(threaded.Graph.Polylines, l.Graph.Polylines);
+
+  // Its tip within PartUncoveredFactor radii: the skeleton runs close enough, no branch.
+  SkeletonCoverageOptions strict;
+  strict.PartUncoveredFactor = 4.0;
+  LCloud near = MakeL(30, 0.3);
+  EXPECT_EQ(ReachPartsWithoutBones(near.Graph, near.Cloud, near.Thinned, {}, neighbours, arm, strict, SerialFor), 0u);
+  EXPECT_EQ(near.Graph.Polylines.size(), 1u);
+  // A part along the line the skeleton already follows gets none either.
+  std::vector<char> onLine(n, 0);
+  std::fill(onLine.begin() + 50, onLine.begin() + 100, 1);
+  EXPECT_EQ(ReachPartsWithoutBones(near.Graph, near.Cloud, near.Thinned, {}, neighbours, onLine, {}, SerialFor), 0u);
+  // Flags of another cloud are refused.
+  EXPECT_THROW(ReachPartsWithoutBones(near.Graph, near.Cloud, near.Thinned, {}, neighbours,
+                 std::vector<char>(n - 1, 0), {}, SerialFor),
+    SkeletonError);
+}
+
 TEST(SkeletonCoverage, OptionsOutsideTheirRangeThrow)
 {
   SkeletonCoverageOptions options;
@@ -169,6 +207,12 @@ TEST(SkeletonCoverage, OptionsOutsideTheirRangeThrow)
   EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
   options = {};
   options.MinimumShare = 1.5;
+  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  options = {};
+  options.PartMinimumShare = -0.1;
+  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  options = {};
+  options.PartUncoveredFactor = -1.0;
   EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
   EXPECT_NO_THROW(ValidateCoverageOptions({}));
 }

@@ -196,4 +196,12 @@ TEST(SkeletonSurfaceLink, APartTakesABoneOfItsOwnBeforeSharingOne)
     EXPECT_EQ(bone[Part(0, 20)], 0) << share;
     EXPECT_EQ(bone[Part(0, 30)], 2);
   }
+
+  // Which parts got a bone of their own (step 6 gives the others a branch), dense part
+  // labels in order of first appearance: ear, head, torso, then the other component's head.
+  std::vector<char> own;
+  LinkPartsToBones(parts, components, area, nearest, 0.15, &own);
+  EXPECT_EQ(own, (std::vector<char>{ 1, 1, 1, 0 }));
+  LinkPartsToBones(parts, components, area, nearest, 0.3, &own);
+  EXPECT_EQ(own, (std::vector<char>{ 1, 0, 1, 0 }));
 }
