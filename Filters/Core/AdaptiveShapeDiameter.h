@@ -73,9 +73,9 @@
 //     sampling: one sort per round, deterministic and independent of the thread count.
 //   - A noise test on top of Tolerance (refine only where two cast values also differ by z
 //     standard errors of their difference, each from the spread of its kept rays): z = 2 cast
-//     12 % fewer at 208k, z = 3 38 % fewer, but both failed the thin plate on a block: near
-//     the block's edges a cone's rays spread for geometric reasons, not random ones, and the
-//     test suppressed the refinement there. Not kept.
+//     12 % fewer at 208k, z = 3 38 % fewer, but z = 2 already failed the thin plate on a
+//     block: near the block's edges a cone's rays spread for geometric reasons, not random
+//     ones, and the test suppressed the refinement there. Not kept.
 //   - One cast per cell and side of the cell's first normal instead of per dominant axis and
 //     sign: no fewer casts. Refinement stopped one or two levels above the finest: 3-16 %
 //     fewer casts; the casts are not spent at the finest level.
