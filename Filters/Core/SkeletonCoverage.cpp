@@ -88,10 +88,9 @@ std::vector<std::int64_t> PathToCovered(
 /// starts at the node nearest to the first point and runs through the MLS positions of the
 /// others, each kept when at least half its radius from the previous node (the tip always).
 /// Returns false (nothing added) for an empty path or one that adds no node.
-template <typename ComponentOf>
 bool AddBranch(SkeletonGraph& graph, const ProjectedCloud& cloud, const ThinnedCloud& thinned,
   const std::vector<std::int64_t>& path, const std::vector<std::int64_t>& nearestNode,
-  const ComponentOf& componentOf)
+  const std::vector<std::int64_t>& pointComponent)
 {
   if (path.empty())
   {
@@ -113,7 +112,7 @@ bool AddBranch(SkeletonGraph& graph, const ProjectedCloud& cloud, const ThinnedC
     graph.NodeRadius.push_back(cloud.Radius[point]);
     graph.NodeConfidence.push_back(thinned.Confidence[point]);
     graph.NodeCloudIndex.push_back(static_cast<std::int64_t>(point));
-    graph.NodeComponent.push_back(componentOf(point));
+    graph.NodeComponent.push_back(pointComponent.empty() ? std::int64_t{ 0 } : pointComponent[point]);
     polyline.push_back(static_cast<std::int64_t>(row));
     last = position;
   }
@@ -152,6 +151,66 @@ void NearestNodes(const SkeletonGraph& graph, const ProjectedCloud& cloud,
   });
 }
 
+/// Throws SkeletonError unless the neighbour graph has one row per point of P.
+void CheckNeighbourGraph(const CloudNeighborGraph& neighbours, std::size_t n)
+{
+  if (neighbours.Offsets.size() != n + 1 || neighbours.Targets.size() != neighbours.Offsets[n]
+    || neighbours.Weights.size() != neighbours.Offsets[n]
+    || neighbours.IsBridge.size() != neighbours.Offsets[n])
+  {
+    throw SkeletonError("skeleton: the neighbour graph does not match the projected cloud");
+  }
+}
+
+/// The connected sets of flagged points through the neighbour graph (bridges not used), in
+/// order of their lowest point: size and tip, the point farthest from the skeleton (gap; ties:
+/// the lowest index).
+struct PointGroups
+{
+  std::vector<std::size_t> Size;
+  std::vector<std::int64_t> Tip;
+};
+
+PointGroups GroupFlaggedPoints(
+  const CloudNeighborGraph& neighbours, const std::vector<char>& flagged, const std::vector<double>& gap)
+{
+  PointGroups groups;
+  std::vector<char> visited(flagged.size(), 0);
+  for (std::size_t seed = 0; seed < flagged.size(); ++seed)
+  {
+    if (!flagged[seed] || visited[seed])
+    {
+      continue;
+    }
+    std::size_t size = 0;
+    std::size_t tip = seed;
+    std::vector<std::size_t> stack{ seed };
+    visited[seed] = 1;
+    while (!stack.empty())
+    {
+      const std::size_t point = stack.back();
+      stack.pop_back();
+      ++size;
+      if (gap[point] > gap[tip] || (gap[point] == gap[tip] && point < tip))
+      {
+        tip = point;
+      }
+      for (std::size_t e = neighbours.Offsets[point]; e < neighbours.Offsets[point + 1]; ++e)
+      {
+        const auto q = static_cast<std::size_t>(neighbours.Targets[e]);
+        if (!neighbours.IsBridge[e] && flagged[q] && !visited[q])
+        {
+          visited[q] = 1;
+          stack.push_back(q);
+        }
+      }
+    }
+    groups.Size.push_back(size);
+    groups.Tip.push_back(static_cast<std::int64_t>(tip));
+  }
+  return groups;
+}
+
 } // namespace
 
 std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& cloud,
@@ -165,15 +224,7 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
   {
     return 0;
   }
-  if (neighbours.Offsets.size() != n + 1 || neighbours.Targets.size() != neighbours.Offsets[n]
-    || neighbours.Weights.size() != neighbours.Offsets[n]
-    || neighbours.IsBridge.size() != neighbours.Offsets[n])
-  {
-    throw SkeletonError("skeleton: the neighbour graph does not match the projected cloud");
-  }
-  const auto componentOf = [&](std::size_t point) {
-    return pointComponent.empty() ? std::int64_t{ 0 } : pointComponent[point];
-  };
+  CheckNeighbourGraph(neighbours, n);
 
   // 1. Distance of every point to the skeleton of its component.
   std::vector<std::int64_t> nearestNode;
@@ -193,48 +244,14 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
 
   // 2. Groups of uncovered points: connected through neighbour edges between uncovered
   // points (the graph's edges stay within a surface component; bridges are not used).
-  std::vector<std::int64_t> group(n, -1);
-  std::vector<std::size_t> groupSize;
-  std::vector<std::int64_t> groupTip;
-  for (std::size_t seed = 0; seed < n; ++seed)
-  {
-    if (!uncovered[seed] || group[seed] >= 0)
-    {
-      continue;
-    }
-    const auto label = static_cast<std::int64_t>(groupSize.size());
-    groupSize.push_back(0);
-    groupTip.push_back(static_cast<std::int64_t>(seed));
-    std::vector<std::size_t> stack{ seed };
-    group[seed] = label;
-    while (!stack.empty())
-    {
-      const std::size_t point = stack.back();
-      stack.pop_back();
-      ++groupSize.back();
-      const auto tip = static_cast<std::size_t>(groupTip.back());
-      if (gap[point] > gap[tip] || (gap[point] == gap[tip] && point < tip))
-      {
-        groupTip.back() = static_cast<std::int64_t>(point);
-      }
-      for (std::size_t e = neighbours.Offsets[point]; e < neighbours.Offsets[point + 1]; ++e)
-      {
-        const auto q = static_cast<std::size_t>(neighbours.Targets[e]);
-        if (!neighbours.IsBridge[e] && uncovered[q] && group[q] < 0)
-        {
-          group[q] = label;
-          stack.push_back(q);
-        }
-      }
-    }
-  }
+  const PointGroups groups = GroupFlaggedPoints(neighbours, uncovered, gap);
 
   // 3. One branch per large group.
   std::size_t added = 0;
-  for (std::size_t g = 0; g < groupSize.size(); ++g)
+  for (std::size_t g = 0; g < groups.Size.size(); ++g)
   {
-    if (static_cast<double>(groupSize[g]) >= options.MinimumShare * static_cast<double>(n) &&
-      AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, groupTip[g]), nearestNode, componentOf))
+    if (static_cast<double>(groups.Size[g]) >= options.MinimumShare * static_cast<double>(n) &&
+      AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, groups.Tip[g]), nearestNode, pointComponent))
     {
       ++added;
     }
@@ -257,62 +274,31 @@ std::size_t ReachPartsWithoutBones(SkeletonGraph& graph, const ProjectedCloud& c
   {
     return 0;
   }
-  if (inPart.size() != n || neighbours.Offsets.size() != n + 1)
+  if (inPart.size() != n)
   {
-    throw SkeletonError("skeleton: the part flags or the neighbour graph do not match the projected cloud");
+    throw SkeletonError("skeleton: the part flags do not match the projected cloud");
   }
-  const auto componentOf = [&](std::size_t point) {
-    return pointComponent.empty() ? std::int64_t{ 0 } : pointComponent[point];
-  };
+  CheckNeighbourGraph(neighbours, n);
   std::vector<std::int64_t> nearestNode;
   std::vector<double> gap;
   NearestNodes(graph, cloud, pointComponent, parallelFor, nearestNode, gap);
-  // The part's points, grouped through the neighbour graph as step 5 groups uncovered points;
-  // the largest group's point farthest from the skeleton is the tip.
-  std::vector<char> visited(n, 0);
+  // The part's points, grouped as step 5 groups uncovered points: the largest group's tip.
+  const PointGroups groups = GroupFlaggedPoints(neighbours, inPart, gap);
   std::int64_t bestTip = -1;
   std::size_t bestSize = 0;
-  for (std::size_t seed = 0; seed < n; ++seed)
+  for (std::size_t g = 0; g < groups.Size.size(); ++g)
   {
-    if (!inPart[seed] || visited[seed])
+    if (groups.Size[g] > bestSize)
     {
-      continue;
-    }
-    std::size_t size = 0;
-    auto tip = static_cast<std::int64_t>(seed);
-    std::vector<std::size_t> stack{ seed };
-    visited[seed] = 1;
-    while (!stack.empty())
-    {
-      const std::size_t point = stack.back();
-      stack.pop_back();
-      ++size;
-      const auto t = static_cast<std::size_t>(tip);
-      if (gap[point] > gap[t] || (gap[point] == gap[t] && point < t))
-      {
-        tip = static_cast<std::int64_t>(point);
-      }
-      for (std::size_t e = neighbours.Offsets[point]; e < neighbours.Offsets[point + 1]; ++e)
-      {
-        const auto q = static_cast<std::size_t>(neighbours.Targets[e]);
-        if (!neighbours.IsBridge[e] && inPart[q] && !visited[q])
-        {
-          visited[q] = 1;
-          stack.push_back(q);
-        }
-      }
-    }
-    if (size > bestSize)
-    {
-      bestSize = size;
-      bestTip = tip;
+      bestSize = groups.Size[g];
+      bestTip = groups.Tip[g];
     }
   }
   // A part the skeleton runs through (its points within a radius or two of a bone it shares)
   // is not given a second, parallel branch.
   if (bestTip < 0 || !(cloud.Radius[static_cast<std::size_t>(bestTip)] > 0.0) ||
     !(gap[static_cast<std::size_t>(bestTip)] > options.PartUncoveredFactor * cloud.Radius[static_cast<std::size_t>(bestTip)]) ||
-    !AddBranch(graph, cloud, thinned, PathToCovered(neighbours, inPart, bestTip), nearestNode, componentOf))
+    !AddBranch(graph, cloud, thinned, PathToCovered(neighbours, inPart, bestTip), nearestNode, pointComponent))
   {
     return 0;
   }
