@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Skeleton step 5 (ours, not the paper's): a branch into every part the skeleton misses.
+// Skeleton steps 5 and 6 (ours, not the paper's): a branch into every part the skeleton misses,
+// and into a partition segment left without a bone of its own.
 //
 // What it does
 //   The paper's skeleton only grows from confident, curve-like points of T, and its connection
@@ -37,9 +38,17 @@
 // changes its leaves from pose to pose; with this step every pose gets them. It also reaches
 // limbs whose branch stopped at the hip. Measurements: README "Skeleton against a rig".
 //
+// Step 6 (ReachPartsWithoutBones, with part labels) builds the same kind of branch into one
+// part of the surface (the partition's segment) that the part link left without a bone of its
+// own: the part's points take the place of the uncovered ones, and the branch is added only when
+// the part's tip lies more than PartUncoveredFactor radii from the skeleton. Skeleton.h picks the
+// parts and documents why and the measurements.
+//
 // Parameters (SkeletonCoverageOptions)
 //   UncoveredFactor      4      [0, 1e6]  in units of the point's radius; 0 = step off.
 //   MinimumShare         0.01   [0, 1]    of all projected points, per group.
+//   PartMinimumShare     0.05   [0, 1]    step 6: of all projected points, per part.
+//   PartUncoveredFactor  2      [0, 1e6]  step 6: the part's tip, in its radii; 0 = step off.
 //   (The graph's neighbour count is the connection's, SkeletonConnectionOptions.)
 //
 // Determinism: the neighbour graph does not depend on the thread count (SkeletonConnection.h);
