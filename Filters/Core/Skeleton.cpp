@@ -10,6 +10,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <tuple>
 #include <unordered_map>
@@ -293,14 +294,18 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   // labels, every part then takes one bone (see LinkPartsToBones).
   const bool singleComponent =
     *std::max_element(faceComponent.begin(), faceComponent.end()) == 0;
-  const auto linkToNearestNodes = [&](const SkeletonPointTree& nodeTree) {
+  // The tree of the current nodes: rebuilt (with the nearest-node link) whenever step 6 below
+  // adds a branch.
+  std::optional<SkeletonPointTree> nodeTree;
+  const auto linkToNearestNodes = [&]() {
+    nodeTree.emplace(graph.NodePositions);
     result.FaceNodeId.assign(faces, 0);
     result.FaceBoneId.assign(faces, 0);
     parallelFor(faces, [&](std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f)
       {
         const std::int64_t c = faceComponent[f];
-        const std::int64_t node = nodeTree.NearestAccepted(
+        const std::int64_t node = nodeTree->NearestAccepted(
           projectedCentres.row(static_cast<Eigen::Index>(f)).transpose(),
           [&](std::int64_t n) { return singleComponent || graph.NodeComponent[n] == c; });
         result.FaceNodeId[f] = node;
@@ -308,11 +313,15 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
       }
     });
   };
-  std::vector<std::int64_t> partBone;
+  linkToNearestNodes();
   if (!faceParts.empty())
   {
+    std::vector<char> partHasOwnBone;
+    std::vector<std::int64_t> partBone =
+      LinkPartsToBones(faceParts, faceComponent, faceArea, result.FaceBoneId, options.OwnBoneShare, &partHasOwnBone);
+
     // 6. A branch into every large part left without a bone of its own (ours; header
-    // comment), largest part first, each part once; the link is made again after each.
+    // comment), largest part first, each part once; the link is made again after each branch.
     const std::vector<std::int64_t> part = PartsWithinComponents(faceParts, faceComponent);
     std::vector<std::size_t> partPoints(static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1), 0);
     for (const std::int64_t face : cloud.SourceFace)
@@ -321,12 +330,8 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     }
     const double minimumPoints = options.Coverage.PartMinimumShare * static_cast<double>(cloud.Size());
     std::vector<char> tried(partPoints.size(), 0);
-    while (true)
+    while (options.Coverage.PartUncoveredFactor > 0.0)
     {
-      const SkeletonPointTree nodeTree(graph.NodePositions);
-      linkToNearestNodes(nodeTree);
-      std::vector<char> partHasOwnBone;
-      partBone = LinkPartsToBones(faceParts, faceComponent, faceArea, result.FaceBoneId, options.OwnBoneShare, &partHasOwnBone);
       std::int64_t target = -1;
       for (std::size_t q = 0; q < partPoints.size(); ++q)
       {
@@ -336,7 +341,7 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
           target = static_cast<std::int64_t>(q);
         }
       }
-      if (target < 0 || !(options.Coverage.PartUncoveredFactor > 0.0))
+      if (target < 0)
       {
         break;
       }
@@ -349,16 +354,12 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
       if (ReachPartsWithoutBones(graph, cloud, thinned, pointComponent, neighbours, inPart, options.Coverage, parallelFor) > 0)
       {
         CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor, LeafPruning::Keep);
+        linkToNearestNodes();
+        partBone = LinkPartsToBones(
+          faceParts, faceComponent, faceArea, result.FaceBoneId, options.OwnBoneShare, &partHasOwnBone);
       }
     }
-  }
-  const SkeletonPointTree nodeTree(graph.NodePositions);
-  if (faceParts.empty())
-  {
-    linkToNearestNodes(nodeTree);
-  }
-  else
-  {
+
     parallelFor(faces, [&](std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f)
       {
@@ -367,7 +368,7 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
         {
           continue;
         }
-        result.FaceNodeId[f] = nodeTree.NearestAccepted(
+        result.FaceNodeId[f] = nodeTree->NearestAccepted(
           projectedCentres.row(static_cast<Eigen::Index>(f)).transpose(),
           [&](std::int64_t n) { return graph.NodeBone[n] == bone; });
         result.FaceBoneId[f] = bone;
