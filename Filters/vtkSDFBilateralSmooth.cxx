@@ -76,6 +76,7 @@ bool vtkSDFBilateralSmooth::ExecuteSurface(const shapediameter::adapter::Surface
   {
     return false;
   }
+  this->KeepFaceGraph(result.Graph);
 
   output->GetFieldData()->AddArray(adapter::MakeArray<vtkDoubleArray>(
     NORMALIZATION_RANGE_ARRAY_NAME, std::vector<double>{ result.RangeMinimum, result.RangeMaximum }));

@@ -196,6 +196,7 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
   {
     return false;
   }
+  this->KeepFaceGraph(result.Graph);
 
   const int clusterCount = result.Model.ComponentCount();
   const vtkIdType cellCount = input->GetNumberOfCells();

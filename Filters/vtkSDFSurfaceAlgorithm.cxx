@@ -21,6 +21,11 @@ vtkSDFSurfaceAlgorithm::vtkSDFSurfaceAlgorithm(
 
 vtkSDFSurfaceAlgorithm::~vtkSDFSurfaceAlgorithm() = default;
 
+void vtkSDFSurfaceAlgorithm::KeepFaceGraph(std::shared_ptr<const shapediameter::FaceGraph> graph)
+{
+  this->KeptFaceGraph = std::move(graph);
+}
+
 int vtkSDFSurfaceAlgorithm::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {

@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -408,6 +410,102 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
   {
     throw FaceGraphError("internal error: the adjacency is not symmetric");
   }
+  return graph;
+}
+
+namespace
+{
+// Two independent multiply-xorshift streams over 64-bit words (not cryptographic: a guard
+// against a changed mesh, not an adversary).
+struct InputHash
+{
+  std::uint64_t First = 0x9E3779B97F4A7C15ULL;
+  std::uint64_t Second = 0xC2B2AE3D27D4EB4FULL;
+
+  void Add(std::uint64_t word)
+  {
+    First = (First ^ word) * 0x100000001B3ULL;
+    First ^= First >> 29;
+    Second = (Second + word) * 0xFF51AFD7ED558CCDULL;
+    Second ^= Second >> 31;
+  }
+  void Add(const std::vector<std::int64_t>& words)
+  {
+    for (const std::int64_t word : words)
+    {
+      Add(static_cast<std::uint64_t>(word));
+    }
+  }
+};
+
+struct SharedGraphKey
+{
+  std::size_t PointCount = 0;
+  std::size_t OffsetCount = 0;
+  std::size_t ConnectivityCount = 0;
+  std::uint64_t First = 0;
+  std::uint64_t Second = 0;
+  bool operator==(const SharedGraphKey& rhs) const
+  {
+    return PointCount == rhs.PointCount && OffsetCount == rhs.OffsetCount &&
+      ConnectivityCount == rhs.ConnectivityCount && First == rhs.First && Second == rhs.Second;
+  }
+};
+
+SharedGraphKey KeyOf(const PointsView& points, const std::vector<std::int64_t>& faceOffsets,
+  const std::vector<std::int64_t>& faceConnectivity)
+{
+  InputHash hash;
+  for (Eigen::Index row = 0; row < points.rows(); ++row)
+  {
+    for (int column = 0; column < 3; ++column)
+    {
+      const double coordinate = points(row, column);
+      std::uint64_t bits = 0;
+      std::memcpy(&bits, &coordinate, sizeof bits);
+      hash.Add(bits);
+    }
+  }
+  hash.Add(faceOffsets);
+  hash.Add(faceConnectivity);
+  return SharedGraphKey{ static_cast<std::size_t>(points.rows()), faceOffsets.size(), faceConnectivity.size(),
+    hash.First, hash.Second };
+}
+
+struct SharedGraphEntry
+{
+  SharedGraphKey Key;
+  std::weak_ptr<const FaceGraph> Graph;
+};
+
+std::mutex SharedGraphMutex;
+std::vector<SharedGraphEntry> SharedGraphs; // guarded by SharedGraphMutex
+} // namespace
+
+std::shared_ptr<const FaceGraph> SharedFaceGraph(const PointsView& points,
+  const std::vector<std::int64_t>& faceOffsets, const std::vector<std::int64_t>& faceConnectivity,
+  const ParallelFor& parallelFor)
+{
+  const SharedGraphKey key = KeyOf(points, faceOffsets, faceConnectivity);
+  {
+    const std::lock_guard<std::mutex> lock(SharedGraphMutex);
+    SharedGraphs.erase(std::remove_if(SharedGraphs.begin(), SharedGraphs.end(),
+                         [](const SharedGraphEntry& entry) { return entry.Graph.expired(); }),
+      SharedGraphs.end());
+    for (const SharedGraphEntry& entry : SharedGraphs)
+    {
+      if (entry.Key == key)
+      {
+        if (std::shared_ptr<const FaceGraph> graph = entry.Graph.lock())
+        {
+          return graph;
+        }
+      }
+    }
+  }
+  auto graph = std::make_shared<const FaceGraph>(BuildFaceGraph(points, faceOffsets, faceConnectivity, parallelFor));
+  const std::lock_guard<std::mutex> lock(SharedGraphMutex);
+  SharedGraphs.push_back(SharedGraphEntry{ key, graph });
   return graph;
 }
 

@@ -60,6 +60,7 @@
 #include "Parallel.h"
 
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -116,6 +117,25 @@ struct FaceGraph
 /// Builds the face graph of polygons given in CSR form (see the header comment).
 FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_t>& faceOffsets,
   const std::vector<std::int64_t>& faceConnectivity, const ParallelFor& parallelFor = SerialFor);
+
+/**
+ * The face graph of this input, built once per surface in a chain: when a graph built here
+ * from identical input is still held (by any owner of a pointer this function returned),
+ * that graph; otherwise a new BuildFaceGraph, which later calls with identical input get for
+ * as long as someone holds it. The smoothing and the partition of one chain see the same
+ * surface and so build it once (README, "Performance": 0.3 s of each at 832k faces).
+ *
+ * Identical input: the same point count, offsets and connectivity sizes, and the same two
+ * independent 64-bit hashes over the bytes of the coordinates (all points, referenced or not)
+ * and of the offsets and connectivity; a changed coordinate, index or face gives a new graph
+ * (a different input with the same 128 bits of hash is the only way to be handed a wrong one).
+ * Hashing costs about 1 % of a build. The registry keeps only weak references: it never keeps
+ * a graph alive. Thread-safe; two callers building the same graph concurrently both build it.
+ * Throws what BuildFaceGraph throws (nothing is then registered).
+ */
+std::shared_ptr<const FaceGraph> SharedFaceGraph(const PointsView& points,
+  const std::vector<std::int64_t>& faceOffsets, const std::vector<std::int64_t>& faceConnectivity,
+  const ParallelFor& parallelFor = SerialFor);
 
 /// A triangle mesh's faces in that CSR form (3 corners per face; both empty without triangles).
 void TriangleFaces(

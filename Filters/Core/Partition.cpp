@@ -79,7 +79,8 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
   Clock::time_point start = Clock::now();
 
   // 1. The dual graph.
-  const FaceGraph graph = BuildFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
+  result.Graph = SharedFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
+  const FaceGraph& graph = *result.Graph;
   result.Timings.FaceGraphMs = Lap(start);
   if (progress && !progress(0.1))
   {

@@ -4,7 +4,8 @@
 // What it computes
 //   A partition of a polygon surface into parts of similar thickness, from the normalised SDF
 //   of its faces (Shapira, Shamir, Cohen-Or 2008, section 4):
-//     1. BuildFaceGraph          - the dual graph: adjacency, areas, normal angles (FaceGraph.h)
+//     1. SharedFaceGraph         - the dual graph: adjacency, areas, normal angles (FaceGraph.h;
+//                                  reused when a graph of the same surface is still held)
 //     2. the cluster model       - a 1-D mixture of at most k Gaussians: the modes of the
 //                                  area-weighted density (DensityModes.h, the default), the
 //                                  paper's EM fit (GaussianMixture.h), or a given family model
@@ -64,6 +65,7 @@
 #include "PartitionEnergy.h"
 
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -173,6 +175,8 @@ struct PartitionResult
   int CutMoves = 0;
   PartitionHistogram Histogram;
   PartitionTimings Timings;
+  /// The face graph used (SharedFaceGraph; see SmoothAndNormalizeResult::Graph).
+  std::shared_ptr<const FaceGraph> Graph;
   /// True if the progress callback aborted the computation (the other members are then empty).
   bool Aborted = false;
 };

@@ -41,7 +41,8 @@ SmoothAndNormalizeResult SmoothAndNormalize(const SmoothAndNormalizeInput& input
 
   // 1. The dual graph.
   Clock::time_point start = Clock::now();
-  const FaceGraph graph = BuildFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
+  result.Graph = SharedFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
+  const FaceGraph& graph = *result.Graph;
   result.Timings.FaceGraphMs = MillisecondsSince(start);
   if (progress && !progress(0.1))
   {

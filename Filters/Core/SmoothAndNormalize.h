@@ -5,7 +5,8 @@
 //   The smoothed and the normalised shape diameter of every face of a polygon surface: the
 //   paper's bilateral smoothing of the SDF (section 3) and its log normalisation to [0, 1]
 //   with alpha = 4 (section 4, before the partition's clustering), in three steps:
-//     1. BuildFaceGraph        - the dual graph: neighbourhoods and mean edge length (FaceGraph.h)
+//     1. SharedFaceGraph       - the dual graph: neighbourhoods and mean edge length (FaceGraph.h;
+//                                reused when a graph of the same surface is still held)
 //     2. SmoothBilateral       - the paper's bilateral filter over geodesic face neighbourhoods
 //                                (BilateralSmoothing.h)
 //     3. NormalizeLogarithmic  - nsdf = log((f - min) / (max - min) alpha + 1) / log(alpha + 1),
@@ -50,12 +51,14 @@
 #pragma once
 
 #include "BilateralSmoothing.h"
+#include "FaceGraph.h"
 #include "MeshTypes.h"
 #include "Normalization.h"
 #include "Parallel.h"
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -110,6 +113,9 @@ struct SmoothAndNormalizeResult
   double RangeMinimum = 0.0;
   double RangeMaximum = 0.0;
   SmoothAndNormalizeTimings Timings;
+  /// The face graph used (SharedFaceGraph): holding it lets the next step of the chain that
+  /// gets the same surface, such as the partition, reuse it instead of building its own.
+  std::shared_ptr<const FaceGraph> Graph;
   /// True if the progress callback aborted the computation (the other members are then empty).
   bool Aborted = false;
 };

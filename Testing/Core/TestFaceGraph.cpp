@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <utility>
 #include <vector>
 
 namespace
@@ -502,4 +504,46 @@ TEST(DualGeodesicSearch, DistancesOrderRadiusAndCap)
   // A large search (table growth) reaches the whole grid.
   search.Run(0, 1e9, 100000, neighbors);
   EXPECT_EQ(neighbors.size(), graph.FaceCount() - 1);
+}
+
+TEST(FaceGraph, SharedGraphIsReusedForIdenticalInputWhileItIsHeld)
+{
+  const Polygons grid = FlatGrid(6);
+  std::shared_ptr<const FaceGraph> first = SharedFaceGraph(grid.Points, grid.Offsets, grid.Connectivity);
+  ASSERT_TRUE(first);
+  // Equal to a plain build, and the same object for a copy of the input.
+  const FaceGraph built = grid.Build();
+  EXPECT_EQ(first->Neighbors, built.Neighbors);
+  EXPECT_EQ(first->NormalAngles, built.NormalAngles);
+  const Polygons copy = grid;
+  EXPECT_EQ(SharedFaceGraph(copy.Points, copy.Offsets, copy.Connectivity).get(), first.get());
+
+  // Any change of a coordinate, an index or the faces gives another graph.
+  Polygons moved = grid;
+  moved.Points(8, 2) = 0.25; // a vertex inside the grid lifted: the normals change
+  const auto movedGraph = SharedFaceGraph(moved.Points, moved.Offsets, moved.Connectivity);
+  EXPECT_NE(movedGraph.get(), first.get());
+  EXPECT_GT(*std::max_element(movedGraph->NormalAngles.begin(), movedGraph->NormalAngles.end()), 0.1);
+  Polygons flipped = grid;
+  std::swap(flipped.Connectivity[1], flipped.Connectivity[2]); // face 0 turned over
+  const auto flippedGraph = SharedFaceGraph(flipped.Points, flipped.Offsets, flipped.Connectivity);
+  EXPECT_NE(flippedGraph.get(), first.get());
+  EXPECT_NEAR(flippedGraph->NormalAngles[0], Pi, 1e-12);
+  Polygons fewer = grid;
+  fewer.Offsets.pop_back();
+  fewer.Connectivity.resize(fewer.Connectivity.size() - 3);
+  const auto fewerGraph = SharedFaceGraph(fewer.Points, fewer.Offsets, fewer.Connectivity);
+  EXPECT_EQ(fewerGraph->FaceCount(), grid.Offsets.size() - 2);
+
+  // The registry never keeps a graph alive: once released, identical input builds anew.
+  const std::weak_ptr<const FaceGraph> released = first;
+  first.reset();
+  EXPECT_TRUE(released.expired());
+  const auto rebuilt = SharedFaceGraph(grid.Points, grid.Offsets, grid.Connectivity);
+  EXPECT_EQ(rebuilt->Neighbors, built.Neighbors);
+
+  // Bad input throws what BuildFaceGraph throws and registers nothing.
+  Polygons broken = grid;
+  broken.Points(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(SharedFaceGraph(broken.Points, broken.Offsets, broken.Connectivity), FaceGraphError);
 }

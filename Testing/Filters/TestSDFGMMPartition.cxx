@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ArticulatedFigure.h"
+#include "FaceGraph.h"
 #include "FilterTestUtilities.h"
 #include "LabelMatching.h"
+#include "SurfaceConversion.h"
 #include "vtkSDFBilateralSmooth.h"
 #include "vtkSDFGMMPartition.h"
 #include "vtkShapeDiameterFilter.h"
@@ -27,6 +29,7 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <memory>
 #include <vector>
 
 using shapediameter::testing::MessageRecorder;
@@ -541,4 +544,41 @@ TEST_F(FigureConsistencyAtDefaults, AnotherTessellationKeepsTheParts)
     Rest->Triangles.rows(), Retriangulated->Triangles.rows(), areaPercent, ClustersCoveringOnePercent(*RestClusters, areas),
     ClustersCoveringOnePercent(copyClusters, FaceAreas(*Retriangulated)));
   EXPECT_LE(areaPercent, 5.5);
+}
+
+TEST(SDFGMMPartition, TheChainBuildsOneFaceGraphKeptWhileItsFiltersLive)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(24);
+  sphere->SetPhiResolution(16);
+  auto sdf = vtkSmartPointer<vtkShapeDiameterFilter>::New();
+  sdf->SetInputConnection(sphere->GetOutputPort());
+  auto smooth = vtkSmartPointer<vtkSDFBilateralSmooth>::New();
+  smooth->SetInputConnection(sdf->GetOutputPort());
+  auto partition = vtkSmartPointer<vtkSDFGMMPartition>::New();
+  partition->SetInputConnection(smooth->GetOutputPort());
+  partition->Update();
+  vtkSmartPointer<vtkPolyData> parts = partition->GetOutput();
+  ASSERT_NE(parts->GetCellData()->GetArray("SDFCluster"), nullptr);
+
+  std::vector<std::int64_t> offsets, connectivity;
+  shapediameter::adapter::PolygonFaces(parts, offsets, connectivity);
+  const shapediameter::PointMatrix points = shapediameter::adapter::PointsOf(parts);
+  std::shared_ptr<const shapediameter::FaceGraph> graph =
+    shapediameter::SharedFaceGraph(points, offsets, connectivity);
+  // One graph, held by the smoothing, the partition and this test: the partition reused the
+  // smoothing's instead of building its own.
+  EXPECT_EQ(graph.use_count(), 3);
+  EXPECT_EQ(graph->FaceCount(), static_cast<std::size_t>(parts->GetNumberOfPolys()));
+
+  // Re-executed on the same surface (another lambda), the partition keeps the same graph.
+  partition->SetLambda(partition->GetLambda() * 2);
+  partition->Update();
+  EXPECT_EQ(graph.use_count(), 3);
+
+  // Deleting the filters releases it: nothing else keeps a graph alive.
+  partition = nullptr;
+  smooth = nullptr;
+  sdf = nullptr;
+  EXPECT_EQ(graph.use_count(), 1);
 }
