@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -305,9 +306,11 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
       for (std::size_t f = begin; f < end; ++f)
       {
         const std::int64_t c = faceComponent[f];
-        const std::int64_t node = nodeTree->NearestAccepted(
-          projectedCentres.row(static_cast<Eigen::Index>(f)).transpose(),
-          [&](std::int64_t n) { return singleComponent || graph.NodeComponent[n] == c; });
+        const Eigen::Vector3d centre = projectedCentres.row(static_cast<Eigen::Index>(f)).transpose();
+        // One component: no predicate, so the search makes no call per candidate.
+        const std::int64_t node = singleComponent
+          ? nodeTree->NearestAccepted(centre, {})
+          : nodeTree->NearestAccepted(centre, [&](std::int64_t n) { return graph.NodeComponent[n] == c; });
         result.FaceNodeId[f] = node;
         result.FaceBoneId[f] = graph.NodeBone[node];
       }
@@ -360,6 +363,14 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
       }
     }
 
+    // A face moved to its part's bone links to that bone's nearest node: a scan of the bone's
+    // nodes in index order (ties to the lower index, as the tree's search), far cheaper than
+    // a tree search whose predicate rejects all but a few dozen nodes.
+    std::vector<std::vector<std::int64_t>> boneNodes(graph.BoneLength.size());
+    for (std::size_t n = 0; n < graph.NodeBone.size(); ++n)
+    {
+      boneNodes[static_cast<std::size_t>(graph.NodeBone[n])].push_back(static_cast<std::int64_t>(n));
+    }
     parallelFor(faces, [&](std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f)
       {
@@ -368,9 +379,21 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
         {
           continue;
         }
-        result.FaceNodeId[f] = nodeTree->NearestAccepted(
-          projectedCentres.row(static_cast<Eigen::Index>(f)).transpose(),
-          [&](std::int64_t n) { return graph.NodeBone[n] == bone; });
+        const auto row = static_cast<Eigen::Index>(f);
+        double best = std::numeric_limits<double>::infinity();
+        result.FaceNodeId[f] = -1;
+        for (const std::int64_t n : boneNodes[static_cast<std::size_t>(bone)])
+        {
+          const double dx = graph.NodePositions(n, 0) - projectedCentres(row, 0);
+          const double dy = graph.NodePositions(n, 1) - projectedCentres(row, 1);
+          const double dz = graph.NodePositions(n, 2) - projectedCentres(row, 2);
+          const double squared = dx * dx + dy * dy + dz * dz;
+          if (squared < best)
+          {
+            best = squared;
+            result.FaceNodeId[f] = n;
+          }
+        }
         result.FaceBoneId[f] = bone;
       }
     });
