@@ -6,6 +6,8 @@
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -19,6 +21,7 @@
 #include <exception>
 #include <future>
 #include <memory>
+#include <numeric>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -58,47 +61,85 @@ std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
     return "the input has no polygons or triangle strips";
   }
 
-  std::vector<std::int64_t> triangles;
-  triangles.reserve(static_cast<std::size_t>(input->GetNumberOfPolys()) * 3);
-  surface.TriangleCell.clear();
-  surface.CellFirstTriangle.assign(static_cast<std::size_t>(cellCount) + 1, 0);
-
-  vtkIdType cellId = firstPolygon;
-  std::int64_t triangleCount = 0;
-  for (vtkCellArray* cells : { input->GetPolys(), input->GetStrips() })
-  {
-    const bool isStrip = cells == input->GetStrips();
-    auto iterator = vtk::TakeSmartPointer(cells->NewIterator());
-    for (iterator->GoToFirstCell(); !iterator->IsDoneWithTraversal(); iterator->GoToNextCell(), ++cellId)
-    {
-      vtkIdType count;
-      const vtkIdType* ids;
-      iterator->GetCurrentCell(count, ids);
-      const std::int64_t added = AppendTriangles(ids, count, isStrip, triangles);
-      surface.TriangleCell.insert(surface.TriangleCell.end(), static_cast<std::size_t>(added), cellId);
-      triangleCount += added;
-      surface.CellFirstTriangle[static_cast<std::size_t>(cellId) + 1] = triangleCount;
-    }
-  }
-  // Cells after the last polygon (none) and before the first (verts, lines) own no triangle.
-  for (std::size_t c = static_cast<std::size_t>(cellId) + 1; c < surface.CellFirstTriangle.size(); ++c)
-  {
-    surface.CellFirstTriangle[c] = triangleCount;
-  }
-
   const vtkIdType pointCount = input->GetNumberOfPoints();
   surface.Points = PointsOf(input);
-  surface.Triangles = Eigen::Map<const TriangleMatrix>(triangles.data(), triangleCount, 3);
-  std::vector<char> used(static_cast<std::size_t>(pointCount), 0);
-  for (const std::int64_t id : triangles)
+  surface.TriangleCell.clear();
+  surface.CellFirstTriangle.assign(static_cast<std::size_t>(cellCount) + 1, 0);
+  std::int64_t triangleCount = 0;
+  vtkCellArray* polys = input->GetPolys();
+  if (input->GetNumberOfStrips() == 0 && polys->IsHomogeneous() == 3)
   {
+    // Triangles only (the common case): the connectivity is the triangle matrix; no iterator,
+    // no per-cell vector growth (832k triangles: 0.16 s -> see README "Performance").
+    triangleCount = polys->GetNumberOfCells();
+    surface.Triangles.resize(triangleCount, 3);
+    const auto copyIds = [&](const auto* ids) {
+      std::copy(ids, ids + 3 * triangleCount, surface.Triangles.data());
+    };
+    if (polys->IsStorage64Bit())
+    {
+      copyIds(polys->GetConnectivityArray64()->GetPointer(0));
+    }
+    else
+    {
+      copyIds(polys->GetConnectivityArray32()->GetPointer(0));
+    }
+    surface.TriangleCell.resize(static_cast<std::size_t>(triangleCount));
+    std::iota(surface.TriangleCell.begin(), surface.TriangleCell.end(), firstPolygon);
+    for (std::int64_t t = 0; t < triangleCount; ++t)
+    {
+      surface.CellFirstTriangle[static_cast<std::size_t>(firstPolygon + t) + 1] = t + 1;
+    }
+    for (std::size_t c = static_cast<std::size_t>(firstPolygon + triangleCount) + 1; c < surface.CellFirstTriangle.size(); ++c)
+    {
+      surface.CellFirstTriangle[c] = triangleCount;
+    }
+  }
+  else
+  {
+    std::vector<std::int64_t> triangles;
+    triangles.reserve(static_cast<std::size_t>(input->GetNumberOfPolys()) * 3);
+    vtkIdType cellId = firstPolygon;
+    for (vtkCellArray* cells : { polys, input->GetStrips() })
+    {
+      const bool isStrip = cells == input->GetStrips();
+      auto iterator = vtk::TakeSmartPointer(cells->NewIterator());
+      for (iterator->GoToFirstCell(); !iterator->IsDoneWithTraversal(); iterator->GoToNextCell(), ++cellId)
+      {
+        vtkIdType count;
+        const vtkIdType* ids;
+        iterator->GetCurrentCell(count, ids);
+        const std::int64_t added = AppendTriangles(ids, count, isStrip, triangles);
+        surface.TriangleCell.insert(surface.TriangleCell.end(), static_cast<std::size_t>(added), cellId);
+        triangleCount += added;
+        surface.CellFirstTriangle[static_cast<std::size_t>(cellId) + 1] = triangleCount;
+      }
+    }
+    // Cells after the last polygon (none) and before the first (verts, lines) own no triangle.
+    for (std::size_t c = static_cast<std::size_t>(cellId) + 1; c < surface.CellFirstTriangle.size(); ++c)
+    {
+      surface.CellFirstTriangle[c] = triangleCount;
+    }
+    surface.Triangles = Eigen::Map<const TriangleMatrix>(triangles.data(), triangleCount, 3);
+  }
+
+  std::vector<char> finite(static_cast<std::size_t>(pointCount));
+  for (vtkIdType p = 0; p < pointCount; ++p)
+  {
+    finite[static_cast<std::size_t>(p)] = surface.Points.row(p).allFinite() ? 1 : 0;
+  }
+  std::vector<char> used(static_cast<std::size_t>(pointCount), 0);
+  const std::int64_t* ids = surface.Triangles.data();
+  for (std::int64_t k = 0; k < 3 * triangleCount; ++k)
+  {
+    const std::int64_t id = ids[k];
     if (id < 0 || id >= pointCount)
     {
       std::ostringstream reason;
       reason << "a polygon references point " << id << " but the input has " << pointCount << " points";
       return reason.str();
     }
-    if (!surface.Points.row(id).allFinite())
+    if (!finite[static_cast<std::size_t>(id)])
     {
       std::ostringstream reason;
       reason << "point " << id << " used by a polygon has a non-finite coordinate";
@@ -109,7 +150,7 @@ std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
   // Points no polygon uses play no part; a non-finite one must not reach the ray caster.
   for (vtkIdType p = 0; p < pointCount; ++p)
   {
-    if (!used[static_cast<std::size_t>(p)] && !surface.Points.row(p).allFinite())
+    if (!used[static_cast<std::size_t>(p)] && !finite[static_cast<std::size_t>(p)])
     {
       surface.Points.row(p).setZero();
     }
@@ -121,9 +162,27 @@ PointMatrix PointsOf(vtkPolyData* input)
 {
   const vtkIdType pointCount = input->GetPoints() ? input->GetNumberOfPoints() : 0;
   PointMatrix points(pointCount, 3);
-  for (vtkIdType p = 0; p < pointCount; ++p)
+  if (pointCount == 0)
   {
-    input->GetPoints()->GetPoint(p, points.row(p).data());
+    return points;
+  }
+  // vtkPoints hold 3-component AOS arrays: float and double (nearly every reader's output)
+  // are copied straight, anything else through the virtual per-point accessor.
+  vtkDataArray* data = input->GetPoints()->GetData();
+  if (auto* doubles = vtkDoubleArray::FastDownCast(data))
+  {
+    std::copy(doubles->GetPointer(0), doubles->GetPointer(0) + 3 * pointCount, points.data());
+  }
+  else if (auto* floats = vtkFloatArray::FastDownCast(data))
+  {
+    std::copy(floats->GetPointer(0), floats->GetPointer(0) + 3 * pointCount, points.data());
+  }
+  else
+  {
+    for (vtkIdType p = 0; p < pointCount; ++p)
+    {
+      input->GetPoints()->GetPoint(p, points.row(p).data());
+    }
   }
   return points;
 }

@@ -251,6 +251,42 @@ TEST(ShapeDiameterFilter, QuadsStripsAndLinesKeepTheirCells)
   }
 }
 
+TEST(ShapeDiameterFilter, TrianglesBesideVertsAndLinesAndFloatPointsGiveTheSameValues)
+{
+  // Triangles only take the direct conversion; a vertex and a line before them must shift
+  // nothing, and float points must give what the same coordinates as doubles give.
+  vtkSmartPointer<vtkPolyData> sphere = Sphere(1.0, 24);
+  ASSERT_EQ(sphere->GetPoints()->GetDataType(), VTK_FLOAT);
+  const std::vector<double> alone = Values(Compute(sphere).Output);
+
+  vtkNew<vtkPolyData> withOthers;
+  withOthers->DeepCopy(sphere);
+  vtkNew<vtkCellArray> verts, lines;
+  const vtkIdType vertex = 0, segment[2] = { 0, 5 };
+  verts->InsertNextCell(1, &vertex);
+  lines->InsertNextCell(2, segment);
+  withOthers->SetVerts(verts);
+  withOthers->SetLines(lines);
+  const std::vector<double> mixed = Values(Compute(withOthers).Output);
+  ASSERT_EQ(mixed.size(), alone.size() + 2);
+  EXPECT_EQ(mixed[0], 0.0); // the vertex
+  EXPECT_EQ(mixed[1], 0.0); // the line
+  EXPECT_TRUE(std::equal(alone.begin(), alone.end(), mixed.begin() + 2));
+
+  vtkNew<vtkPolyData> asDoubles;
+  asDoubles->DeepCopy(sphere);
+  vtkNew<vtkPoints> converted;
+  converted->SetDataTypeToDouble();
+  converted->SetNumberOfPoints(sphere->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < sphere->GetNumberOfPoints(); ++p)
+  {
+    converted->SetPoint(p, sphere->GetPoint(p));
+  }
+  asDoubles->SetPoints(converted);
+  ASSERT_EQ(asDoubles->GetPoints()->GetDataType(), VTK_DOUBLE);
+  EXPECT_EQ(Values(Compute(asDoubles).Output), alone);
+}
+
 TEST(ShapeDiameterFilter, DegenerateFacesAreFilledFromNeighbors)
 {
   vtkSmartPointer<vtkPolyData> sphere = Sphere(1.0, 32);
