@@ -192,7 +192,12 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   }
 
   // 3. Poly-segments, through the volume only.
-  const EmbreeRayCaster volume(points, triangles);
+  // Low build quality: the volume answers some 10^5 segment tests, so the build dominates and
+  // the faster one wins (832k faces: skeleton 0.82 -> 0.62 s; same output, README "Design
+  // measurements"); the SDF's 25 M rays keep Medium.
+  EmbreeRayCasterOptions volumeOptions;
+  volumeOptions.BuildQuality = EmbreeBuildQuality::Low;
+  const EmbreeRayCaster volume(points, triangles, volumeOptions);
   const std::vector<PolySegment> segments =
     GrowPolySegments(cloud, thinned, pointComponent, options.Segments, &volume);
   if (progress && !progress(0.7))
