@@ -70,7 +70,8 @@ std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
   if (input->GetNumberOfStrips() == 0 && polys->IsHomogeneous() == 3)
   {
     // Triangles only (the common case): the connectivity is the triangle matrix; no iterator,
-    // no per-cell vector growth (832k triangles: 0.16 s -> see README "Performance").
+    // no per-cell vector growth (832k triangles: 0.155 s -> 0.028 s with the points' copy below,
+    // README "Performance").
     triangleCount = polys->GetNumberOfCells();
     surface.Triangles.resize(triangleCount, 3);
     const auto copyIds = [&](const auto* ids) {
