@@ -23,7 +23,8 @@ vtkSDFSurfaceAlgorithm::~vtkSDFSurfaceAlgorithm() = default;
 
 void vtkSDFSurfaceAlgorithm::KeepFaceGraph(std::shared_ptr<const shapediameter::FaceGraph> graph)
 {
-  this->KeptFaceGraph = std::move(graph);
+  // ReleaseDataFlag asks the pipeline to trade speed for memory: nothing is kept then.
+  this->KeptFaceGraph = this->GetReleaseDataFlag() ? nullptr : std::move(graph);
 }
 
 int vtkSDFSurfaceAlgorithm::RequestData(

@@ -27,7 +27,8 @@
  * in a chain: a filter keeps the graph it used until its next execution or its deletion, and
  * a filter given the same points and polygons meanwhile reuses it (SharedFaceGraph in
  * Filters/Core/FaceGraph.h; 0.3 s of the partition at 832k faces). Memory: one graph per
- * distinct surface while a filter that used it lives (about 160 bytes per face).
+ * distinct surface while a filter that used it lives (about 160 bytes per face); a filter
+ * whose ReleaseDataFlag is on keeps none (each filter then builds its own).
  *
  * Not meant to be used on its own (it has no New()); not a ParaView proxy.
  */

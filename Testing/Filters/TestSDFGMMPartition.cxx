@@ -576,6 +576,13 @@ TEST(SDFGMMPartition, TheChainBuildsOneFaceGraphKeptWhileItsFiltersLive)
   partition->Update();
   EXPECT_EQ(graph.use_count(), 3);
 
+  // With ReleaseDataFlag on, the smoothing keeps nothing: only the partition and this test hold it.
+  smooth->ReleaseDataFlagOn();
+  smooth->Modified();
+  partition->Update();
+  EXPECT_EQ(graph.use_count(), 2);
+  smooth->ReleaseDataFlagOff();
+
   // Deleting the filters releases it: nothing else keeps a graph alive.
   partition = nullptr;
   smooth = nullptr;
