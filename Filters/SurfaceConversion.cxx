@@ -66,6 +66,7 @@ std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
   surface.TriangleCell.clear();
   surface.CellFirstTriangle.assign(static_cast<std::size_t>(cellCount) + 1, 0);
   std::int64_t triangleCount = 0;
+  vtkIdType cellId = firstPolygon; // then one past the last polygon or strip cell
   vtkCellArray* polys = input->GetPolys();
   if (input->GetNumberOfStrips() == 0 && polys->IsHomogeneous() == 3)
   {
@@ -91,16 +92,12 @@ std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
     {
       surface.CellFirstTriangle[static_cast<std::size_t>(firstPolygon + t) + 1] = t + 1;
     }
-    for (std::size_t c = static_cast<std::size_t>(firstPolygon + triangleCount) + 1; c < surface.CellFirstTriangle.size(); ++c)
-    {
-      surface.CellFirstTriangle[c] = triangleCount;
-    }
+    cellId = firstPolygon + triangleCount;
   }
   else
   {
     std::vector<std::int64_t> triangles;
     triangles.reserve(static_cast<std::size_t>(input->GetNumberOfPolys()) * 3);
-    vtkIdType cellId = firstPolygon;
     for (vtkCellArray* cells : { polys, input->GetStrips() })
     {
       const bool isStrip = cells == input->GetStrips();
@@ -116,12 +113,12 @@ std::string Triangulate(vtkPolyData* input, TriangulatedSurface& surface)
         surface.CellFirstTriangle[static_cast<std::size_t>(cellId) + 1] = triangleCount;
       }
     }
-    // Cells after the last polygon (none) and before the first (verts, lines) own no triangle.
-    for (std::size_t c = static_cast<std::size_t>(cellId) + 1; c < surface.CellFirstTriangle.size(); ++c)
-    {
-      surface.CellFirstTriangle[c] = triangleCount;
-    }
     surface.Triangles = Eigen::Map<const TriangleMatrix>(triangles.data(), triangleCount, 3);
+  }
+  // Cells after the last polygon (none) and before the first (verts, lines) own no triangle.
+  for (std::size_t c = static_cast<std::size_t>(cellId) + 1; c < surface.CellFirstTriangle.size(); ++c)
+  {
+    surface.CellFirstTriangle[c] = triangleCount;
   }
 
   std::vector<char> finite(static_cast<std::size_t>(pointCount));
@@ -170,13 +167,16 @@ PointMatrix PointsOf(vtkPolyData* input)
   // vtkPoints hold 3-component AOS arrays: float and double (nearly every reader's output)
   // are copied straight, anything else through the virtual per-point accessor.
   vtkDataArray* data = input->GetPoints()->GetData();
+  const auto copyFrom = [&](auto* array) {
+    std::copy(array->GetPointer(0), array->GetPointer(0) + 3 * pointCount, points.data());
+  };
   if (auto* doubles = vtkDoubleArray::FastDownCast(data))
   {
-    std::copy(doubles->GetPointer(0), doubles->GetPointer(0) + 3 * pointCount, points.data());
+    copyFrom(doubles);
   }
   else if (auto* floats = vtkFloatArray::FastDownCast(data))
   {
-    std::copy(floats->GetPointer(0), floats->GetPointer(0) + 3 * pointCount, points.data());
+    copyFrom(floats);
   }
   else
   {

@@ -407,21 +407,22 @@ void TimeFilter(benchmark::State& state, vtkAlgorithm* filter, const std::functi
   SetCounters(state, "", samples);
 }
 
-/// Executes a new filter from `make` every iteration, so that nothing one execution keeps
+/// Executes a new `Filter` on `input` every iteration, so that nothing one execution keeps
 /// (the face graph, vtkSDFSurfaceAlgorithm::KeepFaceGraph) speeds up the next; min/median.
+/// Each output must carry the cell array `arrayName`.
 template <typename Filter>
-void TimeNewFilter(benchmark::State& state, const std::function<void(Filter*)>& configure,
-  const std::function<void(Filter*)>& check)
+void TimeNewStage(benchmark::State& state, vtkPolyData* input, const char* arrayName, const char* label)
 {
   Samples samples;
   for (auto _ : state)
   {
     vtkNew<Filter> filter;
-    configure(filter);
+    filter->SetInputData(input);
+    filter->SetNumberOfThreads(Threads());
     const auto t0 = Clock::now();
     filter->Update();
     const auto t1 = Clock::now();
-    check(filter);
+    RequireCellArray(filter->GetOutput(), arrayName, label);
     samples.Add(Milliseconds(t0, t1));
     state.SetIterationTime(Milliseconds(t0, t1) / 1000.0);
   }
@@ -501,15 +502,8 @@ void BM_Smooth(benchmark::State& state, const std::string& path)
 {
   Guarded(state, [&] {
     MeshData& mesh = Mesh(path);
-    TimeNewFilter<vtkSDFBilateralSmooth>(
-      state,
-      [&](vtkSDFBilateralSmooth* smooth) {
-        smooth->SetInputData(WithSDF(mesh));
-        smooth->SetNumberOfThreads(Threads());
-      },
-      [](vtkSDFBilateralSmooth* smooth) {
-        RequireCellArray(smooth->GetOutput(), vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME, "vtkSDFBilateralSmooth");
-      });
+    TimeNewStage<vtkSDFBilateralSmooth>(
+      state, WithSDF(mesh), vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME, "vtkSDFBilateralSmooth");
   });
 }
 
@@ -517,15 +511,8 @@ void BM_Partition(benchmark::State& state, const std::string& path)
 {
   Guarded(state, [&] {
     MeshData& mesh = Mesh(path);
-    TimeNewFilter<vtkSDFGMMPartition>(
-      state,
-      [&](vtkSDFGMMPartition* partition) {
-        partition->SetInputData(Smoothed(mesh));
-        partition->SetNumberOfThreads(Threads());
-      },
-      [](vtkSDFGMMPartition* partition) {
-        RequireCellArray(partition->GetOutput(), vtkSDFGMMPartition::CLUSTER_ARRAY_NAME, "vtkSDFGMMPartition");
-      });
+    TimeNewStage<vtkSDFGMMPartition>(
+      state, Smoothed(mesh), vtkSDFGMMPartition::CLUSTER_ARRAY_NAME, "vtkSDFGMMPartition");
   });
 }
 
