@@ -91,9 +91,10 @@
 //     31 %, 10 %: 55 %), and among those the 20-ray value still differs from the 30-ray one by
 //     more than 2 % in 45 % of the cones; the spread of one subset cannot serve as the test
 //     (the rays' lengths differ by the cone's geometry: a coefficient of variation under 10 %
-//     in fewer than 0.05 % of them). Stopping early would move cast values off the Exact mode's by more
-//     than the accuracy bar allows, on the cones that are not on a jump (those are the ones
-//     that agree), while the casts at the finest levels follow jumps, where rays disagree.
+//     in fewer than 0.05 % of them). Stopping early would move cast values off the Exact
+//     mode's by more than the accuracy bar allows, on the cones that are not on a jump (those
+//     are the ones that agree), while the casts at the finest levels follow jumps, where rays
+//     disagree.
 //
 // Determinism, progress, abort: the selection and the search are serial and in index order;
 // the refinement test runs in parallel but only sets flags (their union does not depend on
