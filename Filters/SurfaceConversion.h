@@ -3,7 +3,7 @@
 // Private to the module: not installed, not wrapped.
 #pragma once
 
-#include "MeshTypes.h"
+#include "Mesh/MeshTypes.h"
 #include "Parallel.h"
 
 #include "vtkSmartPointer.h"

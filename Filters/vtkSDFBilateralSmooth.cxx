@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFBilateralSmooth.h"
 
-#include "SmoothAndNormalize.h"
+#include "Smoothing/SmoothAndNormalize.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
 #include "vtkShapeDiameterFilter.h"

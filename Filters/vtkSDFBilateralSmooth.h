@@ -6,7 +6,7 @@
  *
  * Shapira, Shamir, Cohen-Or 2008, section 3 (smoothing) and section 4 (normalisation).
  *
- * Smoothing, exactly as the paper writes it (Filters/Core/BilateralSmoothing.h):
+ * Smoothing, exactly as the paper writes it (Filters/Core/Smoothing/BilateralSmoothing.h):
  *   f^{i+1}(x) = (f^i(x) + Σ_y c(|f^i(x) − f(y)|) w_x(y) f(y)) / (1 + Σ_y c(·) w_x(y)),
  * the centre keeps weight 1, neighbours contribute their original values f(y);
  * w_x(y) = exp(−d²/2σ²) with d the geodesic distance between face centres, approximated

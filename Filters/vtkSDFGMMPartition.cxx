@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFGMMPartition.h"
 
-#include "Partition.h"
+#include "Partition/Partition.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
 #include "vtkSDFBilateralSmooth.h"
@@ -99,7 +99,7 @@ std::string ReadModel(vtkDataObject* modelData, GaussianMixtureModel& model)
 vtkSDFGMMPartition::vtkSDFGMMPartition()
   : vtkSDFSurfaceAlgorithm("partition", "nothing to partition", 0, false)
 {
-  // The defaults live in the core's options (Filters/Core/Partition.h); the XML mirrors them.
+  // The defaults live in the core's options (Filters/Core/Partition/Partition.h); the XML mirrors them.
   const shapediameter::PartitionOptions defaults;
   this->NumberOfClusters = defaults.NumberOfClusters;
   this->MaximumClusters = defaults.MaximumClusters;

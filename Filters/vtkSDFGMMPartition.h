@@ -5,7 +5,7 @@
  *          clustering) followed by a k-way alpha-expansion graph cut.
  *
  * Shapira, Shamir, Cohen-Or 2008, section 4. The steps below are one core call,
- * PartitionBySDF (Filters/Core/Partition.h); this filter converts, calls it and writes.
+ * PartitionBySDF (Filters/Core/Partition/Partition.h); this filter converts, calls it and writes.
  *
  * 1. A 1-D mixture of at most k Gaussians models the normalised SDF of the faces (input
  *    array, default `SDFNormalized`). By default (ClusterModel 1) its components are the
@@ -13,10 +13,10 @@
  *    (see ClusterModel below). ClusterModel 0 is the paper's EM fit of exactly k: k-means++
  *    initialisation with a fixed seed, Restarts restarts, the best likelihood kept, sigmas
  *    floored at 1e-3 of the value range (no collapse), fitted on a 512-bin histogram of
- *    exact per-bin moments (Filters/Core/GaussianMixture.h). Each face gets its posterior
+ *    exact per-bin moments (Filters/Core/Partition/GaussianMixture.h). Each face gets its posterior
  *    probability vector `SDFProbabilities`.
  * 2. A k-way graph cut by alpha-expansion (our Boykov-Kolmogorov max-flow,
- *    Filters/Core/MaxFlow.h) minimises
+ *    Filters/Core/Partition/MaxFlow.h) minimises
  *    E = Σ_f w_f·(−log(P(x_f|f) + ε)) + λ Σ_{f~g, x_f≠x_g} w_fg·e2(f, g), where P(x_f|f) is
  *    the posterior of cluster x_f at face f (`SDFProbabilities`),
  *    e2 = −log(max(φ'/π, 1e-5)), φ the angle between the two face normals, taken as is on
@@ -24,9 +24,9 @@
  *    crease is cheap, across a flat or convex region expensive. w_f = face area / mean
  *    face area, w_fg = edge length · F / √(total area): E is then F times an integral
  *    over the surface, so λ means the same at every resolution and in every unit
- *    (Filters/Core/PartitionEnergy.h). It starts from the per-face most probable cluster
+ *    (Filters/Core/Partition/PartitionEnergy.h). It starts from the per-face most probable cluster
  *    and never increases E. Above 60,000 faces the cut is multilevel
- *    (Filters/Core/MultilevelCut.h): alpha-expansion on clusters of 8 faces, then on an
+ *    (Filters/Core/Partition/MultilevelCut.h): alpha-expansion on clusters of 8 faces, then on an
  *    8-ring band around the boundaries at full resolution, because with this energy the
  *    plain alpha-expansion's cost grows as faces^1.5 (measurements: README, "Performance").
  * 3. Clusters are numbered by GMM mean, largest first (`SDFCluster` 0 = thickest parts);
@@ -61,7 +61,7 @@
  * - Restarts 5, [1, 100]; MaximumIterations 500, [1, 100000] (EM); Seed 0x5DF2008.
  * - NumberOfThreads 0 = all cores (vtkSDFSurfaceAlgorithm).
  * - ClusterModel 1 (default) = clusters from the modes of the area-weighted density of the
- *   input values (Filters/Core/DensityModes.h): the at most k modes rising ModeProminence
+ *   input values (Filters/Core/Partition/DensityModes.h): the at most k modes rising ModeProminence
  *   (default 0.025, [0, 1]) of the highest peak and ModeValleyDepth (default 0.25, [0, 1])
  *   of their own height above their saddle, in a Gaussian kernel estimate of bandwidth
  *   ModeBandwidth (default 0.02 of the value range, [0.001, 0.5]). The valley depth keeps
@@ -195,7 +195,7 @@ public:
 
   ///@{
   /// How the clusters are found: 1 (default) the at most k modes of the area-weighted SDF
-  /// density (Filters/Core/DensityModes.h); 0 the paper's EM fit of k Gaussians (range [0, 1]).
+  /// density (Filters/Core/Partition/DensityModes.h); 0 the paper's EM fit of k Gaussians (range [0, 1]).
   vtkSetClampMacro(ClusterModel, int, 0, 1);
   vtkGetMacro(ClusterModel, int);
   ///@}

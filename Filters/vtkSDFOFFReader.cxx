@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFOFFReader.h"
 
-#include "MeshPieces.h"
-#include "OFFParser.h"
+#include "IO/MeshPieces.h"
+#include "IO/OFFParser.h"
 #include "SurfaceConversion.h"
 
 #include "vtkCellArray.h"

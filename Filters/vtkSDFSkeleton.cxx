@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFSkeleton.h"
 
-#include "Orientation.h"
-#include "Skeleton.h"
+#include "Mesh/Orientation.h"
+#include "Skeleton/Skeleton.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
 #include "vtkSDFBilateralSmooth.h"

@@ -48,16 +48,16 @@
  *   least this share of the projected points is eligible (deviation: the paper says only
  *   "high confidence"; with 0.8 alone a character with short, stubby limbs keeps 0.5 % of
  *   its points and only its longest limbs get a branch; 0 = the threshold alone; see
- *   Filters/Core/SkeletonThinning.h for the measurements).
+ *   Filters/Core/Skeleton/SkeletonThinning.h for the measurements).
  * - SpacingFactor ε 0.25, [0, 10], in units of the local radius SDF/2.
  * - MaximumExitAngle 40 degrees, [0, 90]: a leaf is carried on to its part's end when its
  *   branch leaves the volume within this angle of the exit surface's normal (deviation: the
  *   paper's branches stop where the confident points stop, short of a hand or a head, by an
- *   amount that changes with the pose; 0 = the paper's; Filters/Core/SkeletonLeafExtension.h).
+ *   amount that changes with the pose; 0 = the paper's; Filters/Core/Skeleton/SkeletonLeafExtension.h).
  * - UncoveredFactor 4, [0, 1e6]: after step 4, every large group of projected points farther
  *   than this many radii from the skeleton gets a branch (deviation: the paper's skeleton
  *   only joins confident segments, so a bent or stubby limb or an ear gets a branch in some
- *   poses and not in others; 0 = the paper's; Filters/Core/SkeletonCoverage.h).
+ *   poses and not in others; 0 = the paper's; Filters/Core/Skeleton/SkeletonCoverage.h).
  * - LinkBySegment on: the segment link above (deviation: the paper draws the parts on the
  *   projected points but does not say how faces are assigned to bones).
  * - OwnBoneShare 0.15, [0, 1]: with the segment link, segments first get bones of their own,
@@ -152,7 +152,7 @@ public:
   ///@{
   /// A leaf whose branch leaves the volume within this angle (degrees) of the exit surface's
   /// normal gets a node where a ball of its radius touches the part's end (default 40, range
-  /// [0, 90]; 0 = off; not in the paper, see Filters/Core/SkeletonLeafExtension.h).
+  /// [0, 90]; 0 = off; not in the paper, see Filters/Core/Skeleton/SkeletonLeafExtension.h).
   vtkSetClampMacro(MaximumExitAngle, double, 0.0, 90.0);
   vtkGetMacro(MaximumExitAngle, double);
   ///@}
@@ -160,7 +160,7 @@ public:
   ///@{
   /// Projected points farther than this many radii from the skeleton are uncovered, and every
   /// group of them holding 1 % of the points gets a branch (default 4, range [0, 1e6]; 0 = off;
-  /// not in the paper, see Filters/Core/SkeletonCoverage.h).
+  /// not in the paper, see Filters/Core/Skeleton/SkeletonCoverage.h).
   vtkSetClampMacro(UncoveredFactor, double, 0.0, 1e6);
   vtkGetMacro(UncoveredFactor, double);
   ///@}
@@ -177,7 +177,7 @@ public:
   /// With LinkBySegment: a segment takes a bone no other segment has taken when that bone holds
   /// at least this share of its area under the nearest-node link (larger overlaps first), else
   /// the bone holding most of it (default 0.15, range [0, 1]; above 0.5 every segment takes the
-  /// bone holding most of it; see Filters/Core/Skeleton.h).
+  /// bone holding most of it; see Filters/Core/Skeleton/Skeleton.h).
   vtkSetClampMacro(OwnBoneShare, double, 0.0, 1.0);
   vtkGetMacro(OwnBoneShare, double);
   ///@}
@@ -186,7 +186,7 @@ public:
   /// With LinkBySegment: a segment holding 5 % of the projected points that got no bone of its
   /// own, and whose farthest projected point lies more than this many radii from the skeleton,
   /// gets a branch into it (step 6; default 2, range [0, 1e6]; 0 = off; not in the paper, see
-  /// Filters/Core/Skeleton.h).
+  /// Filters/Core/Skeleton/Skeleton.h).
   vtkSetClampMacro(PartUncoveredFactor, double, 0.0, 1e6);
   vtkGetMacro(PartUncoveredFactor, double);
   ///@}

@@ -26,7 +26,7 @@
  * The face graph (the smoothing's and the partition's dual graph) is built once per surface
  * in a chain: a filter keeps the graph it used until its next execution or its deletion, and
  * a filter given the same points and polygons meanwhile reuses it (SharedFaceGraph in
- * Filters/Core/FaceGraph.h; 0.3 s of the partition at 832k faces). Memory: one graph per
+ * Filters/Core/Mesh/FaceGraph.h; 0.3 s of the partition at 832k faces). Memory: one graph per
  * distinct surface while a filter that used it lives (about 160 bytes per face); a filter
  * whose ReleaseDataFlag is on keeps none (each filter then builds its own).
  *
@@ -42,7 +42,7 @@
 
 namespace shapediameter
 {
-struct FaceGraph; // Filters/Core/FaceGraph.h
+struct FaceGraph; // Filters/Core/Mesh/FaceGraph.h
 namespace adapter
 {
 struct SurfaceRequest; // Filters/SurfaceRequest.h (private to the module)
@@ -85,7 +85,7 @@ protected:
    * Keeps the face graph this execution used until the next execution or the filter's
    * deletion: while it is kept, the next filter of the chain given the same surface (the
    * partition after the smoothing, or this one re-executed on an unchanged surface) reuses it
-   * instead of building its own (SharedFaceGraph in Filters/Core/FaceGraph.h).
+   * instead of building its own (SharedFaceGraph in Filters/Core/Mesh/FaceGraph.h).
    */
   void KeepFaceGraph(std::shared_ptr<const shapediameter::FaceGraph> graph);
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkShapeDiameterFilter.h"
 
-#include "EmbreeRayCaster.h"
-#include "MeshGeometry.h"
-#include "Orientation.h"
-#include "ShapeDiameter.h"
+#include "RayCasting/EmbreeRayCaster.h"
+#include "Mesh/MeshGeometry.h"
+#include "Mesh/Orientation.h"
+#include "SDF/ShapeDiameter.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
 
@@ -61,7 +61,7 @@ vtkSmartPointer<vtkCellArray> ReorientedPolygons(
 vtkShapeDiameterFilter::vtkShapeDiameterFilter()
   : vtkSDFSurfaceAlgorithm("compute the SDF", "no SDF to compute", 0, true)
 {
-  // The defaults live in the core's options (Filters/Core/ShapeDiameter.h); the XML mirrors them.
+  // The defaults live in the core's options (Filters/Core/SDF/ShapeDiameter.h); the XML mirrors them.
   const ShapeDiameterOptions defaults;
   this->NumberOfRays = defaults.NumberOfRays;
   this->ConeAngle = defaults.ConeAngleDegrees;

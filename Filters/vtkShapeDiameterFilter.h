@@ -14,7 +14,7 @@
  * them with weights 1/(angle to the cone axis). The result is a local measure of the
  * object's diameter: about twice the distance to the medial axis, invariant to rigid
  * motions and nearly invariant to articulated pose changes. Details of the statistics
- * and of the ray pattern: Filters/Core/ShapeDiameter.h and ConeSampling.h.
+ * and of the ray pattern: Filters/Core/SDF/ShapeDiameter.h and ConeSampling.h.
  *
  * Parameters (the ParaView proxy `ShapeDiameter` mirrors them):
  * - NumberOfRays, default 30 (paper), range [1, 4096].
@@ -32,13 +32,13 @@
  *   self-intersecting mesh (a paw pushed into the torso) gets no value of its own and is filled
  *   from its neighbours like a face without a valid ray; its rays would measure the distance to
  *   the enclosing part's surface, which changes with the pose. Found by one ray along the
- *   outward normal whose first hit is left, not entered (Filters/Core/ShapeDiameter.h, "Buried
+ *   outward normal whose first hit is left, not entered (Filters/Core/SDF/ShapeDiameter.h, "Buried
  *   origins"). Off = the paper's value for every face.
  * - Mode, default 0 = Exact: every face casts its cone (the paper). 1 = Adaptive: cones are
  *   cast from a subset of faces spaced at half the local SDF, refined where neighbouring cast
  *   values differ by more than Tolerance, and the other faces are interpolated over the
  *   surface (not across concave creases); the cost follows the shape, not the face count
- *   (Filters/Core/AdaptiveShapeDiameter.h; accuracy and speed: README, "Adaptive SDF").
+ *   (Filters/Core/SDF/AdaptiveShapeDiameter.h; accuracy and speed: README, "Adaptive SDF").
  *   Cast faces get exactly the Exact value; SDFValidRays of an interpolated face is that of
  *   the cast face its value comes from.
  * - Tolerance, default 0.15, range [0.001, 1]: Adaptive only, relative SDF difference between

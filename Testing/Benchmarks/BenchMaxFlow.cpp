@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Our max-flow (Filters/Core/MaxFlow.h) against Boost.Graph's boykov_kolmogorov_max_flow on
+// Our max-flow (Filters/Core/Partition/MaxFlow.h) against Boost.Graph's boykov_kolmogorov_max_flow on
 // the same graphs: the s-t graph of every expansion move of one alpha-expansion run on a real
 // mesh, recorded once and then replayed to both solvers in this process.
 //
@@ -22,14 +22,14 @@
 // per mesh with the graph sizes, both times and boost / ours (> 1: ours is faster).
 //
 // Run: build with -DSHAPEDIAMETER_BUILD_BENCHMARKS=ON (Release), then bin/BenchMaxFlow.
-#include "AlphaExpansion.h"
-#include "FaceGraph.h"
-#include "GaussianMixture.h"
-#include "MaxFlow.h"
-#include "OFFParser.h"
-#include "PartitionEnergy.h"
-#include "ShapeDiameter.h"
-#include "SmoothAndNormalize.h"
+#include "Partition/AlphaExpansion.h"
+#include "Mesh/FaceGraph.h"
+#include "Partition/GaussianMixture.h"
+#include "Partition/MaxFlow.h"
+#include "IO/OFFParser.h"
+#include "Partition/PartitionEnergy.h"
+#include "SDF/ShapeDiameter.h"
+#include "Smoothing/SmoothAndNormalize.h"
 
 #include <benchmark/benchmark.h>
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>

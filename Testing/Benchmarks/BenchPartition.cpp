@@ -7,9 +7,9 @@
 // cut measured at 0.27 s for 52k faces, i.e. < 90 ms at 52k and < 2.7 s at 832k. The counter
 // `target_ratio` is the measured time over that target (< 1 = met). The unbinned-EM baseline
 // (binCount = 0) is measured in the same run for the GMM alone.
-#include "AlphaExpansion.h"
-#include "GaussianMixture.h"
-#include "PartitionEnergy.h"
+#include "Partition/AlphaExpansion.h"
+#include "Partition/GaussianMixture.h"
+#include "Partition/PartitionEnergy.h"
 
 #include <benchmark/benchmark.h>
 

@@ -54,13 +54,13 @@
 // surface exactly as the filters do.
 #include "RawEmbreeBaseline.h"
 
-#include "EmbreeRayCaster.h"
-#include "FaceGraph.h"
+#include "RayCasting/EmbreeRayCaster.h"
+#include "Mesh/FaceGraph.h"
 #include "LabelMatching.h"
-#include "Orientation.h"
-#include "Partition.h"
-#include "ShapeDiameter.h"
-#include "SmoothAndNormalize.h"
+#include "Mesh/Orientation.h"
+#include "Partition/Partition.h"
+#include "SDF/ShapeDiameter.h"
+#include "Smoothing/SmoothAndNormalize.h"
 #include "SurfaceConversion.h"
 
 #include "vtkCallbackCommand.h"

@@ -18,11 +18,11 @@
 //
 // Mesh: the OFF file named by the environment variable SHAPEDIAMETER_BENCH_MESH (n-gons are
 // fan-triangulated by the tiny reader below), else a generated icosphere of 52020 faces.
-#include "ConeSampling.h"
-#include "EmbreeRayCaster.h"
+#include "RayCasting/ConeSampling.h"
+#include "RayCasting/EmbreeRayCaster.h"
 #include "TestShapes.h"
 #include "RawEmbreeBaseline.h"
-#include "ShapeDiameter.h"
+#include "SDF/ShapeDiameter.h"
 
 #include <benchmark/benchmark.h>
 

@@ -9,8 +9,8 @@
 // sampling, thinning, segments, connection, face link). BM_SkeletonStep/<level>/<step> times
 // each step alone on a prepared input, to show that only the per-face parts scale with the
 // face count.
-#include "Skeleton.h"
-#include "SkeletonPointTree.h"
+#include "Skeleton/Skeleton.h"
+#include "Skeleton/SkeletonPointTree.h"
 #include "TestShapes.h"
 
 #include <benchmark/benchmark.h>

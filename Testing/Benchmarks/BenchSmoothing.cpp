@@ -9,10 +9,10 @@
 // smoothing + normalisation, wall clock / 1.3 s), smooth_norm_fraction (smoothing +
 // normalisation only) and cpu_fraction_of_sdf (process CPU time / threads / 1.3 s, the
 // figure an otherwise idle machine would give).
-#include "BilateralSmoothing.h"
-#include "FaceGraph.h"
-#include "Normalization.h"
-#include "SmoothAndNormalize.h"
+#include "Smoothing/BilateralSmoothing.h"
+#include "Mesh/FaceGraph.h"
+#include "Smoothing/Normalization.h"
+#include "Smoothing/SmoothAndNormalize.h"
 #include "TestShapes.h"
 
 #include <benchmark/benchmark.h>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "RawEmbreeBaseline.h"
 
-#include "ConeSampling.h"
-#include "ShapeDiameter.h"
+#include "RayCasting/ConeSampling.h"
+#include "SDF/ShapeDiameter.h"
 
 #include <limits>
 #include <stdexcept>

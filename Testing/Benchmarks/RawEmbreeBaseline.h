@@ -12,7 +12,7 @@
 // (The product's filter differs only within 1e-6 of perpendicular, see RayCaster.h.)
 #pragma once
 
-#include "MeshTypes.h"
+#include "Mesh/MeshTypes.h"
 #include "Parallel.h"
 
 // Embree 3 or 4: CMake sets SHAPEDIAMETER_EMBREE_MAJOR on the embree target (see EmbreeRayCaster.cpp).

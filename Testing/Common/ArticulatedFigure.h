@@ -42,7 +42,7 @@
 // surface (not a refinement of the same faces). Everything is deterministic.
 #pragma once
 
-#include "MeshTypes.h"
+#include "Mesh/MeshTypes.h"
 
 #include <Eigen/Core>
 

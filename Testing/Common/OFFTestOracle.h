@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The OFF parser's oracle, shared by the seeded fuzz test (Testing/Core/TestOFFParserFuzz.cpp)
+// The OFF parser's oracle, shared by the seeded fuzz test (Testing/Core/IO/TestOFFParserFuzz.cpp)
 // and the libFuzzer target (Testing/Fuzz/FuzzOFFParser.cpp): the documented invariants of an
 // accepted mesh and the writer of its round trip. Header-only, VTK-free: the libFuzzer target
 // is a project of its own that compiles only the parser.
 #pragma once
 
-#include "OFFParser.h"
+#include "IO/OFFParser.h"
 
 #include <cmath>
 #include <cstddef>

@@ -10,7 +10,7 @@
 // normal); RayCastSdf gives a small brute-force ray-cast SDF with realistic noise.
 #pragma once
 
-#include "MeshTypes.h"
+#include "Mesh/MeshTypes.h"
 
 #include <Eigen/Core>
 

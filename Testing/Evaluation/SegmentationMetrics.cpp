@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "SegmentationMetrics.h"
-#include "TextFiles.h"
+#include "IO/TextFiles.h"
 
 #include <Eigen/Geometry>
 #include <nanoflann.hpp>

@@ -93,7 +93,7 @@
 //   sort, so many segments cost no quadratic memory). Single-threaded and deterministic.
 #pragma once
 
-#include "MeshTypes.h"
+#include "Mesh/MeshTypes.h"
 
 #include <cstddef>
 #include <cstdint>

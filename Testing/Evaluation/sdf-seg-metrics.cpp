@@ -2,7 +2,7 @@
 // sdf-seg-metrics: compares two segmentations of one mesh with the Princeton Segmentation
 // Benchmark metrics (Chen, Golovinskiy & Funkhouser 2009). See README.md in this directory
 // and Testing/Evaluation/SegmentationMetrics.h for the definitions.
-#include "OFFParser.h"
+#include "IO/OFFParser.h"
 #include "SegmentationMetrics.h"
 
 #include <cstdio>

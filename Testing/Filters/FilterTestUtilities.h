@@ -2,7 +2,7 @@
 // Small helpers shared by the filter tests.
 #pragma once
 
-#include "MeshTypes.h"
+#include "Mesh/MeshTypes.h"
 
 #include "vtkCellArray.h"
 #include "vtkCommand.h"

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ArticulatedFigure.h"
-#include "FaceGraph.h"
+#include "Mesh/FaceGraph.h"
 #include "FilterTestUtilities.h"
 #include "LabelMatching.h"
 #include "SurfaceConversion.h"
@@ -321,7 +321,7 @@ TEST(SDFGMMPartition, ASubdivisionKeepsTheParts)
   // slightly smoothed one. The camel subdivided has 78k faces, so this also runs the
   // multilevel cut, which lost a whole cluster of the linear one (16 % of the area) before
   // regions off their most probable label joined its refinement band
-  // (Filters/Core/MultilevelCut.h). Measured after: linear 0.50 %, Loop 0.91 % of the faces.
+  // (Filters/Core/Partition/MultilevelCut.h). Measured after: linear 0.50 %, Loop 0.91 % of the faces.
   vtkNew<vtkSDFOFFReader> reader;
   reader->SetFileName(shapediameter::testing::DataFile("camel.off").c_str());
   vtkNew<vtkTriangleFilter> triangles;

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// libFuzzer entry point for the VTK-free OFF parser (Filters/Core/OFFParser.h).
+// libFuzzer entry point for the VTK-free OFF parser (Filters/Core/IO/OFFParser.h).
 //
 // Build and run: see Testing/Fuzz/CMakeLists.txt (clang only), or by hand from the
 // repository root:
 //   clang++ -g -O1 -fsanitize=fuzzer,address,undefined -std=c++17 -I Filters/Core -I Testing/Common \
-//     Filters/Core/OFFParser.cpp Testing/Fuzz/FuzzOFFParser.cpp -o /tmp/fuzz_off
+//     Filters/Core/IO/OFFParser.cpp Testing/Fuzz/FuzzOFFParser.cpp -o /tmp/fuzz_off
 //   /tmp/fuzz_off -max_total_time=60 -rss_limit_mb=512 CORPUS_DIR
 //
 // A finding is any of: a sanitizer report (out-of-bounds, use-after-free, UB, leak), an
@@ -13,7 +13,7 @@
 // documented invariants: indices in [0, V), finite coordinates and normals, faces of >= 3
 // vertices, consistent array sizes, a size that is a small multiple of the input, and a
 // lossless round trip (written back as OFF and parsed again, it is identical).
-#include "OFFParser.h"
+#include "IO/OFFParser.h"
 #include "OFFTestOracle.h"
 
 #include <cmath>

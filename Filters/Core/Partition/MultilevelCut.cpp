@@ -1,0 +1,422 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Partition/MultilevelCut.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <mutex>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+namespace shapediameter
+{
+namespace
+{
+
+/// Pairs by face (CSR): neighbour and weight.
+struct Adjacency
+{
+  std::vector<std::size_t> start;
+  std::vector<std::pair<std::size_t, double>> entries;
+
+  explicit Adjacency(const PartitionEnergy& energy)
+    : start(energy.FaceCount + 1, 0)
+  {
+    for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
+    {
+      ++start[static_cast<std::size_t>(energy.PairFirst[p]) + 1];
+      ++start[static_cast<std::size_t>(energy.PairSecond[p]) + 1];
+    }
+    for (std::size_t f = 0; f < energy.FaceCount; ++f)
+    {
+      start[f + 1] += start[f];
+    }
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    entries.resize(start.back());
+    for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
+    {
+      const auto a = static_cast<std::size_t>(energy.PairFirst[p]);
+      const auto b = static_cast<std::size_t>(energy.PairSecond[p]);
+      entries[fill[a]++] = { b, energy.PairWeight[p] };
+      entries[fill[b]++] = { a, energy.PairWeight[p] };
+    }
+  }
+};
+
+/// Clusters of at most `size` faces with the same most probable label, grown breadth-first
+/// from the lowest unassigned face. Returns the cluster of every face and the cluster count.
+std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(
+  const Adjacency& adjacency, const std::vector<int>& seedLabels, int size)
+{
+  const std::size_t n = seedLabels.size();
+  constexpr std::size_t unassigned = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> cluster(n, unassigned);
+  std::vector<std::size_t> queue;
+  std::size_t count = 0;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (cluster[seed] != unassigned)
+    {
+      continue;
+    }
+    queue.assign(1, seed);
+    cluster[seed] = count;
+    for (std::size_t head = 0; head < queue.size() && queue.size() < static_cast<std::size_t>(size); ++head)
+    {
+      const std::size_t f = queue[head];
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1] && queue.size() < static_cast<std::size_t>(size); ++e)
+      {
+        const std::size_t g = adjacency.entries[e].first;
+        if (cluster[g] == unassigned && seedLabels[g] == seedLabels[seed])
+        {
+          cluster[g] = count;
+          queue.push_back(g);
+        }
+      }
+    }
+    ++count;
+  }
+  return { std::move(cluster), count };
+}
+
+/// The energy of labellings constant on clusters.
+PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const std::vector<std::size_t>& cluster, std::size_t clusterCount)
+{
+  const auto k = static_cast<std::size_t>(energy.LabelCount);
+  PartitionEnergy coarse;
+  coarse.FaceCount = clusterCount;
+  coarse.LabelCount = energy.LabelCount;
+  coarse.DataCosts.assign(clusterCount * k, 0.0);
+  for (std::size_t f = 0; f < energy.FaceCount; ++f)
+  {
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      coarse.DataCosts[cluster[f] * k + l] += energy.DataCosts[f * k + l];
+    }
+  }
+  std::vector<std::tuple<std::size_t, std::size_t, double>> links;
+  links.reserve(energy.PairWeight.size());
+  for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
+  {
+    const std::size_t a = cluster[static_cast<std::size_t>(energy.PairFirst[p])];
+    const std::size_t b = cluster[static_cast<std::size_t>(energy.PairSecond[p])];
+    if (a != b)
+    {
+      links.emplace_back(std::min(a, b), std::max(a, b), energy.PairWeight[p]);
+    }
+  }
+  // Sorted by cluster pair, then by weight: the sums do not depend on the input's pair order.
+  std::sort(links.begin(), links.end());
+  for (std::size_t i = 0; i < links.size();)
+  {
+    const auto [a, b, w] = links[i];
+    double sum = 0.0;
+    for (; i < links.size() && std::get<0>(links[i]) == a && std::get<1>(links[i]) == b; ++i)
+    {
+      sum += std::get<2>(links[i]);
+    }
+    coarse.PairFirst.push_back(static_cast<std::int64_t>(a));
+    coarse.PairSecond.push_back(static_cast<std::int64_t>(b));
+    coarse.PairWeight.push_back(sum);
+  }
+  return coarse;
+}
+
+/// Faces within `rings` rings of a face that has a neighbour with another label, or that lies
+/// in a connected region of at least `minimumRegion` faces whose label is not their most
+/// probable one (a part the coarse solve lost: it has no boundary left to refine from).
+std::vector<std::uint8_t> BoundaryBand(const Adjacency& adjacency, const std::vector<int>& labels,
+  const std::vector<int>& mostProbable, int rings, std::size_t minimumRegion)
+{
+  const std::size_t n = labels.size();
+  std::vector<std::uint8_t> inBand(n, 0);
+  std::vector<std::size_t> frontier;
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+    {
+      if (labels[adjacency.entries[e].first] != labels[f])
+      {
+        inBand[f] = 1;
+        frontier.push_back(f);
+        break;
+      }
+    }
+  }
+  // Regions of faces off their most probable label, connected through faces with the same
+  // most probable label; large ones join the band.
+  std::vector<std::uint8_t> visited(n, 0);
+  std::vector<std::size_t> region;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (visited[seed] || labels[seed] == mostProbable[seed])
+    {
+      continue;
+    }
+    region.assign(1, seed);
+    visited[seed] = 1;
+    for (std::size_t i = 0; i < region.size(); ++i)
+    {
+      const std::size_t f = region[i];
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+      {
+        const std::size_t g = adjacency.entries[e].first;
+        if (!visited[g] && labels[g] != mostProbable[g] && mostProbable[g] == mostProbable[seed])
+        {
+          visited[g] = 1;
+          region.push_back(g);
+        }
+      }
+    }
+    if (region.size() >= minimumRegion)
+    {
+      for (const std::size_t f : region)
+      {
+        if (!inBand[f])
+        {
+          inBand[f] = 1;
+          frontier.push_back(f);
+        }
+      }
+    }
+  }
+  std::vector<std::size_t> next;
+  for (int ring = 1; ring < rings && !frontier.empty(); ++ring)
+  {
+    next.clear();
+    for (const std::size_t f : frontier)
+    {
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+      {
+        const std::size_t g = adjacency.entries[e].first;
+        if (!inBand[g])
+        {
+          inBand[g] = 1;
+          next.push_back(g);
+        }
+      }
+    }
+    frontier.swap(next);
+  }
+  return inBand;
+}
+
+/// The connected components of the band (through pairs of band faces), each as its faces in
+/// increasing order; components ordered by their lowest face.
+std::vector<std::vector<std::size_t>> BandComponents(const Adjacency& adjacency, const std::vector<std::uint8_t>& inBand,
+  const std::vector<std::size_t>& bandFaces, const std::vector<std::size_t>& bandIndex)
+{
+  constexpr std::size_t none = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> component(bandFaces.size(), none);
+  std::vector<std::vector<std::size_t>> components;
+  for (std::size_t seed = 0; seed < bandFaces.size(); ++seed)
+  {
+    if (component[seed] != none)
+    {
+      continue;
+    }
+    std::vector<std::size_t> faces(1, bandFaces[seed]);
+    component[seed] = components.size();
+    for (std::size_t i = 0; i < faces.size(); ++i)
+    {
+      const std::size_t f = faces[i];
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+      {
+        const std::size_t g = adjacency.entries[e].first;
+        if (inBand[g] && component[bandIndex[g]] == none)
+        {
+          component[bandIndex[g]] = components.size();
+          faces.push_back(g);
+        }
+      }
+    }
+    std::sort(faces.begin(), faces.end());
+    components.push_back(std::move(faces));
+  }
+  return components;
+}
+
+/// The energy of `faces` (a band component, increasing) with every other face fixed at
+/// `labels`: pairs with fixed faces become data costs.
+PartitionEnergy BandEnergy(const PartitionEnergy& energy, const Adjacency& adjacency, const std::vector<std::uint8_t>& inBand,
+  const std::vector<std::size_t>& faces, const std::vector<int>& labels)
+{
+  const auto k = static_cast<std::size_t>(energy.LabelCount);
+  PartitionEnergy part;
+  part.FaceCount = faces.size();
+  part.LabelCount = energy.LabelCount;
+  part.DataCosts.resize(faces.size() * k);
+  for (std::size_t b = 0; b < faces.size(); ++b)
+  {
+    const std::size_t f = faces[b];
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      part.DataCosts[b * k + l] = energy.DataCosts[f * k + l];
+    }
+    for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+    {
+      const auto [g, w] = adjacency.entries[e];
+      if (!inBand[g])
+      {
+        for (std::size_t l = 0; l < k; ++l)
+        {
+          part.DataCosts[b * k + l] += static_cast<int>(l) != labels[g] ? w : 0.0;
+        }
+      }
+      else if (g > f)
+      {
+        // Pairs in the order of their lower face, then of the adjacency: the sub-energy does
+        // not depend on how the band is split among threads.
+        part.PairFirst.push_back(static_cast<std::int64_t>(b));
+        part.PairSecond.push_back(static_cast<std::int64_t>(
+          std::lower_bound(faces.begin(), faces.end(), g) - faces.begin()));
+        part.PairWeight.push_back(w);
+      }
+    }
+  }
+  return part;
+}
+
+/// Progress of parts solved concurrently, each weighted by its size; the callback is called
+/// under a lock and never goes backwards. Any part's abort request is seen by all.
+class SharedProgress
+{
+public:
+  SharedProgress(ProgressCallback progress, std::size_t total)
+    : Progress(std::move(progress))
+    , Total(static_cast<double>(std::max<std::size_t>(1, total)))
+  {
+  }
+
+  ProgressCallback ForPart(std::size_t size)
+  {
+    if (!Progress)
+    {
+      return nullptr;
+    }
+    return [this, size = static_cast<double>(size), reported = 0.0](double fraction) mutable {
+      const std::lock_guard<std::mutex> lock(Mutex);
+      Done += (fraction - reported) * size;
+      reported = fraction;
+      Highest = std::max(Highest, std::min(1.0, Done / Total));
+      Continue = Continue && Progress(Highest);
+      return Continue;
+    };
+  }
+
+private:
+  ProgressCallback Progress;
+  double Total;
+  std::mutex Mutex;
+  double Done = 0.0;
+  double Highest = 0.0;
+  bool Continue = true;
+};
+
+ProgressCallback SubRange(const ProgressCallback& progress, double from, double to)
+{
+  if (!progress)
+  {
+    return nullptr;
+  }
+  return [progress, from, to](double fraction) { return progress(from + (to - from) * fraction); };
+}
+
+} // namespace
+
+AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel,
+  const AlphaExpansionOptions& options, const ProgressCallback& progress, const ParallelFor& parallelFor)
+{
+  if (multilevel.DirectBelowFaces < 16 || multilevel.ClusterSize < 2 || multilevel.ClusterSize > 1024 ||
+    multilevel.BandRings < 1 || multilevel.BandRings > 64 || multilevel.LostRegionFaces < 1)
+  {
+    throw PartitionEnergyError("multilevel cut: options out of range");
+  }
+  if (energy.FaceCount <= multilevel.DirectBelowFaces || energy.LabelCount < 2)
+  {
+    return MinimizeByAlphaExpansion(energy, options, progress);
+  }
+  ValidateEnergyForCut(energy);
+  const std::vector<int> mostProbable = MostProbableLabels(energy);
+  const Adjacency adjacency(energy);
+  const auto [cluster, clusterCount] = GrowClusters(adjacency, mostProbable, multilevel.ClusterSize);
+  if (2 * clusterCount > energy.FaceCount)
+  {
+    return MinimizeByAlphaExpansion(energy, options, progress); // too fragmented to coarsen
+  }
+
+  // Coarse solve, projected onto the faces.
+  const PartitionEnergy coarse = CoarseEnergy(energy, cluster, clusterCount);
+  const AlphaExpansionResult coarseResult =
+    MinimizeMultilevel(coarse, multilevel, options, SubRange(progress, 0.0, 0.5), parallelFor);
+  AlphaExpansionResult result;
+  result.InitialEnergy = energy.Evaluate(mostProbable);
+  result.Labels.resize(energy.FaceCount);
+  for (std::size_t f = 0; f < energy.FaceCount; ++f)
+  {
+    result.Labels[f] = coarseResult.Labels[cluster[f]];
+  }
+  result.Moves = coarseResult.Moves;
+  result.AppliedMoves = coarseResult.AppliedMoves;
+  if (coarseResult.Aborted)
+  {
+    result.Aborted = true;
+    result.Energy = energy.Evaluate(result.Labels);
+    return result;
+  }
+
+  // The band at full resolution, the rest fixed.
+  const std::vector<std::uint8_t> inBand =
+    BoundaryBand(adjacency, result.Labels, mostProbable, multilevel.BandRings, multilevel.LostRegionFaces);
+  std::vector<std::size_t> bandIndex(energy.FaceCount, 0);
+  std::vector<std::size_t> bandFaces;
+  for (std::size_t f = 0; f < energy.FaceCount; ++f)
+  {
+    if (inBand[f])
+    {
+      bandIndex[f] = bandFaces.size();
+      bandFaces.push_back(f);
+    }
+  }
+  // The band's connected components are independent problems (everything around them is
+  // fixed): each is solved on its own, in parallel. An expansion move's cut of a union of
+  // components is the union of their cuts (the source side is the set reachable from s), so
+  // this is the joint alpha-expansion up to moves that change nothing or below the tolerance.
+  const std::vector<std::vector<std::size_t>> components = BandComponents(adjacency, inBand, bandFaces, bandIndex);
+  std::vector<AlphaExpansionResult> solved(components.size());
+  SharedProgress bandProgress(SubRange(progress, 0.5, 1.0), bandFaces.size());
+  parallelFor(components.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c)
+    {
+      const std::vector<std::size_t>& faces = components[c];
+      const PartitionEnergy part = BandEnergy(energy, adjacency, inBand, faces, result.Labels);
+      std::vector<int> partLabels(faces.size());
+      for (std::size_t i = 0; i < faces.size(); ++i)
+      {
+        partLabels[i] = result.Labels[faces[i]];
+      }
+      solved[c] = MinimizeByAlphaExpansion(part, partLabels, options, bandProgress.ForPart(faces.size()));
+    }
+  });
+  result.Converged = true;
+  for (std::size_t c = 0; c < components.size(); ++c)
+  {
+    for (std::size_t i = 0; i < components[c].size(); ++i)
+    {
+      result.Labels[components[c][i]] = solved[c].Labels[i];
+    }
+    result.Moves += solved[c].Moves;
+    result.AppliedMoves += solved[c].AppliedMoves;
+    result.Converged = result.Converged && solved[c].Converged;
+    result.Aborted = result.Aborted || solved[c].Aborted;
+  }
+  result.Energy = energy.Evaluate(result.Labels);
+  result.EnergyTrace.push_back(result.Energy);
+  if (progress)
+  {
+    progress(1.0);
+  }
+  return result;
+}
+
+} // namespace shapediameter

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The k-way graph cut of the SDF partitioning on large meshes: alpha-expansion on a coarsened
+// graph, then alpha-expansion on a band around the part boundaries at full resolution.
+//
+// Why
+//   With the resolution-independent energy (PartitionEnergy.h) the cut weight of an edge
+//   grows as sqrt(faces) relative to a face's data cost, so every max-flow of a plain
+//   alpha-expansion routes flow across whole parts and its cost grows as faces^1.5 (README,
+//   "Performance"). The energy approximates an integral over the surface, so its minimiser is
+//   nearly the same on a coarser graph; only the exact position of the boundaries needs the
+//   fine faces.
+//
+// What it computes
+//   1. The most probable label of each face (MostProbableLabels).
+//   2. Clusters of at most ClusterSize faces, grown breadth-first in face order over faces
+//      with the same most probable label (deterministic).
+//   3. The coarse energy: a cluster's data cost is the sum of its faces', the weight between
+//      two clusters the sum of the weights of the face pairs between them (pairs inside a
+//      cluster are never cut by a labelling constant on clusters, so for such labellings the
+//      coarse E equals the fine E). Solved by this same function (recursively, until at most
+//      DirectBelowFaces nodes remain, then MinimizeByAlphaExpansion).
+//   4. The coarse labels projected onto the faces; the band = faces within BandRings rings of
+//      a face whose neighbour has another label, or of a connected region of at least
+//      LostRegionFaces faces that the coarse solve labelled against their common most probable
+//      label. Alpha-expansion (AlphaExpansion.h) on the band faces, from the projected labels,
+//      with the faces outside the band fixed (their pairs with band faces become data costs of
+//      the band faces). The second kind of band is for parts the coarse solve lost: a thin
+//      part whose clusters have ragged boundaries costs more on the coarse graph than its
+//      straight fine cut, vanishes there and leaves no boundary to refine from (seen on the
+//      linear subdivisions of the camel and the man: README, "Consistency", "Resolution").
+//      It also makes the result follow the energy as the plain alpha-expansion does: without
+//      it the coarse solve smoothed more than λ asks (the elephant poses: README,
+//      "Consistency").
+//   Graphs with at most DirectBelowFaces faces go straight to MinimizeByAlphaExpansion, so
+//   small meshes get exactly the plain alpha-expansion.
+//   The band's connected components (one per part boundary, typically) are independent once
+//   the faces around them are fixed: each is solved on its own, concurrently through
+//   `parallelFor`. The source side of a max-flow is the set reachable from s, so a move's cut
+//   on a union of components is the union of their cuts: the labels are those of one
+//   alpha-expansion on the whole band (checked bit-identical, labels and E, on eight meshes of
+//   85k-208k faces, 1 and 2 threads), and do not depend on the thread count. Also tried:
+//   solving coarse levels of 15k-60k nodes by coarsening once more (the coarse solve is the
+//   largest serial step): a little faster, but a clearly higher E; not kept. Measurements:
+//   README, "Performance", "Design measurements".
+//
+// Guarantees and deviation
+//   E never exceeds the energy of the projected coarse labelling, which is the coarse
+//   minimum's energy (above). It is not a local minimum of every expansion move of the whole
+//   fine graph (faces outside the band are fixed): another local minimum than the plain
+//   alpha-expansion finds: against the plain alpha-expansion, several times faster above
+//   DirectBelowFaces for a slightly higher E and a few percent of the faces labelled
+//   differently. Below DirectBelowFaces the plain alpha-expansion is used: there the multilevel
+//   cut gained too little for the faces it moved. Measurements: README, "Performance",
+//   "Design measurements".
+//
+// Parameters (MultilevelOptions)
+//   DirectBelowFaces  60000  [16, inf)  solve directly up to this many faces/nodes.
+//   ClusterSize       8      [2, 1024]  faces per cluster at most (coarsening factor); 16
+//                                        was a little faster but moved more faces.
+//   BandRings         8      [1, 64]    rings around the projected boundaries that are
+//                                        re-solved; 4 raised E, 16 gained little over 8.
+//   LostRegionFaces   1024   [1, inf)   smallest region off its most probable label that is
+//                                        re-solved; smaller values enlarge the band for little
+//                                        lower E and the same clusters.
+//   (Measurements of the three: README, "Design measurements".)
+//
+// Progress and abort: as MinimizeByAlphaExpansion (the coarse solve reports the first half).
+// While bands run concurrently, `progress` is called from the worker threads, one call at a
+// time (under a lock), with non-decreasing fractions; an abort stops every band.
+#pragma once
+
+#include "Partition/AlphaExpansion.h"
+
+namespace shapediameter
+{
+
+struct MultilevelOptions
+{
+  std::size_t DirectBelowFaces = 60000;
+  int ClusterSize = 8;
+  int BandRings = 8;
+  std::size_t LostRegionFaces = 1024;
+};
+
+/// See the header. Throws PartitionEnergyError on an inconsistent energy or bad options.
+AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel = {},
+  const AlphaExpansionOptions& options = {}, const ProgressCallback& progress = nullptr,
+  const ParallelFor& parallelFor = SerialFor);
+
+} // namespace shapediameter

@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Partition/Partition.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+namespace shapediameter
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+/// Milliseconds since `start`, and restarts it.
+double Lap(Clock::time_point& start)
+{
+  const Clock::time_point now = Clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - start).count();
+  start = now;
+  return ms;
+}
+
+PartitionResult AbortedResult()
+{
+  PartitionResult result;
+  result.Aborted = true;
+  return result;
+}
+
+/// Step 2: the mixture of the clusters, fitted as the options say.
+GaussianMixtureModel FitClusterModel(ValuesView values, const FaceGraph& graph, const PartitionOptions& options)
+{
+  if (options.ClusterModel == PartitionClusterModel::DensityModes)
+  {
+    DensityModesOptions modes = options.Modes;
+    modes.MaximumModes = options.NumberOfClusters > 0 ? options.NumberOfClusters : options.MaximumClusters;
+    const Eigen::Map<const Eigen::VectorXd> areas(graph.Areas.data(), static_cast<Eigen::Index>(graph.Areas.size()));
+    return FitDensityModes(values, areas, modes).Model;
+  }
+  return options.NumberOfClusters == 0
+    ? FitGaussianMixtureBic(values, 2, options.MaximumClusters, options.Mixture).Model
+    : FitGaussianMixture(values, options.NumberOfClusters, options.Mixture);
+}
+
+} // namespace
+
+void ValidatePartitionOptions(const PartitionOptions& options)
+{
+  if (options.NumberOfClusters < 0)
+  {
+    throw PartitionError("partition: NumberOfClusters must be >= 0");
+  }
+  if (options.MaximumClusters < 1)
+  {
+    throw PartitionError("partition: MaximumClusters must be >= 1");
+  }
+  if (options.HistogramBins < 1)
+  {
+    throw PartitionError("partition: HistogramBins must be >= 1");
+  }
+}
+
+PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptions& options,
+  const ParallelFor& parallelFor, const ProgressCallback& progress)
+{
+  ValidatePartitionOptions(options);
+  const std::size_t faceCount = input.FaceOffsets.empty() ? 0 : input.FaceOffsets.size() - 1;
+  if (faceCount == 0)
+  {
+    throw PartitionError("partition: no faces");
+  }
+  if (static_cast<std::size_t>(input.FaceValues.size()) != faceCount)
+  {
+    throw PartitionError("partition: " + std::to_string(input.FaceValues.size()) + " values for " +
+      std::to_string(faceCount) + " faces");
+  }
+  PartitionResult result;
+  Clock::time_point start = Clock::now();
+
+  // 1. The dual graph.
+  result.Graph = SharedFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
+  const FaceGraph& graph = *result.Graph;
+  result.Timings.FaceGraphMs = Lap(start);
+  if (progress && !progress(0.1))
+  {
+    return AbortedResult();
+  }
+
+  // 2. The cluster model, 3. the soft partition.
+  result.Model = input.FamilyModel ? *input.FamilyModel : FitClusterModel(input.FaceValues, graph, options);
+  result.Timings.ClusterModelMs = Lap(start);
+  result.Probabilities = ComputePosteriors(result.Model, input.FaceValues, parallelFor);
+  result.Timings.PosteriorsMs = Lap(start);
+  if (progress && !progress(0.2))
+  {
+    return AbortedResult();
+  }
+
+  // 4. The energy; the graph is checked here once, for the energy and the segments.
+  const DualGraphView view = MakeDualGraphView(graph);
+  ValidateDualGraph(view, options.Energy.GeometricWeights, parallelFor);
+  const PartitionEnergy energy =
+    BuildPartitionEnergyOnValidGraph(result.Probabilities, view, options.Energy, parallelFor);
+  result.Timings.EnergyMs = Lap(start);
+
+  // 5. The k-way graph cut.
+  AlphaExpansionResult cut = MinimizeMultilevel(
+    energy, options.Multilevel, options.AlphaExpansion, SubProgress(progress, 0.2, 0.95), parallelFor);
+  result.Timings.CutMs = Lap(start);
+  if (cut.Aborted)
+  {
+    return AbortedResult();
+  }
+  result.Labels = std::move(cut.Labels);
+  result.Energy = cut.Energy;
+  result.CutMoves = cut.Moves;
+
+  // 6. Segments and hierarchy.
+  result.Segments = FindConnectedSegmentsOnValidGraph(view, result.Labels, graph.Areas);
+  for (int level = 1; level < result.Model.ComponentCount(); ++level)
+  {
+    result.Levels.push_back(HierarchyLevel(result.Labels, level));
+  }
+  result.Timings.SegmentsMs = Lap(start);
+
+  // 7. The histogram with the fitted densities.
+  result.Histogram = MixtureHistogram(result.Model, input.FaceValues, options.HistogramBins);
+  result.Timings.HistogramMs = Lap(start);
+  if (progress)
+  {
+    progress(1.0); // the result is complete: an abort requested now has nothing left to stop
+  }
+  return result;
+}
+
+PartitionResult PartitionBySDF(PointsView points, TrianglesView triangles, ValuesView faceValues,
+  const PartitionOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress)
+{
+  std::vector<std::int64_t> offsets, connectivity;
+  TriangleFaces(triangles, offsets, connectivity);
+  return PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues }, options, parallelFor, progress);
+}
+
+PartitionHistogram MixtureHistogram(const GaussianMixtureModel& model, ValuesView values, int bins)
+{
+  if (values.size() == 0 || bins < 1 || model.ComponentCount() == 0 ||
+    model.Sigmas.size() != model.Means.size() || model.Weights.size() != model.Means.size())
+  {
+    throw PartitionError("histogram: needs values, bins >= 1 and a model with components");
+  }
+  const double sigmaMax = *std::max_element(model.Sigmas.begin(), model.Sigmas.end());
+  const double low = values.minCoeff() - 4.0 * sigmaMax;
+  const double high = values.maxCoeff() + 4.0 * sigmaMax;
+  const double width = (high - low) / bins;
+  const auto count = static_cast<double>(values.size());
+  const auto binCount = static_cast<std::size_t>(bins);
+  PartitionHistogram histogram;
+  histogram.BinCenters.resize(binCount);
+  histogram.Counts.assign(binCount, 0.0);
+  histogram.Mixture.assign(binCount, 0.0);
+  for (int b = 0; b < bins; ++b)
+  {
+    histogram.BinCenters[static_cast<std::size_t>(b)] = low + (b + 0.5) * width;
+  }
+  for (Eigen::Index i = 0; i < values.size(); ++i)
+  {
+    const int bin = std::min(bins - 1, std::max(0, static_cast<int>((values[i] - low) / width)));
+    histogram.Counts[static_cast<std::size_t>(bin)] += 1.0;
+  }
+  histogram.Density.resize(binCount);
+  std::transform(histogram.Counts.begin(), histogram.Counts.end(), histogram.Density.begin(),
+    [&](double c) { return c / (count * width); });
+  for (int c = 0; c < model.ComponentCount(); ++c)
+  {
+    const auto component = static_cast<std::size_t>(c);
+    std::vector<double> curve(binCount);
+    // The mean density over each bin (not its value at the centre): comparable with the
+    // histogram bar, and exact for Gaussians narrower than a bin.
+    const double scale = 1.0 / (model.Sigmas[component] * std::sqrt(2.0));
+    auto cumulative = [&](double x) { return 0.5 * std::erf((x - model.Means[component]) * scale); };
+    for (std::size_t b = 0; b < binCount; ++b)
+    {
+      const double left = histogram.BinCenters[b] - 0.5 * width;
+      curve[b] = model.Weights[component] * (cumulative(left + width) - cumulative(left)) / width;
+      histogram.Mixture[b] += curve[b];
+    }
+    histogram.Components.push_back(std::move(curve));
+  }
+  return histogram;
+}
+
+} // namespace shapediameter

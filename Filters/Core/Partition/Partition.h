@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Consistent partitioning by the SDF: the steps of the paper's section 4, in order, as one call.
+//
+// What it computes
+//   A partition of a polygon surface into parts of similar thickness, from the normalised SDF
+//   of its faces (Shapira, Shamir, Cohen-Or 2008, section 4):
+//     1. SharedFaceGraph         - the dual graph: adjacency, areas, normal angles (FaceGraph.h;
+//                                  reused when a graph of the same surface is still held)
+//     2. the cluster model       - a 1-D mixture of at most k Gaussians: the modes of the
+//                                  area-weighted density (DensityModes.h, the default), the
+//                                  paper's EM fit (GaussianMixture.h), or a given family model
+//     3. ComputePosteriors       - P(cluster | f) of every face, the soft partition
+//     4. BuildPartitionEnergy    - E = data term from the posteriors + lambda x weighted
+//                                  concave-crease term (PartitionEnergy.h)
+//     5. MinimizeMultilevel      - the k-way alpha-expansion graph cut, multilevel on large
+//                                  meshes, plain below MultilevelOptions::DirectBelowFaces
+//                                  (MultilevelCut.h, AlphaExpansion.h)
+//     6. the hierarchy levels and the connected segments of equal cluster (PartitionEnergy.h)
+//     7. MixtureHistogram        - the histogram of the values with the fitted densities
+//                                  (the paper's Fig. 7 as data)
+//   Clusters are numbered by mixture mean, largest first (cluster 0 = the thickest parts).
+//   Each step's own header documents its method, parameters and deviations from the paper;
+//   this file only chains them, maps the options and times the steps.
+//
+// Reference
+//   Shapira, Shamir, Cohen-Or 2008, "Consistent mesh partitioning and skeletonisation using
+//   the shape diameter function", The Visual Computer 24(4), section 4.
+//
+// Input (PartitionInput; views of the caller's arrays, which must outlive the call)
+//   Points, FaceOffsets, FaceConnectivity  the polygons in CSR form, as BuildFaceGraph takes
+//                                          them (any polygon size; counter-clockwise seen from
+//                                          outside, for the concavity test).
+//   FaceValues     one value per face, finite: the normalised SDF (VTK: `SDFNormalized`).
+//   FamilyModel    optional: a mixture fitted on a family of meshes (another partition's
+//                  Model). When given, it is used as is instead of fitting, so cluster i means
+//                  the same kind of part on every member; ClusterModel and k are then not read.
+//
+// Parameters: PartitionOptions below; the options of each step are documented in its header.
+//   The VTK adapter (vtkSDFGMMPartition) exposes the ones a user needs, with the same defaults.
+//
+// Degenerate input and errors
+//   No faces, values of another size than the face count, k < 0, MaximumClusters < 1 or
+//   HistogramBins < 1 -> PartitionError. Every step throws its own typed error on what it
+//   cannot process (FaceGraphError, GaussianMixtureError, DensityModesError,
+//   PartitionEnergyError), all std::runtime_error with a one-line reason. The dual graph is
+//   validated once (ValidateDualGraph, before the energy) and not again by the segments.
+//   Constant values give one cluster; the cut may leave a cluster without faces.
+//
+// Threading and determinism
+//   parallelFor runs the face graph, the posteriors, the energy, the cut's bands and the
+//   segments; the result is bit-identical for any ParallelFor. progress receives [0, 1]
+//   (0.1 after the face graph, 0.2 after the posteriors, the cut in [0.2, 0.95], 1 at the
+//   end); returning false between the steps or during the cut aborts: the result is then
+//   empty with Aborted = true. The cut may call progress from worker threads, one call at a
+//   time (MultilevelCut.h).
+#pragma once
+
+#include "Partition/AlphaExpansion.h"
+#include "Partition/DensityModes.h"
+#include "Mesh/FaceGraph.h"
+#include "Partition/GaussianMixture.h"
+#include "Mesh/MeshTypes.h"
+#include "Partition/MultilevelCut.h"
+#include "Parallel.h"
+#include "Partition/PartitionEnergy.h"
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace shapediameter
+{
+
+/// Thrown on input the partition cannot process as a whole (see the header comment).
+class PartitionError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Where the mixture of the clusters comes from (the family model, when given, overrides both).
+enum class PartitionClusterModel
+{
+  /// The paper's EM fit of exactly k Gaussians (GaussianMixture.h); k = 0 picks the k in
+  /// [2, MaximumClusters] with the lowest BIC.
+  ExpectationMaximization = 0,
+  /// The modes of the area-weighted density of the values, at most k of them (DensityModes.h).
+  DensityModes = 1
+};
+
+struct PartitionOptions
+{
+  /// How the clusters are found; default DensityModes.
+  PartitionClusterModel ClusterModel = PartitionClusterModel::DensityModes;
+  /// k, default 5, [0, inf): with DensityModes the most clusters; with EM exactly k, and 0 =
+  /// automatic (lowest BIC in [2, MaximumClusters]).
+  int NumberOfClusters = 5;
+  /// Default 8, [1, inf) ([2, inf) for the BIC search): the most clusters when k = 0.
+  int MaximumClusters = 8;
+  /// The EM fit (Restarts, MaxIterations, Seed, ...; GaussianMixture.h).
+  GaussianMixtureOptions Mixture;
+  /// The density modes (Bandwidth, MinimumProminence, ...; DensityModes.h). MaximumModes is not
+  /// read: it is k, or MaximumClusters when k = 0.
+  DensityModesOptions Modes;
+  /// The energy: Lambda (the paper's λ), ProbabilityEpsilon (ε), ConvexityFactor, ...
+  /// (PartitionEnergy.h).
+  PartitionEnergyOptions Energy;
+  /// When and how the cut is multilevel (MultilevelCut.h).
+  MultilevelOptions Multilevel;
+  /// The alpha-expansion moves (AlphaExpansion.h).
+  AlphaExpansionOptions AlphaExpansion;
+  /// Bins of the histogram (MixtureHistogram), default 64, [1, inf).
+  int HistogramBins = 64;
+};
+
+/// What is partitioned; see the header comment.
+struct PartitionInput
+{
+  PointsView Points;
+  const std::vector<std::int64_t>& FaceOffsets;
+  const std::vector<std::int64_t>& FaceConnectivity;
+  ValuesView FaceValues;
+  const GaussianMixtureModel* FamilyModel = nullptr;
+};
+
+/// The histogram of the values and the mixture's densities over the same bins (the paper's
+/// Fig. 7 as data). Bins are equal, over [min - 4 sigma_max, max + 4 sigma_max] of the values.
+struct PartitionHistogram
+{
+  std::vector<double> BinCenters;
+  /// Values per bin; the counts sum to the number of values.
+  std::vector<double> Counts;
+  /// Counts / (values x bin width): integrates to 1.
+  std::vector<double> Density;
+  /// Per component, per bin: weight x the mean normal density over the bin (exact, so each
+  /// curve integrates to its weight, even for a Gaussian narrower than a bin).
+  std::vector<std::vector<double>> Components;
+  /// Sum of the components per bin.
+  std::vector<double> Mixture;
+};
+
+/// Wall-clock time of each step in ms (for benchmarks; not part of the partition).
+struct PartitionTimings
+{
+  double FaceGraphMs = 0.0;
+  /// EM or density modes (a copy of the family model when given).
+  double ClusterModelMs = 0.0;
+  double PosteriorsMs = 0.0;
+  /// The dual graph's validation and the energy.
+  double EnergyMs = 0.0;
+  /// The multilevel or plain alpha-expansion.
+  double CutMs = 0.0;
+  /// The connected segments and the hierarchy levels.
+  double SegmentsMs = 0.0;
+  double HistogramMs = 0.0;
+};
+
+struct PartitionResult
+{
+  /// The mixture used: fitted, or the family model. Its ComponentCount() is the k fitted.
+  GaussianMixtureModel Model;
+  /// P(cluster | f), faces x k, rows sum to 1.
+  PosteriorMatrix Probabilities;
+  /// The cluster of each face after the cut, in [0, k) (`SDFCluster`).
+  std::vector<int> Labels;
+  /// Levels[L - 1] = hierarchy level L = min(cluster, L), L = 1 .. k - 1 (`SDFLevel{L}`).
+  std::vector<std::vector<int>> Levels;
+  /// Connected parts of equal cluster, 0 = the largest area (`SDFSegment`).
+  ConnectedSegments Segments;
+  /// E of the labels (`SDFEnergy`).
+  double Energy = 0.0;
+  /// Alpha-expansion moves tried (diagnostics).
+  int CutMoves = 0;
+  PartitionHistogram Histogram;
+  PartitionTimings Timings;
+  /// The face graph used (SharedFaceGraph; see SmoothAndNormalizeResult::Graph).
+  std::shared_ptr<const FaceGraph> Graph;
+  /// True if the progress callback aborted the computation (the other members are then empty).
+  bool Aborted = false;
+};
+
+/// Throws PartitionError if an option of the partition itself is outside its documented range
+/// (the steps check their own options when they run).
+void ValidatePartitionOptions(const PartitionOptions& options);
+
+/// The SDF partition of section 4. See the header comment for inputs and guarantees.
+PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptions& options = {},
+  const ParallelFor& parallelFor = SerialFor, const ProgressCallback& progress = {});
+
+/// Convenience: a triangle mesh.
+PartitionResult PartitionBySDF(PointsView points, TrianglesView triangles, ValuesView faceValues,
+  const PartitionOptions& options = {}, const ParallelFor& parallelFor = SerialFor,
+  const ProgressCallback& progress = {});
+
+/// The histogram of `values` in `bins` bins and the densities of `model` over them (see
+/// PartitionHistogram). Throws PartitionError on empty values, bins < 1 or an empty model.
+PartitionHistogram MixtureHistogram(const GaussianMixtureModel& model, ValuesView values, int bins);
+
+} // namespace shapediameter

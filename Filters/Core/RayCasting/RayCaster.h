@@ -1,0 +1,247 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// RayCaster: "closest valid hit along a ray" against a triangle mesh.
+//
+// The SDF (Shapira, Shamir & Cohen-Or 2008, Sect. 3) casts rays from a surface point into
+// the object and ignores intersections "where the normal at the intersection points in the
+// same direction as the point-of-origin (angle difference less than 90 degrees)", which
+// removes false hits with the outside of the mesh. Every implementation of this interface
+// returns, for each ray, the distance t of the closest hit that is VALID:
+//
+//   - the hit triangle is not the origin's source triangle (a face-centre origin never hits
+//     its own face), and
+//   - cos(N_hit, originNormal) < -kPerpendicularTolerance (1e-6), where N_hit = (v1 - v0) x
+//     (v2 - v0) is the hit triangle's geometric normal by the right-hand rule of its vertex
+//     order (VTK's polygon normal), both normalised, in double precision. So a hit is valid
+//     when the normals are more than 90 degrees apart (the paper), where "exactly 90 degrees"
+//     includes rounding noise: without the tolerance, a wall exactly perpendicular to the
+//     origin's face (boxes, the facets of a cylinder with a slice count divisible by 4) would
+//     be accepted or rejected by the last bit of the coordinates, and such a mesh would change
+//     its SDF under a rigid motion. A zero-area triangle (N_hit = 0) is never hit; an origin
+//     with a zero normal never hits anything.
+//   - t >= the origin's MinDistance (Embree's tnear).
+//
+// That is the rule HitRule::SkipSameFacing, where rejected hits are transparent: traversal
+// goes on to the next surface. Under HitRule::FirstHitLeaving (the default) only the source triangle
+// (and zero-area triangles) are transparent: the closest other hit is valid when the ray leaves
+// the volume through it, cos(N_hit, direction) > kPerpendicularTolerance, and otherwise the ray
+// has no valid hit (+infinity). The distance is the
+// ray parameter t (hit = point + t * direction), i.e. a length when the direction is a unit
+// vector, and +infinity when there is no valid hit (or the ray/origin is not finite).
+//
+// Implementations: EmbreeRayCaster (the product; BVH in single precision, the reported t is
+// recomputed in double against the hit triangle's plane) and BruteForceRayCaster (every
+// triangle, double-precision Moller-Trumbore; tests only). Both are immutable after
+// construction and safe to call from several threads at once.
+#pragma once
+
+#include "Mesh/MeshTypes.h"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace shapediameter
+{
+
+/// Bad mesh given to a ray caster (non-finite coordinate, index out of range, ...).
+class RayCasterError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Which hit along a ray counts (see the header comment and ShapeDiameter.h).
+enum class HitRule
+{
+  /// The closest hit other than the source triangle, valid when the ray leaves the volume
+  /// through it (cos(N_hit, direction) > kPerpendicularTolerance); otherwise the ray has no
+  /// valid hit and is dropped (CGAL's reading of the paper).
+  FirstHitLeaving,
+  /// Hits on triangles facing the same way as the origin are transparent and the ray goes on
+  /// to the next surface (the paper's sentence read as "ignore and continue"). The default.
+  SkipSameFacing
+};
+
+/// Where a bundle of rays starts and what it must not hit.
+struct RayOrigin
+{
+  double Point[3] = { 0, 0, 0 };
+  /// Outward normal at the origin (any length); hits on triangles facing the same way are
+  /// rejected.
+  double Normal[3] = { 0, 0, 0 };
+  /// Triangle that is never reported (the origin's own face); -1 = none.
+  std::int64_t SourceTriangle = -1;
+  /// Hits with t < MinDistance are ignored (used for vertex origins, which lie on several
+  /// triangles and have no single source triangle).
+  double MinDistance = 0;
+  HitRule Rule = HitRule::FirstHitLeaving;
+};
+
+class RayCaster
+{
+public:
+  virtual ~RayCaster() = default;
+
+  /// Distance to the closest valid hit along one ray; +inf when there is none.
+  virtual double ClosestValidHit(const RayOrigin& origin, const double direction[3]) const = 0;
+
+  /// Batch form, the one the SDF loop uses (one virtual call per origin, not per ray):
+  /// directions is count x 3 (row-major), outDistances receives count values.
+  virtual void CastCone(const RayOrigin& origin, const double* directions, std::size_t count,
+    double* outDistances) const
+  {
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      outDistances[i] = this->ClosestValidHit(origin, directions + 3 * i);
+    }
+  }
+
+  virtual std::size_t GetNumberOfTriangles() const = 0;
+  /// Length of the diagonal of the mesh's axis-aligned bounding box (0 when empty); the
+  /// scale for relative tolerances such as RayOrigin::MinDistance.
+  virtual double GetBoundingBoxDiagonal() const = 0;
+
+protected:
+  RayCaster() = default;
+  RayCaster(const RayCaster&) = delete;
+  RayCaster& operator=(const RayCaster&) = delete;
+};
+
+/// True when the straight segment from a to b meets the surface of the mesh anywhere
+/// between its ends. Used by the skeleton to keep its paths inside one part of the volume:
+/// two parts that touch (a trunk resting on a foot) are close in space but not through the
+/// volume. Any surface counts, entered or left: posed characters often interpenetrate (a trunk
+/// pushed into a foot), and the union of their volumes must not join the two parts either.
+/// One or two rays from a: FirstHitLeaving returns the closest hit when it is a leaving one
+/// (the usual case from inside); otherwise the closest hit, if any, is an entering one, which
+/// SkipSameFacing with the origin normal along the ray finds (it skips the leaving hits).
+inline bool SegmentCrossesSurface(const RayCaster& caster, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+{
+  const double length = (b - a).norm();
+  if (!(length > 0) || !std::isfinite(length))
+  {
+    return false;
+  }
+  const Eigen::Vector3d direction = (b - a) / length;
+  RayOrigin origin;
+  for (int c = 0; c < 3; ++c)
+  {
+    origin.Point[c] = a(c);
+    origin.Normal[c] = direction(c);
+  }
+  origin.Rule = HitRule::FirstHitLeaving;
+  const double closestLeaving = caster.ClosestValidHit(origin, direction.data());
+  if (std::isfinite(closestLeaving))
+  {
+    return closestLeaving < length; // the closest hit is this one
+  }
+  origin.Rule = HitRule::SkipSameFacing;
+  return caster.ClosestValidHit(origin, direction.data()) < length;
+}
+
+namespace raycasterdetail
+{
+inline bool IsFinite3(const double v[3])
+{
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+/// unit = v / |v|; false (unit = 0) when v is zero or not finite.
+inline bool UnitVector(const double v[3], double unit[3])
+{
+  const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!(length > 0) || !std::isfinite(length))
+  {
+    unit[0] = unit[1] = unit[2] = 0;
+    return false;
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    unit[c] = v[c] / length;
+  }
+  return true;
+}
+
+/// See the validity rules above.
+constexpr double kPerpendicularTolerance = 1e-6;
+
+/// Unit geometric normal (right-hand rule; zero for a zero-area triangle) and plane offset
+/// dot(normal, v0).
+struct TrianglePlane
+{
+  double Normal[3];
+  double Offset;
+};
+
+/// Checks the mesh (finite coordinates, indices in range) and returns the triangle planes
+/// and the bounding-box diagonal. Throws RayCasterError.
+inline std::vector<TrianglePlane> CheckMeshAndComputePlanes(const PointsView& points,
+  const TrianglesView& triangles, double& boundingBoxDiagonal)
+{
+  if (!points.allFinite())
+  {
+    throw RayCasterError("ray caster: the mesh has a non-finite point coordinate");
+  }
+  const auto pointCount = static_cast<std::int64_t>(points.rows());
+  boundingBoxDiagonal = 0;
+  if (points.rows() > 0)
+  {
+    boundingBoxDiagonal = (points.colwise().maxCoeff() - points.colwise().minCoeff()).norm();
+  }
+  std::vector<TrianglePlane> planes(static_cast<std::size_t>(triangles.rows()));
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      const std::int64_t index = triangles(t, c);
+      if (index < 0 || index >= pointCount)
+      {
+        throw RayCasterError("ray caster: triangle " + std::to_string(t) +
+          " has a vertex index out of range: " + std::to_string(index));
+      }
+    }
+    const auto p0 = points.row(triangles(t, 0));
+    const auto p1 = points.row(triangles(t, 1));
+    const auto p2 = points.row(triangles(t, 2));
+    const double e1[3] = { p1(0) - p0(0), p1(1) - p0(1), p1(2) - p0(2) };
+    const double e2[3] = { p2(0) - p0(0), p2(1) - p0(1), p2(2) - p0(2) };
+    const double normal[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+      e1[0] * e2[1] - e1[1] * e2[0] };
+    TrianglePlane& plane = planes[static_cast<std::size_t>(t)];
+    if (UnitVector(normal, plane.Normal))
+    {
+      plane.Offset = plane.Normal[0] * p0(0) + plane.Normal[1] * p0(1) + plane.Normal[2] * p0(2);
+    }
+    if (!std::isfinite(plane.Offset))
+    {
+      // Zero area, or overflow for absurd coordinates: unhittable rather than NaN.
+      plane = TrianglePlane{ { 0, 0, 0 }, 0 };
+    }
+  }
+  return planes;
+}
+
+/// HitRule::FirstHitLeaving's test: the ray (any length) leaves the volume through the plane.
+inline bool RayLeavesThrough(const TrianglePlane& plane, const double direction[3])
+{
+  const double length = std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] +
+    direction[2] * direction[2]);
+  return plane.Normal[0] * direction[0] + plane.Normal[1] * direction[1] + plane.Normal[2] * direction[2] >
+    kPerpendicularTolerance * length;
+}
+
+/// HitRule::SkipSameFacing's test: a hit on `plane` may count for an origin with outward UNIT
+/// normal.
+inline bool FacesAway(const TrianglePlane& plane, const double unitOriginNormal[3])
+{
+  return plane.Normal[0] * unitOriginNormal[0] + plane.Normal[1] * unitOriginNormal[1] +
+    plane.Normal[2] * unitOriginNormal[2] <
+    -kPerpendicularTolerance;
+}
+} // namespace raycasterdetail
+
+} // namespace shapediameter

@@ -1,0 +1,309 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Skeleton/SkeletonCoverage.h"
+
+#include "Skeleton/SkeletonPointTree.h"
+
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <utility>
+
+namespace shapediameter
+{
+
+void ValidateCoverageOptions(const SkeletonCoverageOptions& options)
+{
+  if (!(options.UncoveredFactor >= 0.0 && options.UncoveredFactor <= 1e6))
+  {
+    throw SkeletonError("skeleton: UncoveredFactor must be in [0, 1e6]");
+  }
+  if (!(options.MinimumShare >= 0.0 && options.MinimumShare <= 1.0))
+  {
+    throw SkeletonError("skeleton: coverage MinimumShare must be in [0, 1]");
+  }
+  if (!(options.PartMinimumShare >= 0.0 && options.PartMinimumShare <= 1.0))
+  {
+    throw SkeletonError("skeleton: coverage PartMinimumShare must be in [0, 1]");
+  }
+  if (!(options.PartUncoveredFactor >= 0.0 && options.PartUncoveredFactor <= 1e6))
+  {
+    throw SkeletonError("skeleton: coverage PartUncoveredFactor must be in [0, 1e6]");
+  }
+}
+
+namespace
+{
+
+/// Shortest path through the graph from `tip` to the nearest covered point (ties: lowest
+/// index), listed from that point to the tip; empty if no covered point is reachable.
+std::vector<std::int64_t> PathToCovered(
+  const CloudNeighborGraph& neighbours, const std::vector<char>& uncovered, std::int64_t tip)
+{
+  std::vector<double> distance(uncovered.size(), std::numeric_limits<double>::infinity());
+  std::vector<std::int64_t> previous(uncovered.size(), -1);
+  using Entry = std::pair<double, std::int64_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  distance[static_cast<std::size_t>(tip)] = 0.0;
+  queue.push({ 0.0, tip });
+  while (!queue.empty())
+  {
+    const auto [reached, point] = queue.top();
+    queue.pop();
+    const auto p = static_cast<std::size_t>(point);
+    if (reached > distance[p])
+    {
+      continue;
+    }
+    if (!uncovered[p])
+    {
+      std::vector<std::int64_t> path;
+      for (std::int64_t v = point; v >= 0; v = previous[static_cast<std::size_t>(v)])
+      {
+        path.push_back(v);
+      }
+      return path;
+    }
+    // Only uncovered points are expanded: the path ends at the first covered point.
+    for (std::size_t e = neighbours.Offsets[p]; e < neighbours.Offsets[p + 1]; ++e)
+    {
+      if (neighbours.IsBridge[e])
+      {
+        continue; // through the volume only (see the header comment)
+      }
+      const std::int64_t next = neighbours.Targets[e];
+      const auto q = static_cast<std::size_t>(next);
+      if (reached + neighbours.Weights[e] < distance[q])
+      {
+        distance[q] = reached + neighbours.Weights[e];
+        previous[q] = point;
+        queue.push({ distance[q], next });
+      }
+    }
+  }
+  return {};
+}
+
+/// Adds the branch along `path` (from its first point, outside the region, to the tip): it
+/// starts at the node nearest to the first point and runs through the MLS positions of the
+/// others, each kept when at least half its radius from the previous node (the tip always).
+/// Returns false (nothing added) for an empty path or one that adds no node.
+bool AddBranch(SkeletonGraph& graph, const ProjectedCloud& cloud, const ThinnedCloud& thinned,
+  const std::vector<std::int64_t>& path, const std::vector<std::int64_t>& nearestNode,
+  const std::vector<std::int64_t>& pointComponent)
+{
+  if (path.empty())
+  {
+    return false;
+  }
+  std::vector<std::int64_t> polyline{ nearestNode[static_cast<std::size_t>(path.front())] };
+  Eigen::Vector3d last = graph.NodePositions.row(polyline.front()).transpose();
+  for (std::size_t j = 1; j < path.size(); ++j)
+  {
+    const auto point = static_cast<std::size_t>(path[j]);
+    const Eigen::Vector3d position = thinned.Positions.row(static_cast<Eigen::Index>(point)).transpose();
+    if (j + 1 < path.size() && (position - last).norm() < 0.5 * cloud.Radius[point])
+    {
+      continue;
+    }
+    const Eigen::Index row = graph.NodePositions.rows();
+    graph.NodePositions.conservativeResize(row + 1, 3);
+    graph.NodePositions.row(row) = position.transpose();
+    graph.NodeRadius.push_back(cloud.Radius[point]);
+    graph.NodeConfidence.push_back(thinned.Confidence[point]);
+    graph.NodeCloudIndex.push_back(static_cast<std::int64_t>(point));
+    graph.NodeComponent.push_back(pointComponent.empty() ? std::int64_t{ 0 } : pointComponent[point]);
+    polyline.push_back(static_cast<std::int64_t>(row));
+    last = position;
+  }
+  if (polyline.size() < 2)
+  {
+    return false;
+  }
+  graph.Polylines.push_back(std::move(polyline));
+  graph.IsConnection.push_back(1);
+  return true;
+}
+
+/// Nearest node of its own component for every point of P, and the distance to it.
+void NearestNodes(const SkeletonGraph& graph, const ProjectedCloud& cloud,
+  const std::vector<std::int64_t>& pointComponent, const ParallelFor& parallelFor,
+  std::vector<std::int64_t>& nearestNode, std::vector<double>& gap)
+{
+  const std::size_t n = cloud.Size();
+  const SkeletonPointTree nodes(graph.NodePositions);
+  nearestNode.assign(n, -1);
+  gap.assign(n, 0.0);
+  parallelFor(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      const Eigen::Vector3d point = cloud.Positions.row(static_cast<Eigen::Index>(i)).transpose();
+      const std::int64_t component = pointComponent.empty() ? 0 : pointComponent[i];
+      const std::int64_t node = nodes.NearestAccepted(point, [&](std::int64_t candidate) {
+        return pointComponent.empty() || graph.NodeComponent[static_cast<std::size_t>(candidate)] == component;
+      });
+      nearestNode[i] = node;
+      if (node >= 0)
+      {
+        gap[i] = (point - graph.NodePositions.row(node).transpose()).norm();
+      }
+    }
+  });
+}
+
+/// Throws SkeletonError unless the neighbour graph has one row per point of P.
+void CheckNeighbourGraph(const CloudNeighborGraph& neighbours, std::size_t n)
+{
+  if (neighbours.Offsets.size() != n + 1 || neighbours.Targets.size() != neighbours.Offsets[n]
+    || neighbours.Weights.size() != neighbours.Offsets[n]
+    || neighbours.IsBridge.size() != neighbours.Offsets[n])
+  {
+    throw SkeletonError("skeleton: the neighbour graph does not match the projected cloud");
+  }
+}
+
+/// The connected sets of flagged points through the neighbour graph (bridges not used), in
+/// order of their lowest point: size and tip, the point farthest from the skeleton (gap; ties:
+/// the lowest index).
+struct PointGroups
+{
+  std::vector<std::size_t> Size;
+  std::vector<std::int64_t> Tip;
+};
+
+PointGroups GroupFlaggedPoints(
+  const CloudNeighborGraph& neighbours, const std::vector<char>& flagged, const std::vector<double>& gap)
+{
+  PointGroups groups;
+  std::vector<char> visited(flagged.size(), 0);
+  for (std::size_t seed = 0; seed < flagged.size(); ++seed)
+  {
+    if (!flagged[seed] || visited[seed])
+    {
+      continue;
+    }
+    std::size_t size = 0;
+    std::size_t tip = seed;
+    std::vector<std::size_t> stack{ seed };
+    visited[seed] = 1;
+    while (!stack.empty())
+    {
+      const std::size_t point = stack.back();
+      stack.pop_back();
+      ++size;
+      if (gap[point] > gap[tip] || (gap[point] == gap[tip] && point < tip))
+      {
+        tip = point;
+      }
+      for (std::size_t e = neighbours.Offsets[point]; e < neighbours.Offsets[point + 1]; ++e)
+      {
+        const auto q = static_cast<std::size_t>(neighbours.Targets[e]);
+        if (!neighbours.IsBridge[e] && flagged[q] && !visited[q])
+        {
+          visited[q] = 1;
+          stack.push_back(q);
+        }
+      }
+    }
+    groups.Size.push_back(size);
+    groups.Tip.push_back(static_cast<std::int64_t>(tip));
+  }
+  return groups;
+}
+
+} // namespace
+
+std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& cloud,
+  const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
+  const CloudNeighborGraph& neighbours, const SkeletonCoverageOptions& options,
+  const ParallelFor& parallelFor)
+{
+  ValidateCoverageOptions(options);
+  const std::size_t n = cloud.Size();
+  if (!(options.UncoveredFactor > 0.0) || n == 0 || graph.NodePositions.rows() == 0)
+  {
+    return 0;
+  }
+  CheckNeighbourGraph(neighbours, n);
+
+  // 1. Distance of every point to the skeleton of its component.
+  std::vector<std::int64_t> nearestNode;
+  std::vector<double> gap;
+  NearestNodes(graph, cloud, pointComponent, parallelFor, nearestNode, gap);
+  std::vector<char> uncovered(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    // A point without thickness (SDF 0) has no scale to be far at.
+    uncovered[i] = nearestNode[i] >= 0 && cloud.Radius[i] > 0.0 && gap[i] > options.UncoveredFactor * cloud.Radius[i];
+  }
+
+  if (std::none_of(uncovered.begin(), uncovered.end(), [](char u) { return u != 0; }))
+  {
+    return 0; // the common case
+  }
+
+  // 2. Groups of uncovered points: connected through neighbour edges between uncovered
+  // points (the graph's edges stay within a surface component; bridges are not used).
+  const PointGroups groups = GroupFlaggedPoints(neighbours, uncovered, gap);
+
+  // 3. One branch per large group.
+  std::size_t added = 0;
+  for (std::size_t g = 0; g < groups.Size.size(); ++g)
+  {
+    if (static_cast<double>(groups.Size[g]) >= options.MinimumShare * static_cast<double>(n) &&
+      AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, groups.Tip[g]), nearestNode, pointComponent))
+    {
+      ++added;
+    }
+  }
+  if (added > 0)
+  {
+    AssignBranchBones(graph);
+  }
+  return added;
+}
+
+std::size_t ReachPartsWithoutBones(SkeletonGraph& graph, const ProjectedCloud& cloud,
+  const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
+  const CloudNeighborGraph& neighbours, const std::vector<char>& inPart,
+  const SkeletonCoverageOptions& options, const ParallelFor& parallelFor)
+{
+  ValidateCoverageOptions(options);
+  const std::size_t n = cloud.Size();
+  if (!(options.PartUncoveredFactor > 0.0) || n == 0 || graph.NodePositions.rows() == 0)
+  {
+    return 0;
+  }
+  if (inPart.size() != n)
+  {
+    throw SkeletonError("skeleton: the part flags do not match the projected cloud");
+  }
+  CheckNeighbourGraph(neighbours, n);
+  std::vector<std::int64_t> nearestNode;
+  std::vector<double> gap;
+  NearestNodes(graph, cloud, pointComponent, parallelFor, nearestNode, gap);
+  // The part's points, grouped as step 5 groups uncovered points: the largest group's tip.
+  const PointGroups groups = GroupFlaggedPoints(neighbours, inPart, gap);
+  std::int64_t bestTip = -1;
+  std::size_t bestSize = 0;
+  for (std::size_t g = 0; g < groups.Size.size(); ++g)
+  {
+    if (groups.Size[g] > bestSize)
+    {
+      bestSize = groups.Size[g];
+      bestTip = groups.Tip[g];
+    }
+  }
+  // A part the skeleton runs through (its points within a radius or two of a bone it shares)
+  // is not given a second, parallel branch.
+  if (bestTip < 0 || !(cloud.Radius[static_cast<std::size_t>(bestTip)] > 0.0) ||
+    !(gap[static_cast<std::size_t>(bestTip)] > options.PartUncoveredFactor * cloud.Radius[static_cast<std::size_t>(bestTip)]) ||
+    !AddBranch(graph, cloud, thinned, PathToCovered(neighbours, inPart, bestTip), nearestNode, pointComponent))
+  {
+    return 0;
+  }
+  AssignBranchBones(graph);
+  return 1;
+}
+
+} // namespace shapediameter

@@ -1,0 +1,234 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Skeleton/SkeletonThinning.h"
+
+#include "Skeleton/SkeletonPointTree.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <memory>
+
+namespace shapediameter
+{
+
+namespace
+{
+
+/// MinimumConfidentShare never lowers the threshold below this: a junction of three branches
+/// has confidence about 0.5, a blob at most that.
+constexpr double kLowestConfidentShareThreshold = 0.6;
+
+} // namespace
+
+void ValidateThinningOptions(const SkeletonThinningOptions& options)
+{
+  if (options.NumberOfIterations < 1 || options.NumberOfIterations > 100)
+  {
+    throw SkeletonError("skeleton: NumberOfIterations must be in [1, 100]");
+  }
+  if (!(options.NeighborhoodScale > 0.0 && options.NeighborhoodScale <= 10.0))
+  {
+    throw SkeletonError("skeleton: NeighborhoodScale must be in (0, 10]");
+  }
+  if (!(options.ConfidenceThreshold >= 0.0 && options.ConfidenceThreshold <= 1.0))
+  {
+    throw SkeletonError("skeleton: ConfidenceThreshold must be in [0, 1]");
+  }
+  if (!(options.MinimumConfidentShare >= 0.0 && options.MinimumConfidentShare <= 1.0))
+  {
+    throw SkeletonError("skeleton: MinimumConfidentShare must be in [0, 1]");
+  }
+  if (!(options.SpacingFactor >= 0.0 && options.SpacingFactor <= 10.0))
+  {
+    throw SkeletonError("skeleton: thinning SpacingFactor must be in [0, 10]");
+  }
+  if (options.MinimumNeighbors < 2 || options.MinimumNeighbors > 1000)
+  {
+    throw SkeletonError("skeleton: MinimumNeighbors must be in [2, 1000]");
+  }
+}
+
+namespace
+{
+
+struct Projection
+{
+  Eigen::Vector3d Position;
+  Eigen::Vector3d Axis;
+  double Confidence;
+};
+
+/// One MLS step for a point at `position` with neighbourhood radius h.
+Projection ProjectOntoRegressionLine(const SkeletonPointTree& tree,
+  const Eigen::Vector3d& position, double h, double minimumNeighbors)
+{
+  const Projection unchanged{ position, Eigen::Vector3d::Zero(), 0.0 };
+  if (!(h > 0.0))
+  {
+    return unchanged;
+  }
+  const SkeletonPointTree::Moments moments = tree.BallMoments(position, h);
+  if (moments.Count < minimumNeighbors)
+  {
+    return unchanged;
+  }
+  // Moments are about the query position, so the covariance has no cancellation beyond h^2.
+  const Eigen::Vector3d mean = moments.Sum / moments.Count;
+  Eigen::Matrix3d covariance = moments.SumOfSquares / moments.Count - mean * mean.transpose();
+  covariance = 0.5 * (covariance + covariance.transpose()).eval();
+  if (!covariance.allFinite())
+  {
+    return unchanged;
+  }
+  // The closed-form 3 x 3 solver is several times faster than the iterative one; its
+  // eigenvalue error is ~1e-15 of the largest, far below any confidence threshold.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(covariance);
+  if (solver.info() != Eigen::Success)
+  {
+    return unchanged;
+  }
+  const Eigen::Vector3d eigenvalues = solver.eigenvalues().cwiseMax(0.0);
+  const double sum = eigenvalues.sum();
+  // Coincident neighbours (sum at rounding level of h^2) have no direction.
+  if (!(sum > 1e-14 * h * h))
+  {
+    return unchanged;
+  }
+  const Eigen::Vector3d axis = solver.eigenvectors().col(2).normalized();
+  // The query position is the origin of the local frame: the regression line passes through
+  // `mean`, and the projection of the origin onto it is mean - (mean . axis) axis.
+  const Eigen::Vector3d moved = position + mean - mean.dot(axis) * axis;
+  const double confidence = eigenvalues(2) / sum;
+  if (!moved.allFinite() || !axis.allFinite() || !std::isfinite(confidence))
+  {
+    return unchanged;
+  }
+  return { moved, axis, std::clamp(confidence, 0.0, 1.0) };
+}
+
+} // namespace
+
+ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
+  const SkeletonThinningOptions& options, const ParallelFor& parallelFor,
+  const ProgressCallback& progress)
+{
+  ValidateThinningOptions(options);
+  ThinnedCloud result;
+  const std::size_t count = cloud.Size();
+  const auto rows = static_cast<Eigen::Index>(count);
+  result.Positions = cloud.Positions;
+  result.Axis = PointMatrix::Zero(rows, 3);
+  result.Confidence.assign(count, 0.0);
+  if (count == 0)
+  {
+    return result;
+  }
+
+  const auto abortedResult = [&result]() {
+    result = ThinnedCloud();
+    result.Aborted = true;
+    return result;
+  };
+
+  std::unique_ptr<SkeletonPointTree> tree = std::make_unique<SkeletonPointTree>(cloud.Positions);
+  PointMatrix nextPositions(rows, 3);
+  const std::size_t blocks = std::min<std::size_t>(16, count);
+  const std::size_t blockSize = (count + blocks - 1) / blocks;
+  const auto minimumNeighbors = static_cast<double>(options.MinimumNeighbors);
+  for (int iteration = 0; iteration < options.NumberOfIterations; ++iteration)
+  {
+    if (options.ContractCloud && iteration > 0)
+    {
+      tree = std::make_unique<SkeletonPointTree>(result.Positions);
+    }
+    for (std::size_t blockBegin = 0; blockBegin < count; blockBegin += blockSize)
+    {
+      const std::size_t blockEnd = std::min(count, blockBegin + blockSize);
+      parallelFor(blockEnd - blockBegin, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = blockBegin + begin; k < blockBegin + end; ++k)
+        {
+          const auto i = static_cast<Eigen::Index>(k);
+          const Projection projection = ProjectOntoRegressionLine(*tree,
+            result.Positions.row(i).transpose(), options.NeighborhoodScale * cloud.Radius[k],
+            minimumNeighbors);
+          nextPositions.row(i) = projection.Position.transpose();
+          result.Axis.row(i) = projection.Axis.transpose();
+          result.Confidence[k] = projection.Confidence;
+        }
+      });
+      const double done = (static_cast<double>(iteration) +
+                            static_cast<double>(blockEnd) / static_cast<double>(count)) /
+        (options.NumberOfIterations + 1.0);
+      if (progress && !progress(done))
+      {
+        return abortedResult();
+      }
+    }
+    result.Positions.swap(nextPositions);
+  }
+
+  // The threshold, lowered so that at least MinimumConfidentShare of the defined points pass.
+  double threshold = options.ConfidenceThreshold;
+  {
+    std::vector<double> defined;
+    for (const double confidence : result.Confidence)
+    {
+      if (confidence > 0.0)
+      {
+        defined.push_back(confidence);
+      }
+    }
+    const auto wanted = static_cast<std::size_t>(std::ceil(options.MinimumConfidentShare * static_cast<double>(defined.size())));
+    if (wanted > 0)
+    {
+      std::nth_element(defined.begin(), defined.begin() + static_cast<std::ptrdiff_t>(wanted - 1), defined.end(), std::greater<double>());
+      threshold = std::min(threshold, std::max(kLowestConfidentShareThreshold, defined[wanted - 1]));
+    }
+  }
+  result.AppliedConfidenceThreshold = threshold;
+  // Epsilon-thinning: most confident first, each kept point suppresses its epsilon-ball.
+  std::vector<std::int64_t> candidates;
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    if (result.Confidence[k] > 0.0 && result.Confidence[k] >= threshold)
+    {
+      candidates.push_back(static_cast<std::int64_t>(k));
+    }
+  }
+  std::sort(candidates.begin(), candidates.end(), [&result](std::int64_t a, std::int64_t b) {
+    return result.Confidence[a] > result.Confidence[b] ||
+      (result.Confidence[a] == result.Confidence[b] && a < b);
+  });
+  PointMatrix candidatePositions(static_cast<Eigen::Index>(candidates.size()), 3);
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+  {
+    candidatePositions.row(static_cast<Eigen::Index>(c)) = result.Positions.row(candidates[c]);
+  }
+  const SkeletonPointTree candidateTree(candidatePositions);
+  std::vector<char> suppressed(candidates.size(), 0);
+  std::vector<std::int64_t> nearby;
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+  {
+    if (suppressed[c])
+    {
+      continue;
+    }
+    result.Thinned.push_back(candidates[c]);
+    candidateTree.RadiusSearch(candidatePositions.row(static_cast<Eigen::Index>(c)).transpose(),
+      options.SpacingFactor * cloud.Radius[candidates[c]], nearby);
+    for (const std::int64_t other : nearby)
+    {
+      suppressed[other] = 1;
+    }
+  }
+  if (progress && !progress(1.0))
+  {
+    return abortedResult();
+  }
+  return result;
+}
+
+} // namespace shapediameter

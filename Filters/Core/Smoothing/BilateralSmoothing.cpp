@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Smoothing/BilateralSmoothing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace shapediameter
+{
+
+namespace
+{
+
+constexpr double LowerSpreadQuantile = 0.02;
+constexpr double UpperSpreadQuantile = 0.98;
+constexpr std::size_t ProgressBlocks = 20;
+
+void ValidateOptions(const BilateralSmoothingOptions& options)
+{
+  if (options.NumberOfIterations < 0 || options.NumberOfIterations > 1000)
+  {
+    throw BilateralSmoothingError("NumberOfIterations must be in [0, 1000]");
+  }
+  if (!(options.SpatialSigma > 0.0) || !std::isfinite(options.SpatialSigma))
+  {
+    throw BilateralSmoothingError("SpatialSigma must be positive and finite");
+  }
+  if (!(options.NeighborhoodRadius >= 0.0) || !std::isfinite(options.NeighborhoodRadius))
+  {
+    throw BilateralSmoothingError("NeighborhoodRadius must be non-negative and finite");
+  }
+  if (!(options.RangeThreshold >= 0.0) || !std::isfinite(options.RangeThreshold))
+  {
+    throw BilateralSmoothingError("RangeThreshold must be non-negative and finite");
+  }
+}
+
+// Nearest-rank quantile: the value at index floor(q (n - 1)) of the sorted values.
+double Quantile(std::vector<double>& scratch, double q)
+{
+  const auto rank = static_cast<std::size_t>(std::floor(q * static_cast<double>(scratch.size() - 1)));
+  std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(rank), scratch.end());
+  return scratch[rank];
+}
+
+} // namespace
+
+double RobustSpread(const std::vector<double>& values)
+{
+  if (values.empty())
+  {
+    return 0.0;
+  }
+  std::vector<double> scratch(values);
+  const double lower = Quantile(scratch, LowerSpreadQuantile);
+  const double upper = Quantile(scratch, UpperSpreadQuantile);
+  double spread = upper - lower;
+  if (spread == 0.0)
+  {
+    const auto [minimum, maximum] = std::minmax_element(values.begin(), values.end());
+    spread = *maximum - *minimum;
+  }
+  return spread;
+}
+
+BilateralSmoothingResult SmoothBilateral(const FaceGraph& graph, const std::vector<double>& values,
+  const BilateralSmoothingOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress)
+{
+  ValidateOptions(options);
+  const std::size_t faceCount = graph.FaceCount();
+  if (values.size() != faceCount)
+  {
+    throw BilateralSmoothingError("got " + std::to_string(values.size()) + " values for " +
+      std::to_string(faceCount) + " faces");
+  }
+  double minimum = faceCount > 0 ? values[0] : 0.0;
+  double maximum = minimum;
+  for (std::size_t f = 0; f < faceCount; ++f)
+  {
+    if (!std::isfinite(values[f]))
+    {
+      throw BilateralSmoothingError("non-finite value at face " + std::to_string(f));
+    }
+    minimum = std::min(minimum, values[f]);
+    maximum = std::max(maximum, values[f]);
+  }
+  // Every difference f^i(x) - f(y) then stays finite (f^i(x) stays within [min, max]).
+  if (!std::isfinite(maximum - minimum))
+  {
+    throw BilateralSmoothingError("the value range overflows");
+  }
+
+  BilateralSmoothingResult result;
+  result.Values = values;
+  const double spread = RobustSpread(values);
+  // No difference exceeds max - min, so a larger t is the same t (and stays finite).
+  result.RangeThreshold = std::min(options.RangeThreshold * spread, maximum - minimum);
+  result.SpatialSigma = options.SpatialSigma * graph.MeanEdgeLength;
+  result.NeighborhoodRadius = options.NeighborhoodRadius * result.SpatialSigma;
+  if (faceCount == 0 || spread == 0.0 || options.NumberOfIterations == 0 || options.MaxNeighbors == 0 ||
+    !(result.SpatialSigma > 0.0))
+  {
+    if (progress)
+    {
+      progress(1.0);
+    }
+    return result;
+  }
+
+  const double threshold = result.RangeThreshold;
+  const double radius = result.NeighborhoodRadius;
+  const double inverseTwoSigmaSquared = 1.0 / (2.0 * result.SpatialSigma * result.SpatialSigma);
+  const int iterations = options.NumberOfIterations;
+  std::vector<double>& smoothed = result.Values;
+
+  auto smoothRange = [&](std::size_t begin, std::size_t end) {
+    DualGeodesicSearch search(graph);
+    std::vector<GeodesicNeighbor> neighbors;
+    std::vector<double> weights;      // w_x(y)
+    std::vector<double> originals;    // f(y)
+    std::vector<double> clampedWeights; // c(|f^i(x) - f(y)|) w_x(y)
+    for (std::size_t face = begin; face < end; ++face)
+    {
+      search.Run(static_cast<std::int64_t>(face), radius, options.MaxNeighbors, neighbors);
+      const std::size_t count = neighbors.size();
+      if (count == 0)
+      {
+        continue;
+      }
+      weights.resize(count);
+      originals.resize(count);
+      clampedWeights.resize(count);
+      for (std::size_t k = 0; k < count; ++k)
+      {
+        weights[k] = std::exp(-neighbors[k].Distance * neighbors[k].Distance * inverseTwoSigmaSquared);
+        originals[k] = values[static_cast<std::size_t>(neighbors[k].Face)];
+      }
+      double value = values[face];
+      for (int iteration = 0; iteration < iterations; ++iteration)
+      {
+        double denominator = 1.0;
+        for (std::size_t k = 0; k < count; ++k)
+        {
+          clampedWeights[k] = std::abs(value - originals[k]) <= threshold ? weights[k] : 0.0;
+          denominator += clampedWeights[k];
+        }
+        double step = 0.0;
+        for (std::size_t k = 0; k < count; ++k)
+        {
+          step += (clampedWeights[k] / denominator) * (originals[k] - value);
+        }
+        value += step;
+      }
+      smoothed[face] = value;
+    }
+  };
+
+  if (!progress)
+  {
+    parallelFor(faceCount, smoothRange);
+    return result;
+  }
+  const std::size_t blockSize = (faceCount + ProgressBlocks - 1) / ProgressBlocks;
+  for (std::size_t blockBegin = 0; blockBegin < faceCount; blockBegin += blockSize)
+  {
+    const std::size_t blockEnd = std::min(faceCount, blockBegin + blockSize);
+    parallelFor(blockEnd - blockBegin,
+      [&](std::size_t begin, std::size_t end) { smoothRange(blockBegin + begin, blockBegin + end); });
+    if (!progress(static_cast<double>(blockEnd) / static_cast<double>(faceCount)))
+    {
+      result.Aborted = blockEnd < faceCount;
+      break;
+    }
+  }
+  return result;
+}
+
+} // namespace shapediameter

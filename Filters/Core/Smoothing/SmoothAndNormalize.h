@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Bilateral smoothing and log normalisation of the per-face SDF, as one call.
+//
+// What it computes
+//   The smoothed and the normalised shape diameter of every face of a polygon surface: the
+//   paper's bilateral smoothing of the SDF (section 3) and its log normalisation to [0, 1]
+//   with alpha = 4 (section 4, before the partition's clustering), in three steps:
+//     1. SharedFaceGraph       - the dual graph: neighbourhoods and mean edge length (FaceGraph.h;
+//                                reused when a graph of the same surface is still held)
+//     2. SmoothBilateral       - the paper's bilateral filter over geodesic face neighbourhoods
+//                                (BilateralSmoothing.h)
+//     3. NormalizeLogarithmic  - nsdf = log((f - min) / (max - min) alpha + 1) / log(alpha + 1),
+//                                over a range of the faces only, and the [min, max] it used
+//                                (NormalizationRange; Normalization.h)
+//   Each step's own header documents its method, parameters, degenerate cases and deviations
+//   from the paper; this file only chains them and times the steps.
+//
+// Reference
+//   Shapira, Shamir, Cohen-Or 2008, "Consistent mesh partitioning and skeletonisation using
+//   the shape diameter function", The Visual Computer 24(4), sections 3 and 4.
+//
+// Input (SmoothAndNormalizeInput; views of the caller's arrays, which must outlive the call)
+//   Points, FaceOffsets, FaceConnectivity  the polygons in CSR form, as BuildFaceGraph takes
+//                                          them (any polygon size; a face without corners has
+//                                          no neighbour and keeps its value).
+//   FaceValues      one SDF value per face, finite (VTK: `SDF`).
+//   NormalizedFirst, NormalizedLast  the faces [first, last) that are normalised, and whose
+//                   min and max define the range: the VTK adapter passes its polygon cells, so
+//                   that vertices, lines and strips (whose values are fill values) do not drag
+//                   min and max. The triangle overload normalises every face.
+//
+// Parameters (SmoothAndNormalizeOptions; defaults and valid ranges in the steps' headers)
+//   Smoothing       BilateralSmoothingOptions: NumberOfIterations 3 [0, 1000], SpatialSigma
+//                   sigma 1.0 (0, inf) mean edge lengths, NeighborhoodRadius 2.0 [0, inf)
+//                   sigmas, MaxNeighbors 24, RangeThreshold t 0.1 [0, inf) of the robust spread.
+//   Normalization   NormalizationOptions: Alpha 4 (0, inf) (the paper's value), and an optional
+//                   given range [RangeMinimum, RangeMaximum] for a family of meshes.
+//
+// Errors
+//   NormalizedFirst > NormalizedLast or NormalizedLast > face count -> SmoothAndNormalizeError.
+//   Every step throws its own typed error on what it cannot process (FaceGraphError,
+//   BilateralSmoothingError: values of another size than the face count, a non-finite value,
+//   an option out of range; NormalizationError: Alpha or a given range out of range), all
+//   std::runtime_error with a one-line reason. No faces: empty result, not an error.
+//
+// Threading and determinism
+//   parallelFor runs the face graph and the smoothing; the result is bit-identical for any
+//   ParallelFor. progress receives [0, 1] (0.1 after the face graph, the smoothing in
+//   [0.1, 0.95], 1 at the end); returning false after the face graph or during the smoothing
+//   aborts: the result is then empty with Aborted = true.
+#pragma once
+
+#include "Smoothing/BilateralSmoothing.h"
+#include "Mesh/FaceGraph.h"
+#include "Mesh/MeshTypes.h"
+#include "Smoothing/Normalization.h"
+#include "Parallel.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace shapediameter
+{
+
+/// Thrown on a normalised face range that does not fit the faces.
+class SmoothAndNormalizeError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+struct SmoothAndNormalizeOptions
+{
+  /// The bilateral filter (BilateralSmoothing.h).
+  BilateralSmoothingOptions Smoothing;
+  /// The log normalisation, alpha and an optional family range (Normalization.h).
+  NormalizationOptions Normalization;
+};
+
+/// What is smoothed and normalised; see the header comment.
+struct SmoothAndNormalizeInput
+{
+  PointsView Points;
+  const std::vector<std::int64_t>& FaceOffsets;
+  const std::vector<std::int64_t>& FaceConnectivity;
+  const std::vector<double>& FaceValues;
+  /// The faces [NormalizedFirst, NormalizedLast) are normalised.
+  std::size_t NormalizedFirst = 0;
+  std::size_t NormalizedLast = 0;
+};
+
+/// Wall-clock time of each step in ms (for benchmarks; not part of the result's meaning).
+struct SmoothAndNormalizeTimings
+{
+  double FaceGraphMs = 0.0;
+  double SmoothingMs = 0.0;
+  /// The normalisation and its range.
+  double NormalizationMs = 0.0;
+};
+
+struct SmoothAndNormalizeResult
+{
+  /// Smoothed value of every face, finite (`SDFSmoothed`).
+  std::vector<double> Smoothed;
+  /// nsdf in [0, 1] of the faces [NormalizedFirst, NormalizedLast), in that order
+  /// (`SDFNormalized`).
+  std::vector<double> Normalized;
+  /// The [min, max] mapped to [0, 1]: the given range or the normalised faces' own (0, 0 when
+  /// none is normalised) (`SDFNormalizationRange`).
+  double RangeMinimum = 0.0;
+  double RangeMaximum = 0.0;
+  SmoothAndNormalizeTimings Timings;
+  /// The face graph used (SharedFaceGraph): holding it lets the next step of the chain that
+  /// gets the same surface, such as the partition, reuse it instead of building its own.
+  std::shared_ptr<const FaceGraph> Graph;
+  /// True if the progress callback aborted the computation (the other members are then empty).
+  bool Aborted = false;
+};
+
+/// The smoothing and normalisation of sections 3-4. See the header comment.
+SmoothAndNormalizeResult SmoothAndNormalize(const SmoothAndNormalizeInput& input,
+  const SmoothAndNormalizeOptions& options = {}, const ParallelFor& parallelFor = SerialFor,
+  const ProgressCallback& progress = {});
+
+/// Convenience: a triangle mesh, every face normalised.
+SmoothAndNormalizeResult SmoothAndNormalize(PointsView points, TrianglesView triangles,
+  const std::vector<double>& faceValues, const SmoothAndNormalizeOptions& options = {},
+  const ParallelFor& parallelFor = SerialFor, const ProgressCallback& progress = {});
+
+} // namespace shapediameter

@@ -1,0 +1,375 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Tests of the RayCaster contract (RayCaster.h) for EmbreeRayCaster and BruteForceRayCaster,
+// and of their agreement ray by ray.
+#include "RayCasting/BruteForceRayCaster.h"
+#include "RayCasting/ConeSampling.h"
+#include "RayCasting/EmbreeRayCaster.h"
+#include "TestShapes.h"
+#include "SDF/ShapeDiameter.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <limits>
+#include <memory>
+#include <vector>
+
+namespace
+{
+using namespace shapediameter;
+using testshapes::TestMesh;
+
+const double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+
+enum class CasterKind
+{
+  Embree,
+  BruteForce
+};
+
+std::unique_ptr<RayCaster> MakeCaster(CasterKind kind, const TestMesh& mesh)
+{
+  if (kind == CasterKind::Embree)
+  {
+    return std::make_unique<EmbreeRayCaster>(mesh.Points, mesh.Triangles);
+  }
+  return std::make_unique<BruteForceRayCaster>(mesh.Points, mesh.Triangles);
+}
+
+/// An origin under the rule the paper's sentence reads literally (skip same-facing hits), which
+/// most contract tests below pin; FirstHitLeaving has its own tests.
+RayOrigin Origin(double x, double y, double z, double nx, double ny, double nz,
+  std::int64_t source = -1, double minDistance = 0, HitRule rule = HitRule::SkipSameFacing)
+{
+  RayOrigin origin;
+  origin.Rule = rule;
+  origin.Point[0] = x, origin.Point[1] = y, origin.Point[2] = z;
+  origin.Normal[0] = nx, origin.Normal[1] = ny, origin.Normal[2] = nz;
+  origin.SourceTriangle = source;
+  origin.MinDistance = minDistance;
+  return origin;
+}
+
+/// Three large triangles stacked along z at z = 1 (normal +z), z = 2 (normal -z) and
+/// z = 3 (normal -z), each covering the point (0, 0).
+TestMesh StackedTriangles()
+{
+  TestMesh mesh;
+  mesh.Points.resize(9, 3);
+  mesh.Triangles.resize(3, 3);
+  for (int layer = 0; layer < 3; ++layer)
+  {
+    const double z = layer + 1;
+    mesh.Points.row(3 * layer + 0) << -1, -1, z;
+    mesh.Points.row(3 * layer + 1) << 2, -1, z;
+    mesh.Points.row(3 * layer + 2) << -1, 2, z;
+    if (layer == 0)
+    {
+      mesh.Triangles.row(layer) << 0, 1, 2; // counter-clockwise from +z: normal +z
+    }
+    else
+    {
+      mesh.Triangles.row(layer) << 3 * layer, 3 * layer + 2, 3 * layer + 1; // normal -z
+    }
+  }
+  return mesh;
+}
+
+class RayCasterContract : public ::testing::TestWithParam<CasterKind>
+{
+};
+
+TEST_P(RayCasterContract, SkipsTrianglesFacingTheOriginNormal)
+{
+  const TestMesh mesh = StackedTriangles();
+  const auto caster = MakeCaster(GetParam(), mesh);
+  const double up[3] = { 0, 0, 1 };
+  // Origin normal -z (like the bottom of a body): the z = 1 triangle faces +z, opposite to
+  // the origin normal -> valid.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, -1), up), 1.0);
+  // Origin normal +z: the z = 1 triangle faces the same way and is transparent; the z = 2
+  // triangle faces -z -> valid at distance 2.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), up), 2.0);
+  // A tilted origin normal: only the sign of the dot product matters.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 5, 0, 0.01), up), 2.0);
+  // Exactly perpendicular (90 degrees) counts as "same direction": rejected everywhere.
+  EXPECT_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 1, 0, 0), up), kInfinity);
+  // ... and so does anything within kPerpendicularTolerance of 90 degrees (rounding noise).
+  EXPECT_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 1, 0, -1e-8), up), kInfinity);
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 1, 0, -1e-4), up), 1.0);
+  // Going away from everything.
+  const double down[3] = { 0, 0, -1 };
+  EXPECT_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), down), kInfinity);
+  // Distances are ray parameters: a direction of length 2 halves them.
+  const double up2[3] = { 0, 0, 2 };
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), up2), 1.0);
+}
+
+TEST_P(RayCasterContract, SkipsTheSourceTriangleAndHitsBeforeMinDistance)
+{
+  const TestMesh mesh = StackedTriangles();
+  const auto caster = MakeCaster(GetParam(), mesh);
+  const double up[3] = { 0, 0, 1 };
+  // Source triangle 1 (z = 2) is ignored: next is z = 3.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1, 1), up), 3.0);
+  // An origin lying on triangle 1 without a source index but with MinDistance.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(Origin(0, 0, 2, 0, 0, 1, -1, 1e-6), up), 1.0);
+}
+
+TEST_P(RayCasterContract, ZeroAreaTrianglesAreNeverHit)
+{
+  TestMesh mesh = StackedTriangles();
+  // Replace the z = 2 triangle by a collinear one lying on the ray and a point triangle.
+  mesh.Points.conservativeResize(12, 3);
+  mesh.Points.row(9) << 0, 0, 1.5;
+  mesh.Points.row(10) << 0, 0, 2.5;
+  mesh.Points.row(11) << 0, 0, 2.0;
+  mesh.Triangles.row(1) << 9, 10, 11;
+  mesh.Triangles.conservativeResize(4, 3);
+  mesh.Triangles.row(3) << 11, 11, 11;
+  // The same two kinds just above the z = 3 triangle, for FirstHitLeaving, which judges only the
+  // closest hit: a zero-area hit there would drop the ray instead of letting it reach z = 3.
+  mesh.Points.conservativeResize(15, 3);
+  mesh.Points.row(12) << 0, 0, 3.1;
+  mesh.Points.row(13) << 0, 0, 3.4;
+  mesh.Points.row(14) << 0, 0, 3.2;
+  mesh.Triangles.conservativeResize(6, 3);
+  mesh.Triangles.row(4) << 12, 13, 14;
+  mesh.Triangles.row(5) << 14, 14, 14;
+  const auto caster = MakeCaster(GetParam(), mesh);
+  const double up[3] = { 0, 0, 1 };
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), up), 3.0);
+  const double down[3] = { 0, 0, -1 };
+  EXPECT_DOUBLE_EQ(
+    caster->ClosestValidHit(Origin(0, 0, 3.5, 0, 0, 1, -1, 0, HitRule::FirstHitLeaving), down), 0.5);
+}
+
+TEST_P(RayCasterContract, FirstHitLeavingJudgesOnlyTheClosestHit)
+{
+  TestMesh mesh = StackedTriangles();
+  const auto caster = MakeCaster(GetParam(), mesh);
+  const double up[3] = { 0, 0, 1 };
+  const double down[3] = { 0, 0, -1 };
+  const auto first = [](double z, double nz, std::int64_t source = -1)
+  { return Origin(0, 0, z, 0, 0, nz, source, 0, HitRule::FirstHitLeaving); };
+  // The z = 1 triangle faces +z: going up, the ray leaves through it, whatever the origin normal.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(first(0, 1), up), 1.0);
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(first(0, -1), up), 1.0);
+  // With z = 1 the source, the closest hit is z = 2 (facing -z): the ray enters there, so it has
+  // no valid hit; it does not go on to z = 3.
+  EXPECT_EQ(caster->ClosestValidHit(first(0, 1, 0), up), kInfinity);
+  // Going down from z = 2.5 the first hit is z = 2 (normal -z, along the ray): valid at 0.5.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(first(2.5, 1), down), 0.5);
+  // From z = 3.5 down, the first hit z = 3 faces -z: leaving, valid at 0.5; with z = 3 the
+  // source, z = 2 is next (leaving as well): 1.5.
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(first(3.5, 1), down), 0.5);
+  EXPECT_DOUBLE_EQ(caster->ClosestValidHit(first(3.5, 1, 2), down), 1.5);
+}
+
+TEST_P(RayCasterContract, NonFiniteRaysMissAndEmptyMeshesNeverHit)
+{
+  const TestMesh mesh = StackedTriangles();
+  const auto caster = MakeCaster(GetParam(), mesh);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double up[3] = { 0, 0, 1 };
+  const double bad[3] = { 0, nan, 1 };
+  const double zero[3] = { 0, 0, 0 };
+  EXPECT_EQ(caster->ClosestValidHit(Origin(0, nan, 0, 0, 0, 1), up), kInfinity);
+  EXPECT_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, nan, 1), up), kInfinity);
+  EXPECT_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), bad), kInfinity);
+  EXPECT_EQ(caster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), zero), kInfinity);
+
+  TestMesh empty;
+  empty.Points.resize(0, 3);
+  empty.Triangles.resize(0, 3);
+  const auto emptyCaster = MakeCaster(GetParam(), empty);
+  EXPECT_EQ(emptyCaster->GetNumberOfTriangles(), 0u);
+  EXPECT_EQ(emptyCaster->GetBoundingBoxDiagonal(), 0.0);
+  EXPECT_EQ(emptyCaster->ClosestValidHit(Origin(0, 0, 0, 0, 0, 1), up), kInfinity);
+}
+
+TEST_P(RayCasterContract, RejectsBadMeshes)
+{
+  TestMesh mesh = StackedTriangles();
+  mesh.Triangles(2, 1) = 9;
+  EXPECT_THROW(MakeCaster(GetParam(), mesh), RayCasterError);
+  mesh.Triangles(2, 1) = -1;
+  EXPECT_THROW(MakeCaster(GetParam(), mesh), RayCasterError);
+  mesh = StackedTriangles();
+  mesh.Points(4, 2) = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(MakeCaster(GetParam(), mesh), RayCasterError);
+}
+
+TEST_P(RayCasterContract, CastConeMatchesSingleRays)
+{
+  const TestMesh mesh = testshapes::MakeIcosphere(8, 1.5);
+  const auto caster = MakeCaster(GetParam(), mesh);
+  const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
+  const ConePattern pattern = MakeConePattern(30, 120);
+  std::vector<double> directions(90), batch(30);
+  for (const HitRule rule : { HitRule::SkipSameFacing, HitRule::FirstHitLeaving })
+  {
+    for (Eigen::Index f = 0; f < origins.Points.rows(); f += 17)
+    {
+      const RayOrigin origin = Origin(origins.Points(f, 0), origins.Points(f, 1), origins.Points(f, 2),
+        origins.Normals(f, 0), origins.Normals(f, 1), origins.Normals(f, 2), f, 0, rule);
+      const double axis[3] = { -origin.Normal[0], -origin.Normal[1], -origin.Normal[2] };
+      double x[3], y[3];
+      MakeConeFrame(axis, origins.FirstAxes.row(f).data(), x, y);
+      OrientConePattern(pattern, axis, x, y, directions.data());
+      caster->CastCone(origin, directions.data(), 30, batch.data());
+      for (int i = 0; i < 30; ++i)
+      {
+        EXPECT_EQ(batch[i], caster->ClosestValidHit(origin, directions.data() + 3 * i));
+        // On a sphere a ray at angle theta from the inward normal lands where the normal makes
+        // 180 - 2 theta degrees with the origin normal: SkipSameFacing keeps it only below 45
+        // degrees; inside a convex body every first hit is where the ray leaves, so
+        // FirstHitLeaving keeps every ray.
+        const double degrees = pattern.AnglesToAxis[static_cast<std::size_t>(i)] * 180 / kPi;
+        if (degrees < 38 || rule == HitRule::FirstHitLeaving)
+        {
+          EXPECT_TRUE(std::isfinite(batch[i])) << degrees;
+        }
+        else if (degrees > 52)
+        {
+          EXPECT_EQ(batch[i], kInfinity) << degrees;
+        }
+      }
+    }
+  }
+}
+
+TEST_P(RayCasterContract, SegmentCrossesSurfaceSeesEverySurfaceBetweenTheEnds)
+{
+  // Stacked triangles: z = 1 faces +z, z = 2 and z = 3 face -z.
+  const auto stacked = MakeCaster(GetParam(), StackedTriangles());
+  const auto crosses = [](const RayCaster& caster, double z0, double z1) {
+    return SegmentCrossesSurface(caster, Eigen::Vector3d(0, 0, z0), Eigen::Vector3d(0, 0, z1));
+  };
+  EXPECT_TRUE(crosses(*stacked, 0.5, 1.5));  // left through z = 1
+  EXPECT_TRUE(crosses(*stacked, 1.5, 2.5));  // entered through z = 2 (the closest hit enters)
+  EXPECT_TRUE(crosses(*stacked, 2.5, 1.5));  // the same segment from the other end
+  EXPECT_TRUE(crosses(*stacked, 0.5, 3.5));  // three surfaces
+  EXPECT_FALSE(crosses(*stacked, 1.2, 1.8)); // between two surfaces
+  EXPECT_FALSE(crosses(*stacked, 3.5, 4.5)); // beyond all of them
+  EXPECT_FALSE(crosses(*stacked, 1.5, 1.5)); // zero length
+
+  // Two unit spheres whose volumes overlap (centres 1.5 apart), as posed characters'
+  // parts interpenetrate: the union of the volumes does not join them.
+  const TestMesh first = testshapes::MakeIcosphere(8, 1.0);
+  const TestMesh second = testshapes::Transformed(
+    testshapes::MakeIcosphere(8, 1.0), Eigen::Matrix3d::Identity(), Eigen::Vector3d(1.5, 0, 0));
+  const auto spheres = MakeCaster(GetParam(), testshapes::Concatenate(first, second));
+  EXPECT_FALSE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(-0.5, 0, 0), Eigen::Vector3d(0.3, 0.2, 0)));
+  // From the first centre into the overlap: the second sphere's surface lies in between.
+  EXPECT_TRUE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.75, 0, 0)));
+  EXPECT_TRUE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.5, 0, 0)));
+  // Both ends outside, the segment through the first sphere.
+  EXPECT_TRUE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(0, -2, 0), Eigen::Vector3d(0, 2, 0)));
+  EXPECT_FALSE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(0, -2, 0), Eigen::Vector3d(0, -3, 0)));
+}
+
+INSTANTIATE_TEST_SUITE_P(BothCasters, RayCasterContract,
+  ::testing::Values(CasterKind::Embree, CasterKind::BruteForce),
+  [](const ::testing::TestParamInfo<CasterKind>& info) {
+    return info.param == CasterKind::Embree ? std::string("Embree") : std::string("BruteForce");
+  });
+
+/// Casts the SDF cones of every face of `mesh` (plus the outward cones, which exercise the
+/// filter on a closed mesh) with both casters and returns the worst relative difference;
+/// counts rays where exactly one caster found a hit.
+double WorstRelativeDifference(const TestMesh& mesh, int& hitMismatches, int& hits)
+{
+  const EmbreeRayCaster embree(mesh.Points, mesh.Triangles);
+  const BruteForceRayCaster bruteForce(mesh.Points, mesh.Triangles);
+  const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
+  const ConePattern pattern = MakeConePattern(30, 120);
+  std::vector<double> directions(90), fromEmbree(30), fromBruteForce(30);
+  double worst = 0;
+  hitMismatches = 0;
+  hits = 0;
+  for (Eigen::Index f = 0; f < origins.Points.rows(); ++f)
+  {
+    for (const double sign : { 1.0, -1.0 })
+    {
+      const RayOrigin origin =
+        Origin(origins.Points(f, 0), origins.Points(f, 1), origins.Points(f, 2),
+          sign * origins.Normals(f, 0), sign * origins.Normals(f, 1), sign * origins.Normals(f, 2), f);
+      const double axis[3] = { -origin.Normal[0], -origin.Normal[1], -origin.Normal[2] };
+      double x[3], y[3];
+      MakeConeFrame(axis, origins.FirstAxes.row(f).data(), x, y);
+      OrientConePattern(pattern, axis, x, y, directions.data());
+      embree.CastCone(origin, directions.data(), 30, fromEmbree.data());
+      bruteForce.CastCone(origin, directions.data(), 30, fromBruteForce.data());
+      for (int i = 0; i < 30; ++i)
+      {
+        const bool embreeHit = std::isfinite(fromEmbree[i]);
+        if (embreeHit != std::isfinite(fromBruteForce[i]))
+        {
+          ++hitMismatches;
+        }
+        else if (embreeHit)
+        {
+          ++hits;
+          worst = std::max(worst,
+            std::abs(fromEmbree[i] - fromBruteForce[i]) / std::abs(fromBruteForce[i]));
+        }
+      }
+    }
+  }
+  return worst;
+}
+
+TEST(RayCasters, EmbreeMatchesBruteForceOnACapsule)
+{
+  // 2 * 16 * (2 * 6 + 4 - 1) = 480 faces; rays through vertices and edges included.
+  const TestMesh mesh = testshapes::MakeCapsule(0.5, 1.0, 16, 6, 4);
+  ASSERT_EQ(mesh.Triangles.rows(), 480);
+  int mismatches = 0, hits = 0;
+  const double worst = WorstRelativeDifference(mesh, mismatches, hits);
+  EXPECT_EQ(mismatches, 0);
+  // Only rays below ~45 degrees find a valid hit on a round body (see above).
+  EXPECT_GT(hits, 480 * 30 / 2);
+  EXPECT_LT(worst, 1e-9);
+  RecordProperty("WorstRelativeDifference", std::to_string(worst));
+}
+
+TEST(RayCasters, EmbreeKeepsDoublePrecisionFarFromTheOrigin)
+{
+  // A capsule 1e6 away from the origin: float coordinates alone would give ~0.06 errors.
+  const TestMesh mesh = testshapes::Transformed(testshapes::MakeCapsule(0.5, 1.0, 12, 4, 3),
+    Eigen::Matrix3d::Identity(), Eigen::Vector3d(1e6, -2e6, 3e6));
+  int mismatches = 0, hits = 0;
+  const double worst = WorstRelativeDifference(mesh, mismatches, hits);
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(hits, 0);
+  EXPECT_LT(worst, 1e-6);
+}
+
+TEST(RayCasters, EmbreeBuildQualitiesAgree)
+{
+  const TestMesh mesh = testshapes::MakeIcosphere(6);
+  const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
+  const EmbreeRayCaster medium(mesh.Points, mesh.Triangles);
+  EmbreeRayCasterOptions options;
+  options.BuildQuality = EmbreeBuildQuality::High;
+  options.Robust = true;
+  const EmbreeRayCaster high(mesh.Points, mesh.Triangles, options);
+  const double direction[3] = { 0.3, -0.2, 0.9 };
+  for (Eigen::Index f = 0; f < origins.Points.rows(); ++f)
+  {
+    const RayOrigin origin = Origin(origins.Points(f, 0), origins.Points(f, 1),
+      origins.Points(f, 2), origins.Normals(f, 0), origins.Normals(f, 1), origins.Normals(f, 2), f);
+    const double a = medium.ClosestValidHit(origin, direction);
+    const double b = high.ClosestValidHit(origin, direction);
+    ASSERT_EQ(std::isfinite(a), std::isfinite(b));
+    if (std::isfinite(a))
+    {
+      EXPECT_NEAR(a, b, 1e-9 * a);
+    }
+  }
+}
+
+} // namespace

@@ -1,0 +1,242 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Tests of skeleton step 5 (SkeletonCoverage.h): a branch into every large group of projected
+// points far from the tree, on a hand-made cloud whose answer is known: an L of points where the
+// skeleton covers one arm only. The points are grouped and joined through the connection
+// step's neighbour graph (SkeletonConnection.h).
+#include "Skeleton/SkeletonCoverage.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace
+{
+
+using namespace shapediameter;
+
+struct LCloud
+{
+  ProjectedCloud Cloud;
+  ThinnedCloud Thinned;
+  SkeletonGraph Graph;
+};
+
+/// Points of radius 0.1 on a line from (0,0,0) to (4,0,0) (the skeleton: nodes every 0.2 on
+/// it) and, unless `armPoints` is 0, on a line from (4,0,0) up to (4,armLength,0) that no node
+/// covers; plus a few points around (0,0,0).
+LCloud MakeL(int armPoints, double armLength = 2.0)
+{
+  std::vector<Eigen::Vector3d> positions;
+  for (int i = 0; i <= 200; ++i)
+  {
+    positions.emplace_back(4.0 * i / 200.0, 0.0, 0.0);
+  }
+  for (int i = 1; i <= armPoints; ++i)
+  {
+    positions.emplace_back(4.0, armLength * i / armPoints, 0.0);
+  }
+  LCloud l;
+  const auto n = static_cast<Eigen::Index>(positions.size());
+  l.Cloud.Positions.resize(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i)
+  {
+    l.Cloud.Positions.row(i) = positions[static_cast<std::size_t>(i)].transpose();
+  }
+  l.Cloud.Radius.assign(positions.size(), 0.1);
+  l.Cloud.SourceFace.assign(positions.size(), 0);
+  l.Thinned.Positions = l.Cloud.Positions;
+  l.Thinned.Confidence.assign(positions.size(), 0.9);
+  const int nodes = 21;
+  l.Graph.NodePositions.resize(nodes, 3);
+  std::vector<std::int64_t> polyline;
+  for (int i = 0; i < nodes; ++i)
+  {
+    l.Graph.NodePositions.row(i) << 0.2 * i, 0.0, 0.0;
+    l.Graph.NodeRadius.push_back(0.1);
+    l.Graph.NodeConfidence.push_back(0.9);
+    l.Graph.NodeCloudIndex.push_back(10 * i);
+    l.Graph.NodeComponent.push_back(0);
+    polyline.push_back(i);
+  }
+  l.Graph.Polylines.push_back(polyline);
+  l.Graph.IsConnection.push_back(0);
+  AssignBranchBones(l.Graph);
+  return l;
+}
+
+/// Step 5 on the connection's neighbour graph of the L (default neighbour count, no volume).
+std::size_t Reach(LCloud& l, const std::vector<std::int64_t>& component = {},
+  const SkeletonCoverageOptions& options = {}, const ParallelFor& parallelFor = SerialFor)
+{
+  const CloudNeighborGraph neighbours = BuildCloudNeighborGraph(
+    l.Cloud, component, SkeletonConnectionOptions().NumberOfNeighbors, parallelFor);
+  return ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, component, neighbours, options, parallelFor);
+}
+
+} // namespace
+
+TEST(SkeletonCoverage, AnUncoveredArmGetsABranchToItsTip)
+{
+  LCloud l = MakeL(100);
+  const std::size_t added = Reach(l);
+  ASSERT_EQ(added, 1u);
+  ASSERT_EQ(l.Graph.Polylines.size(), 2u) << "the old line and the new branch";
+  EXPECT_EQ(l.Graph.IsConnection.back(), 1);
+  const std::vector<std::int64_t>& branch = l.Graph.Polylines.back();
+  // It starts at the corner node (4,0,0) and ends at the tip of the arm (4,2,0).
+  EXPECT_NEAR((l.Graph.NodePositions.row(branch.front()) - Eigen::RowVector3d(4, 0, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((l.Graph.NodePositions.row(branch.back()) - Eigen::RowVector3d(4, 2, 0)).norm(), 0.0, 1e-12);
+  // Nodes follow the arm at a spacing of at least half the radius (the tip is always kept).
+  for (std::size_t i = 1; i + 1 < branch.size(); ++i)
+  {
+    const Eigen::RowVector3d node = l.Graph.NodePositions.row(branch[i]);
+    EXPECT_NEAR(node.x(), 4.0, 1e-12);
+    EXPECT_GE((node - l.Graph.NodePositions.row(branch[i - 1])).norm(), 0.05 - 1e-12);
+  }
+  // Every point of the cloud now lies within 4 radii of a node.
+  for (Eigen::Index p = 0; p < l.Cloud.Positions.rows(); ++p)
+  {
+    double nearest = 1e300;
+    for (Eigen::Index v = 0; v < l.Graph.NodePositions.rows(); ++v)
+    {
+      nearest = std::min(nearest, (l.Cloud.Positions.row(p) - l.Graph.NodePositions.row(v)).norm());
+    }
+    EXPECT_LE(nearest, 0.4) << "point " << p;
+  }
+  // The bones were assigned again: the line turns into the arm at (4,0,0), a node of degree
+  // 2, so the tree is one branch of length 4 + 2.
+  EXPECT_EQ(l.Graph.BoneLength.size(), 1u);
+  EXPECT_NEAR(l.Graph.BoneLength[0], 6.0, 1e-9);
+}
+
+TEST(SkeletonCoverage, SmallGroupsFactorZeroAndThreadsDoNotChangeTheResult)
+{
+  // An arm of 0.45: only its last point is farther than 4 radii from the line, 1 of 211
+  // points, below the default share of 1 %.
+  LCloud small = MakeL(10, 0.45);
+  EXPECT_EQ(Reach(small), 0u);
+  EXPECT_EQ(small.Graph.Polylines.size(), 1u);
+
+  SkeletonCoverageOptions off;
+  off.UncoveredFactor = 0.0;
+  LCloud unchanged = MakeL(100);
+  EXPECT_EQ(Reach(unchanged, {}, off), 0u);
+  EXPECT_EQ(unchanged.Graph.NodePositions.rows(), 21);
+
+  LCloud serial = MakeL(100);
+  LCloud threaded = MakeL(100);
+  Reach(serial);
+  Reach(threaded, {}, {}, ThreadedFor(3));
+  EXPECT_TRUE(serial.Graph.NodePositions == threaded.Graph.NodePositions);
+  EXPECT_EQ(serial.Graph.Polylines, threaded.Graph.Polylines);
+}
+
+TEST(SkeletonCoverage, PointsOfAnotherComponentAreNotJoined)
+{
+  // The arm is another surface component with no node of its own: nothing to join it to.
+  LCloud l = MakeL(100);
+  std::vector<std::int64_t> component(static_cast<std::size_t>(l.Cloud.Positions.rows()), 0);
+  for (std::size_t p = 201; p < component.size(); ++p)
+  {
+    component[p] = 1;
+  }
+  EXPECT_EQ(Reach(l, component), 0u);
+}
+
+TEST(SkeletonCoverage, APieceReachedOnlyByABridgeGetsNoBranch)
+{
+  // The arm moved 1 up, away from the line: the neighbour graph has two pieces, linked by a
+  // bridge that was not tested against any surface; the branch would cross the gap.
+  LCloud l = MakeL(100);
+  for (Eigen::Index p = 201; p < l.Cloud.Positions.rows(); ++p)
+  {
+    l.Cloud.Positions(p, 1) += 1.0;
+  }
+  l.Thinned.Positions = l.Cloud.Positions;
+  const CloudNeighborGraph neighbours = BuildCloudNeighborGraph(l.Cloud, {}, 8, SerialFor);
+  EXPECT_EQ(std::count(neighbours.IsBridge.begin(), neighbours.IsBridge.end(), 1), 2)
+    << "one bridge, stored both ways";
+  EXPECT_EQ(ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, {}, neighbours, {}, SerialFor), 0u);
+  EXPECT_EQ(l.Graph.Polylines.size(), 1u);
+}
+
+TEST(SkeletonCoverage, APartWithoutABoneGetsABranchWhenItsTipIsFarFromTheSkeleton)
+{
+  // Step 6: an arm of 0.3 (three radii): within step 5's four radii, so step 5 leaves it, but
+  // as a part of its own with no bone it gets a branch (tip 3 radii > PartUncoveredFactor 2).
+  LCloud l = MakeL(30, 0.3);
+  EXPECT_EQ(Reach(l), 0u);
+  const CloudNeighborGraph neighbours = BuildCloudNeighborGraph(l.Cloud, {}, 8, SerialFor);
+  const auto n = static_cast<std::size_t>(l.Cloud.Positions.rows());
+  std::vector<char> arm(n, 0);
+  std::fill(arm.begin() + 201, arm.end(), 1);
+  LCloud threaded = l;
+  ASSERT_EQ(ReachPartsWithoutBones(l.Graph, l.Cloud, l.Thinned, {}, neighbours, arm, {}, SerialFor), 1u);
+  const std::vector<std::int64_t>& branch = l.Graph.Polylines.back();
+  EXPECT_EQ(l.Graph.IsConnection.back(), 1);
+  EXPECT_NEAR((l.Graph.NodePositions.row(branch.front()) - Eigen::RowVector3d(4, 0, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((l.Graph.NodePositions.row(branch.back()) - Eigen::RowVector3d(4, 0.3, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(l.Graph.BoneLength[0], 4.3, 1e-9) << "bones assigned again: the line turns into the arm";
+  ASSERT_EQ(ReachPartsWithoutBones(threaded.Graph, threaded.Cloud, threaded.Thinned, {}, neighbours, arm, {},
+              ThreadedFor(3)), 1u);
+  EXPECT_TRUE(threaded.Graph.NodePositions == l.Graph.NodePositions);
+  EXPECT_EQ(threaded.Graph.Polylines, l.Graph.Polylines);
+
+  // Its tip within PartUncoveredFactor radii: the skeleton runs close enough, no branch.
+  SkeletonCoverageOptions strict;
+  strict.PartUncoveredFactor = 4.0;
+  LCloud near = MakeL(30, 0.3);
+  EXPECT_EQ(ReachPartsWithoutBones(near.Graph, near.Cloud, near.Thinned, {}, neighbours, arm, strict, SerialFor), 0u);
+  EXPECT_EQ(near.Graph.Polylines.size(), 1u);
+  // A part along the line the skeleton already follows gets none either.
+  std::vector<char> onLine(n, 0);
+  std::fill(onLine.begin() + 50, onLine.begin() + 100, 1);
+  EXPECT_EQ(ReachPartsWithoutBones(near.Graph, near.Cloud, near.Thinned, {}, neighbours, onLine, {}, SerialFor), 0u);
+  // Flags of another cloud are refused.
+  EXPECT_THROW(ReachPartsWithoutBones(near.Graph, near.Cloud, near.Thinned, {}, neighbours,
+                 std::vector<char>(n - 1, 0), {}, SerialFor),
+    SkeletonError);
+}
+
+TEST(SkeletonCoverage, OptionsOutsideTheirRangeThrow)
+{
+  SkeletonCoverageOptions options;
+  options.UncoveredFactor = -1.0;
+  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  options = {};
+  options.MinimumShare = 1.5;
+  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  options = {};
+  options.PartMinimumShare = -0.1;
+  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  options = {};
+  options.PartUncoveredFactor = -1.0;
+  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  EXPECT_NO_THROW(ValidateCoverageOptions({}));
+}
+
+TEST(SkeletonCoverage, UsesTheConnectionsNeighbourGraph)
+{
+  // The graph ConnectPolySegments hands out is the one BuildCloudNeighborGraph builds alone
+  // (here without segments: the L is one blob for the connection).
+  LCloud l = MakeL(100);
+  bool aborted = false;
+  CloudNeighborGraph fromConnection;
+  ConnectPolySegments(l.Cloud, l.Thinned, {}, {}, {}, SerialFor, {}, aborted, nullptr, &fromConnection);
+  ASSERT_FALSE(aborted);
+  const CloudNeighborGraph alone = BuildCloudNeighborGraph(
+    l.Cloud, {}, SkeletonConnectionOptions().NumberOfNeighbors, ThreadedFor(3));
+  EXPECT_EQ(fromConnection.Offsets, alone.Offsets);
+  EXPECT_EQ(fromConnection.Targets, alone.Targets);
+  EXPECT_EQ(fromConnection.Weights, alone.Weights);
+  EXPECT_EQ(fromConnection.IsBridge, alone.IsBridge);
+  EXPECT_EQ(fromConnection.Offsets.size(), static_cast<std::size_t>(l.Cloud.Positions.rows()) + 1);
+
+  // A graph of another cloud is refused.
+  LCloud other = MakeL(10);
+  EXPECT_THROW(ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, {},
+                 BuildCloudNeighborGraph(other.Cloud, {}, 8, SerialFor), {}, SerialFor),
+    SkeletonError);
+}

@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Step 2 of the skeleton (SkeletonThinning.h): MLS projection, confidence, the confident
+// share and epsilon-thinning on lines, blobs and circles; option validation.
+#include "Skeleton/Skeleton.h"
+#include "TestShapes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace
+{
+
+using namespace shapediameter;
+using namespace shapediameter::testshapes;
+
+TEST(SkeletonThinning, LineIsConfidentBlobIsNot)
+{
+  ProjectedCloud cloud;
+  const int line = 200;
+  cloud.Positions.resize(line + 60 + 3, 3);
+  for (int i = 0; i < line; ++i)
+  {
+    // A slightly noisy straight line along x.
+    cloud.Positions.row(i) << 0.05 * i, 0.01 * std::sin(7.0 * i), 0.01 * std::cos(5.0 * i);
+  }
+  for (int i = 0; i < 60; ++i)
+  {
+    cloud.Positions.row(line + i) << 50.0, 0.0, 0.0; // coincident blob
+  }
+  cloud.Positions.row(line + 60) << -50.0, 0.0, 0.0; // isolated triple
+  cloud.Positions.row(line + 61) << -50.1, 0.0, 0.0;
+  cloud.Positions.row(line + 62) << -50.0, 0.1, 0.0;
+  cloud.Radius.assign(static_cast<std::size_t>(cloud.Positions.rows()), 1.0);
+  cloud.SourceFace.assign(cloud.Radius.size(), 0);
+  const ThinnedCloud thinned = ThinProjectedCloud(cloud, {}, SerialFor);
+  ASSERT_FALSE(thinned.Aborted);
+  for (int i = 20; i < line - 20; ++i)
+  {
+    EXPECT_GT(thinned.Confidence[i], 0.99);
+    EXPECT_NEAR(std::abs(thinned.Axis(i, 0)), 1.0, 1e-3);
+    EXPECT_LT(std::abs(thinned.Positions(i, 1)), 0.005); // noise projected away
+  }
+  for (int i = line; i < line + 63; ++i)
+  {
+    EXPECT_EQ(thinned.Confidence[i], 0.0);
+    EXPECT_TRUE(thinned.Positions.row(i) == cloud.Positions.row(i));
+  }
+  // T: only line points, spaced at least epsilon = 0.25 apart.
+  ASSERT_FALSE(thinned.Thinned.empty());
+  for (std::size_t a = 0; a < thinned.Thinned.size(); ++a)
+  {
+    EXPECT_LT(thinned.Thinned[a], line);
+    for (std::size_t b = a + 1; b < thinned.Thinned.size(); ++b)
+    {
+      EXPECT_GT((thinned.Positions.row(thinned.Thinned[a]) - thinned.Positions.row(thinned.Thinned[b])).norm(), 0.25);
+    }
+  }
+  EXPECT_GE(thinned.Thinned.size(), 20u); // 10 units long, gaps at most 2 epsilon
+}
+
+TEST(SkeletonThinning, FixedDataProjectionDoesNotShrinkCircles)
+{
+  // Points on a circle of radius 6 with neighbourhood radius 1: the linear fit is biased
+  // inward by about h^2 / (6 R) = 0.028 once; refitting the moved cloud accumulates it.
+  ProjectedCloud cloud;
+  const int count = 2000;
+  cloud.Positions.resize(count, 3);
+  for (int i = 0; i < count; ++i)
+  {
+    const double u = 2.0 * Pi * i / count;
+    cloud.Positions.row(i) << 6.0 * std::cos(u), 6.0 * std::sin(u), 0.0;
+  }
+  cloud.Radius.assign(count, 1.0);
+  cloud.SourceFace.assign(count, 0);
+  SkeletonThinningOptions options;
+  const ThinnedCloud fixed = ThinProjectedCloud(cloud, options, SerialFor);
+  options.ContractCloud = true;
+  const ThinnedCloud contracted = ThinProjectedCloud(cloud, options, SerialFor);
+  double fixedWorst = 0.0;
+  double contractedWorst = 0.0;
+  for (int i = 0; i < count; ++i)
+  {
+    fixedWorst = std::max(fixedWorst, std::abs(fixed.Positions.row(i).norm() - 6.0));
+    contractedWorst = std::max(contractedWorst, std::abs(contracted.Positions.row(i).norm() - 6.0));
+  }
+  EXPECT_LT(fixedWorst, 0.035);
+  EXPECT_GT(contractedWorst, 0.06);
+}
+
+TEST(SkeletonThinning, MinimumConfidentShareLowersTheThresholdButNotBelowJunctions)
+{
+  // Thick stubs: short noisy tubes whose neighbourhoods are barely line-like (confidence about
+  // 0.6-0.8), next to a ball (confidence near 1/3). A fixed threshold of 0.8 keeps almost
+  // nothing; the share lowers it to the confidence at that share, never below 0.6.
+  ProjectedCloud cloud;
+  std::mt19937_64 generator(22);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const int tube = 600;
+  const int ball = 600;
+  cloud.Positions.resize(tube + ball, 3);
+  for (int i = 0; i < tube; ++i)
+  {
+    cloud.Positions.row(i) << 0.005 * i, 0.28 * normal(generator), 0.28 * normal(generator);
+  }
+  for (int i = 0; i < ball; ++i)
+  {
+    cloud.Positions.row(tube + i) << 20.0 + 0.4 * normal(generator), 0.4 * normal(generator), 0.4 * normal(generator);
+  }
+  cloud.Radius.assign(static_cast<std::size_t>(tube + ball), 1.0);
+  cloud.SourceFace.assign(cloud.Radius.size(), 0);
+  SkeletonThinningOptions fixed;
+  fixed.MinimumConfidentShare = 0.0;
+  const ThinnedCloud alone = ThinProjectedCloud(cloud, fixed, SerialFor);
+  EXPECT_EQ(alone.AppliedConfidenceThreshold, 0.8);
+  std::vector<double> sorted = alone.Confidence;
+  std::sort(sorted.begin(), sorted.end(), std::greater<double>());
+  const std::size_t above = static_cast<std::size_t>(std::count_if(sorted.begin(), sorted.end(), [](double c) { return c >= 0.8; }));
+  ASSERT_LT(above, sorted.size() / 10) << "the test needs a cloud that is mostly below 0.8";
+
+  const ThinnedCloud shared = ThinProjectedCloud(cloud, {}, SerialFor); // share 0.2
+  const double expected = std::max(0.6, sorted[static_cast<std::size_t>(std::ceil(0.2 * static_cast<double>(sorted.size()))) - 1]);
+  EXPECT_EQ(shared.AppliedConfidenceThreshold, expected);
+  EXPECT_LT(shared.AppliedConfidenceThreshold, 0.8);
+  EXPECT_GT(shared.Thinned.size(), alone.Thinned.size());
+  for (const std::int64_t kept : shared.Thinned)
+  {
+    EXPECT_GE(shared.Confidence[static_cast<std::size_t>(kept)], expected);
+  }
+  SkeletonThinningOptions everything;
+  everything.MinimumConfidentShare = 1.0; // would take every point: floored at 0.6
+  const ThinnedCloud floored = ThinProjectedCloud(cloud, everything, SerialFor);
+  EXPECT_EQ(floored.AppliedConfidenceThreshold, 0.6);
+  for (const std::int64_t kept : floored.Thinned)
+  {
+    EXPECT_LT(kept, tube) << "no point of the ball passes 0.6";
+  }
+  SkeletonThinningOptions bad;
+  bad.MinimumConfidentShare = 1.5;
+  EXPECT_THROW(ThinProjectedCloud(cloud, bad, SerialFor), SkeletonError);
+}
+
+TEST(SkeletonThinning, InvalidOptionsThrow)
+{
+  ProjectedCloud cloud;
+  SkeletonThinningOptions options;
+  options.NumberOfIterations = 0;
+  EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), SkeletonError);
+  options = {};
+  options.ConfidenceThreshold = std::nan("");
+  EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), SkeletonError);
+  options = {};
+  options.NeighborhoodScale = 0.0;
+  EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), SkeletonError);
+}
+
+} // namespace
