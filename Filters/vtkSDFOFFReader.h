@@ -41,7 +41,7 @@
  *
  * The spatial split replaces ParaView's Redistribute DataSet after this reader: with Debian
  * 12's current libexpat (2.5.0-1+deb12u5) ParaView 5.11's own data exchange loses cells (see
- * the README, "Distributed runs").
+ * docs/distributed.md).
  */
 #ifndef vtkSDFOFFReader_h
 #define vtkSDFOFFReader_h

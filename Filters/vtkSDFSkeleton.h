@@ -32,9 +32,9 @@
  * to the nearest node of that bone. This follows the paper's Fig. 15 (the projected points
  * keep their face's part) and is what makes
  * `SkeletonBoneId` consistent across poses: the skeleton's junctions move with the pose,
- * the partition's boundaries much less (measurements: README "Skeleton against a rig").
+ * the partition's boundaries much less (measurements: docs/skeleton.md).
  * Algorithm details, the remaining (advanced) defaults and the deviations:
- * Filters/Core/Skeleton*.h.
+ * Filters/Core/Skeleton/Skeleton*.h.
  *
  * Input: a polygonal surface with a per-cell SDF: the selected array (default
  * `SDFSmoothed`; when the input has no such array, `SDF`). Polygons are triangulated
@@ -46,9 +46,9 @@
  * - ConfidenceThreshold 0.8, [0, 1].
  * - MinimumConfidentShare 0.2, [0, 1]: the threshold is lowered where needed so that at
  *   least this share of the projected points is eligible (deviation: the paper says only
- *   "high confidence"; with 0.8 alone a character with short, stubby limbs keeps 0.5 % of
- *   its points and only its longest limbs get a branch; 0 = the threshold alone; see
- *   Filters/Core/Skeleton/SkeletonThinning.h for the measurements).
+ *   "high confidence"; with 0.8 alone a character with short, stubby limbs keeps few of
+ *   its points and only its longest limbs get a branch; 0 = the threshold alone;
+ *   Filters/Core/Skeleton/SkeletonThinning.h, evidence in docs/skeleton.md).
  * - SpacingFactor ε 0.25, [0, 10], in units of the local radius SDF/2.
  * - MaximumExitAngle 40 degrees, [0, 90]: a leaf is carried on to its part's end when its
  *   branch leaves the volume within this angle of the exit surface's normal (deviation: the

@@ -14,7 +14,8 @@
  * them with weights 1/(angle to the cone axis). The result is a local measure of the
  * object's diameter: about twice the distance to the medial axis, invariant to rigid
  * motions and nearly invariant to articulated pose changes. Details of the statistics
- * and of the ray pattern: Filters/Core/SDF/ShapeDiameter.h and ConeSampling.h.
+ * and of the ray pattern: Filters/Core/SDF/ShapeDiameter.h and
+ * Filters/Core/RayCasting/ConeSampling.h; defaults and their evidence: docs/sdf.md.
  *
  * Parameters (the ParaView proxy `ShapeDiameter` mirrors them):
  * - NumberOfRays, default 30 (paper), range [1, 4096].
@@ -38,7 +39,7 @@
  *   cast from a subset of faces spaced at half the local SDF, refined where neighbouring cast
  *   values differ by more than Tolerance, and the other faces are interpolated over the
  *   surface (not across concave creases); the cost follows the shape, not the face count
- *   (Filters/Core/SDF/AdaptiveShapeDiameter.h; accuracy and speed: README, "Adaptive SDF").
+ *   (Filters/Core/SDF/AdaptiveShapeDiameter.h; accuracy and speed: docs/adaptive-sdf.md).
  *   Cast faces get exactly the Exact value; SDFValidRays of an interpolated face is that of
  *   the cast face its value comes from.
  * - Tolerance, default 0.15, range [0.001, 1]: Adaptive only, relative SDF difference between
@@ -68,11 +69,10 @@
  * than 90 degrees)". Read as "skip and continue" (HitRule 1), a ray that meets such a face —
  * a neighbouring part touching or crossing in front of the limb — goes on into that part,
  * so the value depends on the pose. Read as "such a first hit is no measurement" (HitRule 0,
- * the default, as CGAL does), the ray is dropped. HitRule 0 is the default because both the
- * normalised SDF and the partition then change less between poses and between a mesh and
- * its subdivision (measurements: README, "Consistency"). HitRule 0 keeps the wide rays of
- * the cone (HitRule 1 loses every ray more than 45 degrees off the normal on a sphere), so
- * its values are smaller: 0.77 of a sphere's diameter against 0.86. HitRule 0 tests the
+ * the default, as CGAL does), the ray is dropped. HitRule 0 is the default because the
+ * normalised SDF then changes less between poses (measurements: docs/sdf.md). HitRule 0
+ * keeps the wide rays of the cone (HitRule 1 loses every ray more than 45 degrees off the
+ * normal on a sphere), so its values on round bodies are smaller. HitRule 0 tests the
  * ray against the hit's normal (leaving the volume), which also drops rays that start inside
  * a fold. The paper leaves the ray pattern, the weight of the axial
  * ray and the exact "standard deviation" open; our choices are documented in the core.

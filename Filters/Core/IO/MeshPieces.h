@@ -23,7 +23,7 @@ struct MeshPiece
 enum class PieceOrder
 {
   /// Contiguous ranges of the file's face order: cheap, but file order is rarely spatially
-  /// compact (camel.off: the first quarter of its faces touches 98 % of its vertices).
+  /// compact (docs/distributed.md).
   FileOrder,
   /// Contiguous ranges of a Morton (Z-order) curve through the face centroids: each piece is
   /// a compact region of space, as a spatial redistribution would give, without any exchange.

@@ -47,8 +47,8 @@
 //   (elements spanning several lines are not supported); old Mac CR-only line endings are
 //   not supported (the file reads as one line and is rejected).
 //
-// Speed: one pass over an in-memory buffer with std::from_chars, no iostreams; the 52k-face
-//   armadillo parses in a few milliseconds.
+// Cost: one pass over an in-memory buffer with std::from_chars, no iostreams: linear in the
+//   file size.
 #pragma once
 
 #include <array>

@@ -51,9 +51,8 @@
 // are bucketed by their lower vertex with a counting sort, buckets sorted independently).
 // The adjacency lists are written in one parallel pass into slots sized by an upper bound,
 // and each pair's geometry (angle, concavity, centre distance) is computed once, by its lower
-// face, then copied to the mirror entry (faster than the former count-then-fill construction:
-// README, "Performance", "Design measurements"); the output is bit-identical to it (checked
-// on a torus with quads, a non-manifold fin, a degenerate face and a line).
+// face, then copied to the mirror entry (faster than a count-then-fill construction, with the
+// same output; measurements: docs/performance.md).
 #pragma once
 
 #include "Mesh/MeshTypes.h"
@@ -123,7 +122,7 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
  * from identical input is still held (by any owner of a pointer this function returned),
  * that graph; otherwise a new BuildFaceGraph, which later calls with identical input get for
  * as long as someone holds it. The smoothing and the partition of one chain see the same
- * surface and so build it once (README, "Performance": 0.3 s of each at 832k faces).
+ * surface and so build it once (docs/performance.md, "One face graph per chain").
  *
  * Identical input: the same point count, offsets and connectivity sizes, and the same two
  * independent 64-bit hashes over the bytes of the coordinates (all points, referenced or not)

@@ -1,20 +1,23 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// EmbreeRayCaster: the product's RayCaster, an Embree 3 BVH over the triangle mesh.
+// EmbreeRayCaster: the product's RayCaster, an Embree BVH over the triangle mesh.
 //
-// This class (its .cpp) is the only place in the project that includes Embree, so porting to
-// Embree 4 touches one file.
+// This class (its .cpp) is the only place in the project that includes Embree. It builds
+// against Embree 3 (Debian 12) or Embree 4 (Debian 13); the two differ only in the
+// RTC_VERSION_MAJOR branches of the .cpp (header path, intersection context).
 //
 // How it meets the contract of RayCaster.h:
 //   - One RTC_GEOMETRY_TYPE_TRIANGLE over float vertex and uint32 index buffers owned by this
 //     object and shared with Embree (rtcSetSharedGeometryBuffer, no second copy). The vertices are translated by the bounding-box centre
 //     before the conversion to float so that a mesh far from the origin keeps its precision.
 //   - Rays are cast one at a time with rtcIntersect1; an intersection filter on the geometry
-//     rejects the source triangle and triangles whose geometric normal does not face away
-//     from the origin normal (with RayCaster.h's tolerance), so Embree goes on to the next
-//     surface. Clear cases (|cos| > 1e-2) are decided on Embree's own Ng (single precision,
-//     right-hand rule of the vertex order like VTK's polygon normal, no memory access); hits
-//     near 90 degrees use a double-precision normal table, so the decisions are the same as
-//     BruteForceRayCaster's.
+//     rejects the source triangle, so Embree goes on to the next surface. Under
+//     HitRule::SkipSameFacing it also rejects triangles whose geometric normal does not face
+//     away from the origin normal (with RayCaster.h's tolerance): clear cases (|cos| > 1e-2)
+//     are decided on Embree's own Ng (single precision, right-hand rule of the vertex order
+//     like VTK's polygon normal, no memory access); hits near 90 degrees use a
+//     double-precision normal table, so the decisions are the same as BruteForceRayCaster's.
+//     Under HitRule::FirstHitLeaving (the default) the closest hit is tested after the
+//     traversal against the double-precision plane (the ray must leave through it).
 //   - Embree's single-precision distance is replaced by the double-precision distance to the
 //     plane of the hit triangle (original coordinates), so results agree with
 //     BruteForceRayCaster to ~1e-12 relative and scale exactly with the mesh. When the ray is
@@ -33,8 +36,8 @@ namespace shapediameter
 
 /// Embree's BVH build quality. Medium is the default: High's longer build costs about what
 /// its faster traversal saves for one SDF pass, a wash; Low builds fastest but traverses
-/// slower. Robust costs traversal time. Measurements: README, "Performance", "Design
-/// measurements".
+/// slower (the skeleton's volume tests, dominated by the build, use it). Robust costs
+/// traversal time. Measurements: docs/performance.md, "Design measurements".
 enum class EmbreeBuildQuality
 {
   Low,

@@ -4,29 +4,34 @@
 // The SDF (Shapira, Shamir & Cohen-Or 2008, Sect. 3) casts rays from a surface point into
 // the object and ignores intersections "where the normal at the intersection points in the
 // same direction as the point-of-origin (angle difference less than 90 degrees)", which
-// removes false hits with the outside of the mesh. Every implementation of this interface
-// returns, for each ray, the distance t of the closest hit that is VALID:
+// removes false hits with the outside of the mesh. The sentence has two readings, the two
+// values of HitRule (RayOrigin::Rule). Every implementation returns, for each ray, the
+// distance t of the closest hit that is VALID under the origin's rule.
 //
-//   - the hit triangle is not the origin's source triangle (a face-centre origin never hits
-//     its own face), and
-//   - cos(N_hit, originNormal) < -kPerpendicularTolerance (1e-6), where N_hit = (v1 - v0) x
-//     (v2 - v0) is the hit triangle's geometric normal by the right-hand rule of its vertex
-//     order (VTK's polygon normal), both normalised, in double precision. So a hit is valid
-//     when the normals are more than 90 degrees apart (the paper), where "exactly 90 degrees"
-//     includes rounding noise: without the tolerance, a wall exactly perpendicular to the
-//     origin's face (boxes, the facets of a cylinder with a slice count divisible by 4) would
-//     be accepted or rejected by the last bit of the coordinates, and such a mesh would change
-//     its SDF under a rigid motion. A zero-area triangle (N_hit = 0) is never hit; an origin
-//     with a zero normal never hits anything.
-//   - t >= the origin's MinDistance (Embree's tnear).
+// Common to both rules:
+//   - the origin's source triangle is never hit (a face-centre origin never hits its own
+//     face), nor is a zero-area triangle; hits with t < the origin's MinDistance (Embree's
+//     tnear) are ignored;
+//   - normals are compared with N_hit = (v1 - v0) x (v2 - v0), the hit triangle's geometric
+//     normal by the right-hand rule of its vertex order (VTK's polygon normal), normalised, in
+//     double precision, with a tolerance kPerpendicularTolerance (1e-6) on the cosine: without
+//     it, a wall exactly perpendicular to the test direction (boxes, the facets of a cylinder
+//     with a slice count divisible by 4) would be accepted or rejected by the last bit of the
+//     coordinates, and such a mesh would change its SDF under a rigid motion;
+//   - an origin with a zero or non-finite normal, or a non-finite point or direction, hits
+//     nothing.
 //
-// That is the rule HitRule::SkipSameFacing, where rejected hits are transparent: traversal
-// goes on to the next surface. Under HitRule::FirstHitLeaving (the default) only the source triangle
-// (and zero-area triangles) are transparent: the closest other hit is valid when the ray leaves
-// the volume through it, cos(N_hit, direction) > kPerpendicularTolerance, and otherwise the ray
-// has no valid hit (+infinity). The distance is the
-// ray parameter t (hit = point + t * direction), i.e. a length when the direction is a unit
-// vector, and +infinity when there is no valid hit (or the ray/origin is not finite).
+// HitRule::FirstHitLeaving (the default, CGAL's reading): only the source triangle and
+//   zero-area triangles are transparent. The closest other hit is valid when the ray leaves
+//   the volume through it, cos(N_hit, direction) > kPerpendicularTolerance; otherwise the ray
+//   has no valid hit (+infinity): a first hit on a surface turned towards the ray is no
+//   measurement.
+// HitRule::SkipSameFacing ("ignore and continue"): a hit is valid when
+//   cos(N_hit, originNormal) < -kPerpendicularTolerance (the normals more than 90 degrees
+//   apart); rejected hits are transparent and traversal goes on to the next surface.
+//
+// The distance is the ray parameter t (hit = point + t * direction), i.e. a length when the
+// direction is a unit vector, and +infinity when there is no valid hit.
 //
 // Implementations: EmbreeRayCaster (the product; BVH in single precision, the reported t is
 // recomputed in double against the hit triangle's plane) and BruteForceRayCaster (every
@@ -59,10 +64,12 @@ enum class HitRule
 {
   /// The closest hit other than the source triangle, valid when the ray leaves the volume
   /// through it (cos(N_hit, direction) > kPerpendicularTolerance); otherwise the ray has no
-  /// valid hit and is dropped (CGAL's reading of the paper).
+  /// valid hit and is dropped (CGAL's reading of the paper). The default (RayOrigin::Rule,
+  /// ShapeDiameterOptions::Rule, vtkShapeDiameterFilter's HitRule 0).
   FirstHitLeaving,
   /// Hits on triangles facing the same way as the origin are transparent and the ray goes on
-  /// to the next surface (the paper's sentence read as "ignore and continue"). The default.
+  /// to the next surface (the paper's sentence read as "ignore and continue"; the filter's
+  /// HitRule 1).
   SkipSameFacing
 };
 
@@ -70,14 +77,15 @@ enum class HitRule
 struct RayOrigin
 {
   double Point[3] = { 0, 0, 0 };
-  /// Outward normal at the origin (any length); hits on triangles facing the same way are
-  /// rejected.
+  /// Outward normal at the origin (any length). Under SkipSameFacing, hits on triangles facing
+  /// the same way are transparent; under either rule a zero or non-finite normal hits nothing.
   double Normal[3] = { 0, 0, 0 };
   /// Triangle that is never reported (the origin's own face); -1 = none.
   std::int64_t SourceTriangle = -1;
   /// Hits with t < MinDistance are ignored (used for vertex origins, which lie on several
   /// triangles and have no single source triangle).
   double MinDistance = 0;
+  /// Which hit counts; default FirstHitLeaving.
   HitRule Rule = HitRule::FirstHitLeaving;
 };
 

@@ -46,55 +46,36 @@
 //
 // Options: Tolerance and SpacingFraction are in ShapeDiameterOptions (defaults 0.15 and 0.5);
 //   the rest are fixed here: K from a coarse cell of 1/32 of the bounding-box diagonal, 8
-//   sweeps, crease angle 60 degrees, extremes 1 %.
+//   sweeps, crease angle 60 degrees, extremes 1 % refined two levels finer.
 //
-// What was tried (against the Exact mode through the whole chain; the measurements are in
-// README, "Adaptive SDF", "What was tried")
-//   - Tolerance: a smaller one casts more faces and is more accurate. 0.15 is the default:
-//     0.2 misses the p99 bar at 832k faces; 0.15 meets it there, at the cost of the dino's
-//     cluster agreement and of speed at 208k.
-//   - SpacingFraction 1 instead of 0.5 saves little: refinement, not the first spacing,
-//     decides the count.
-//   - A floor on refinement (no spacing below 1/8 or 1/4 of the SDF, to stop refining where
-//     neighbouring cones differ by noise rather than by shape): far fewer casts, but the
-//     maximum of the SDF was missed and the normalisation shifted every value; hence step 4b,
-//     and no floor (with step 4b, a floor at 1/16 still raised p99 past the bar at 208k).
-//   - Step 4b casting the extreme regions completely instead of two levels finer: several
-//     times the casts, same accuracy.
-//   - A partition-of-unity blend of neighbouring regions' values (weights (1 - d^2/R^2)^2,
-//     R twice the cell size) before the sweeps, so that the blend spans a region whatever its
-//     size in hops: no measurable gain; not kept. The remaining error is where the exact
-//     field has structure finer than the spacing.
-//   - Piecewise-constant fill (owner value only, 0 sweeps) against 8 or 32 sweeps: 8 sweeps
-//     give nearly all of 32's gain.
-//   - Recomputing the regions from all casts every round instead of the incremental update
-//     above: a search over all faces per round, a large share of the run at 208k.
-//   - Selection by a hashed grid per level (this file) rather than geodesic farthest-point
-//     sampling: one sort per round, deterministic and independent of the thread count.
-//   - A noise test on top of Tolerance (refine only where two cast values also differ by z
-//     standard errors of their difference, each from the spread of its kept rays): z = 2 cast
-//     12 % fewer at 208k, z = 3 38 % fewer, but z = 2 already failed the thin plate on a
-//     block: near the block's edges a cone's rays spread for geometric reasons, not random
-//     ones, and the test suppressed the refinement there. Not kept.
-//   - One cast per cell and side of the cell's first normal instead of per dominant axis and
-//     sign: no fewer casts. Refinement stopped one or two levels above the finest: 3-16 %
-//     fewer casts; the casts are not spent at the finest level.
-//   - No refinement for isolated outliers at the finest levels (a disagreeing pair refined only
-//     if each region also agrees with some other neighbouring region): about 1 % fewer casts
-//     and a worse p99; the refinement follows spatially coherent differences, not single noisy
-//     cones. Embree's Low BVH quality: the build is faster but the casts slower, a net loss.
-//   - Embree packets of 8 rays (rtcIntersect8) for a cone: slower than single rays (1.23 vs
-//     1.13 x raw Embree in the exact filter; 2.16 with the coherent flag).
-//   - Fewer rays per cone where the first rays agree (measured, not built): the 30-ray value
-//     is itself a noisy estimate. Of the 208k armadillo's cast cones, two disjoint 10-ray
-//     subsets (every third ray of the pattern) agree within 2 % for 13 % of the cones (5 %:
-//     31 %, 10 %: 55 %), and among those the 20-ray value still differs from the 30-ray one by
-//     more than 2 % in 45 % of the cones; the spread of one subset cannot serve as the test
-//     (the rays' lengths differ by the cone's geometry: a coefficient of variation under 10 %
-//     in fewer than 0.05 % of them). Stopping early would move cast values off the Exact
-//     mode's by more than the accuracy bar allows, on the cones that are not on a jump (those
-//     are the ones that agree), while the casts at the finest levels follow jumps, where rays
-//     disagree.
+// Cost: the casts follow the variation of the SDF, not the face count, except where the exact
+//   field jumps between neighbouring faces (the refinement follows such jumps to the finest
+//   level); plus a part linear in the faces (the adapter's triangulation, adjacency,
+//   orientation and BVH, the per-face bookkeeping). When K = 0 the Exact mode runs.
+//
+// Design choices (the measurements and the alternatives that lost: docs/adaptive-sdf.md)
+//   - Tolerance 0.15: smaller casts more faces and is more accurate; 0.2 misses the p99
+//     accuracy aim on the largest benchmark mesh.
+//   - SpacingFraction 0.5: refinement, not the first spacing, decides the cast count.
+//   - No floor on the refinement (no minimum spacing relative to the SDF): every floor tried
+//     broke the accuracy aim, mostly by missing the SDF's maximum, which shifts every
+//     normalised value; step 4b exists for the same reason. Casting the extreme regions
+//     completely instead of two levels finer costs several times the casts for the same
+//     accuracy.
+//   - Interpolation: owner value + 8 Jacobi sweeps; 8 give nearly all of 32's gain, and a
+//     partition-of-unity blend of neighbouring regions gained nothing measurable. The
+//     remaining error is where the exact field has structure finer than the spacing.
+//   - Regions are updated incrementally (step 2) rather than recomputed every round, and the
+//     selection is a hashed grid per level rather than geodesic farthest-point sampling: one
+//     sort per round, deterministic and independent of the thread count.
+//   - The refinement follows spatially coherent differences between regions, not single
+//     noisy cones: a noise test on top of Tolerance, refining only above the finest levels,
+//     or skipping isolated outliers saved few casts and lost accuracy (a noise test also
+//     suppresses the refinement that a block's edges need, where a cone's rays spread for
+//     geometric reasons).
+//   - Single rays (rtcIntersect1), Embree's default BVH quality and the full cone of
+//     NumberOfRays at every cast origin: packets, Low quality and early-stopped cones were
+//     slower or left the Exact values.
 //
 // Determinism, progress, abort: the selection and the search are serial and in index order;
 // the refinement test runs in parallel but only sets flags (their union does not depend on

@@ -5,9 +5,11 @@
 //   For each origin p (a face centre by default, or a vertex) with outward unit normal n:
 //   1. cast NumberOfRays rays from p inside the cone of full opening angle ConeAngleDegrees
 //      around the inward normal -n (pattern and frame: ConeSampling.h);
-//   2. keep the closest VALID hit of each ray (RayCaster.h: hits on triangles facing the same
-//      way as n, and on p's own face, are ignored); a ray with no valid hit is dropped
-//      ("the outliers removal method removes rays with no intersection at all");
+//   2. keep each ray's VALID hit under options.Rule (RayCaster.h; p's own face is never hit):
+//      HitRule::FirstHitLeaving (the default) takes the ray's first hit and keeps it only when
+//      the ray leaves the volume there; HitRule::SkipSameFacing ignores hits on triangles
+//      facing the same way as n and goes on to the next surface. A ray with no valid hit is
+//      dropped ("the outliers removal method removes rays with no intersection at all");
 //   3. of the remaining lengths L_i, keep those with |L_i - median| <= sigma, where median is
 //      the usual median (mean of the two middle values for an even count) and sigma is the
 //      population standard deviation of the L_i about their MEAN (divide by the count). The
@@ -38,26 +40,33 @@
 //   SpacingFraction   default 0.5, range (0, 8]: Adaptive only, spacing of the cast
 //                     origins as a fraction of the local SDF.
 //
-// Consequences of the paper's validity rule worth knowing
-//   The rule compares the hit normal with the ORIGIN normal (not with the ray). On a round
-//   body a ray theta off the inward normal lands where the normal is 180 - 2 theta degrees
-//   from the origin normal, so on a sphere every ray with theta >= 45 degrees is rejected and
-//   goes on (out of the body, possibly into another part): the default 120-degree cone acts
-//   like a 90-degree one (18 of the 30 default rays count; the median +- sigma filter then
-//   keeps 9-10 of them). On a cylinder only the angle within the cross-section counts, so
-//   more rays survive; between flat parallel walls all 30 do.
-//   A rejected ray that leaves the body can reach the far wall of another part or component,
-//   which is valid: that cross-talk is part of the definition; the median +- sigma filter
-//   usually, not always, removes it.
+// Consequences of the two readings of the paper's validity rule
+//   FirstHitLeaving (default) tests the hit normal against the RAY: from inside a closed
+//   body every first hit is a leaving one, so the whole cone counts, and a ray whose first
+//   hit enters the volume (it started in a fold, or another part crosses in front of it) is
+//   dropped rather than carried on into that part, which is what makes the value depend less
+//   on the pose (docs/sdf.md).
+//   SkipSameFacing tests it against the ORIGIN normal. On a round body a ray theta off the
+//   inward normal lands where the normal is 180 - 2 theta degrees from the origin normal, so
+//   on a sphere every ray with theta >= 45 degrees is skipped and goes on (out of the body,
+//   possibly into another part): the default 120-degree cone acts like a 90-degree one (18 of
+//   the 30 default rays count), and its values on round bodies are larger than
+//   FirstHitLeaving's. On a cylinder only the angle within the cross-section counts, so more
+//   rays survive; between flat parallel walls all 30 do. A skipped ray that leaves the body
+//   can reach the far wall of another part or component, which is valid under this reading;
+//   the median +- sigma filter usually, not always, removes it.
 //
 // Deviations from the paper (which leaves these open)
+//   - The validity rule is read as FirstHitLeaving by default (CGAL's reading); the paper's
+//     "ignore and continue" reading is HitRule::SkipSameFacing.
 //   - The ray pattern (golden-angle spiral, uniform in solid angle) and the weight of a ray
 //     on the axis: ConeSampling.h.
 //   - sigma is taken about the mean (see step 3).
 //   - Origins buried inside another part get no value and are filled (see "Buried origins").
-//   - "Angle difference less than 90 degrees" includes a 1e-6 tolerance on the cosine so
-//     that walls exactly perpendicular to the origin face are rejected whatever the rounding
-//     (RayCaster.h); this keeps symmetric meshes invariant under rigid motions.
+//   - "Angle difference less than 90 degrees" includes a 1e-6 tolerance on the cosine (both
+//     rules) so that walls exactly perpendicular to the test direction are decided the same
+//     way whatever the rounding (RayCaster.h); this keeps symmetric meshes invariant under
+//     rigid motions.
 //   - The paper computes f_v at face centres and says nothing about faces without a valid
 //     ray; FillFromNeighbors is our documented fill. Vertex origins are an option.
 //
@@ -65,16 +74,15 @@
 //   Posed characters often self-intersect (a paw pushed into the torso, skinning folds at a
 //   joint). A face inside another part's volume has no thickness of its own to measure: its
 //   rays leave the enclosing part's surface first, a short distance away, so its value
-//   collapses in the poses where it is buried and not in the others (on the cat poses of
-//   README "Consistency", up to 14 % of the area in one pose, with SDFs 5-100 times below
-//   their value in the other poses). One extra ray per origin, along the outward normal from
+//   collapses in the poses where it is buried and not in the others (measurements on pose
+//   families: docs/sdf.md, "Buried faces"). One extra ray per origin, along the outward normal from
 //   the origin: when the first surface it meets is LEFT (FirstHitLeaving finds a hit), the
 //   point just outside the surface is inside the volume, and the origin gets value 0 and
 //   ValidRays 0 like an origin without a valid ray, so FillFromNeighbors gives it its
 //   unburied neighbours' values (a buried origin casts no cone). A watertight mesh without
 //   self-intersections has no buried origin. A closed component lying wholly inside another
 //   (an eyeball in a closed head) is buried everywhere and gets FillFromNeighbors' fallback,
-//   the median of the mesh. Cost: 1 ray beside the cone's 30. Effect: README, "Consistency".
+//   the median of the mesh. Cost: 1 ray beside the cone's NumberOfRays.
 //
 // Degenerate cases
 //   - An origin listed in Skip, or with a non-finite point or a zero/non-finite normal, is not
@@ -125,8 +133,8 @@ struct ShapeDiameterOptions
   int NumberOfRays = 30;            ///< rays per cone (paper: 30)
   double ConeAngleDegrees = 120.0;  ///< full opening angle (paper: 120 degrees)
   double VertexOriginOffset = 1e-6; ///< tnear for origins without a source triangle, x bbox diagonal
-  /// Which hit a ray measures (RayCaster.h). FirstHitLeaving nearly halves the pose divergence
-  /// of the normalised SDF on the elephant poses against SkipSameFacing (README, "Consistency").
+  /// Which hit a ray measures (RayCaster.h; step 2 above). Default FirstHitLeaving: the
+  /// normalised SDF changes less between poses than with SkipSameFacing (docs/sdf.md).
   HitRule Rule = HitRule::FirstHitLeaving;
   std::size_t OriginsPerChunk = 256;
   ShapeDiameterMode Mode = ShapeDiameterMode::Exact;

@@ -28,27 +28,13 @@
 //                                away, gets a branch from that point to where the part ends
 //                                (SkeletonCoverage.h); largest part first, each once, the
 //                                junctions cleaned as after step 5 and the link made again.
-//                                Why: in one elephant pose the lowered head's only bones were
-//                                the ears' (the trunk joined near the front legs), so the head
-//                                shared an ear's bone there and nowhere else: 8-10 points of
-//                                bone change against every other pose. Faces changing bone
-//                                (elephant / cat / lion / crane / samba / pdance): 6.13 / 12.52 /
-//                                23.20 / 8.37 / 9.18 / 15.14 % -> 4.99 / 9.71 / 21.62 / 8.37 /
-//                                9.18 / 13.46 %; elephant seeds 1-3: 5.24 / 7.02 / 5.38 ->
-//                                4.10 / 5.88 / 5.38 %. Other thresholds (share / factor): 1 % / 0:
-//                                4.99 / 5.56 / 15.00 / 8.37 / 13.72 / 15.92; 2 % / 0: 4.99 / 6.73 /
-//                                14.79 / 8.37 / 13.47 / 15.86; 1 % / 2: 4.99 / 7.53 / 14.79 /
-//                                8.37 / 13.71 / 13.46; 1 % / 4: 6.13 / 8.60 / 16.61 / 8.37 /
-//                                10.47 / 12.61. The smaller shares help the cat and lion more but
-//                                give the dancers' feet and necks (segments of 1-2 %, along a
-//                                bone they share) a branch in some poses only (samba +4.5
-//                                points); 5 % / 2 is the one setting worse on no family. The
-//                                elephant's pose with the head branch has 11 leaves (10 in the
-//                                others).
+//                                Why: a part whose bones all belong to its neighbours (an
+//                                elephant's lowered head whose nearest branches are the
+//                                ears') otherwise shares a neighbour's bone in some poses only.
 //   Steps 3, 4 and 5 move only through the volume: an Embree BVH of the mesh (EmbreeRayCaster)
 //   rejects growth steps and neighbour-graph edges whose straight segment meets the surface
-//   (the face link below does not use it: measured, it changed 0.0 points of the elephant
-//   poses' bone change and costs two rays per face).
+//   (the face link below does not use it: it made no measurable difference and costs two rays
+//   per face).
 //   Then every face is linked to the skeleton node nearest to its projected centre (face
 //   centroid - normal * SDF/2) among the nodes of its own surface component. This rule is the
 //   same for faces with and without samples, so a face's link does not depend on N or on the
@@ -58,20 +44,14 @@
 //   nearest node is on that bone keep it). Why: a junction's position along the torso moves
 //   with the pose, so the nearest-node boundary between two bones sweeps across the body,
 //   while the partition's boundaries sit at the concave creases where limbs meet it and
-//   hardly move (measurements: README "Skeleton against a rig"). Which bone: from the area
+//   hardly move (measurements: docs/skeleton.md). Which bone: from the area
 //   each bone holds of each part under the nearest-node link, the parts first get bones of
 //   their own, largest overlaps first, from the bones holding at least OwnBoneShare (0.15)
 //   of their area; a part left without one shares the bone holding most of it (ties: the
 //   lowest bone id). Why own bones first: a bone often runs through two parts (an elephant
 //   ear's branch across the head), and with the largest overlap alone the smaller part
 //   shared its neighbour's bone in some poses and not in others (the head with an ear in two
-//   of the ten elephant poses, the trunk with both tusks in one). Faces changing bone
-//   between poses (elephant / cat / lion / crane / samba / pdance): 7.21 / 18.61 / 23.20 /
-//   13.98 / 9.18 / 15.14 % with the largest overlap alone, 6.13 / 12.52 / 23.20 / 8.37 /
-//   9.18 / 15.14 % at 0.15; 0.1: 6.13 / 12.56 / 23.20 / 8.37 / 9.69 / 15.14 %; 0.25: 6.13 /
-//   15.22 / 23.20 / 11.76 / 9.18 / 15.14 %; 0: 5.03 / 12.60 / 23.23 / 8.37 / 10.10 / 15.14 %,
-//   but it linked a segment of 13 % of an elephant's area to a bone holding under 1 % of it
-//   (a face should lie near its bone). The same gain with other sampling seeds (README).
+//   of the ten elephant poses, the trunk with both tusks in one; docs/skeleton.md).
 //
 // Bones
 //   Bones are the branches of the tree: the maximal paths of the skeleton graph (the union of
@@ -116,6 +96,11 @@
 //   largest face. So every face is linked to a node of its own component, and every output
 //   is finite.
 //
+// Cost
+//   Steps 2-6 work on the N points of P, so at fixed N their cost hardly grows with the face
+//   count; the parts linear in the faces are the volume's BVH build, the face normals and
+//   components, and the face link (one nearest-node query per face).
+//
 // Threading and determinism
 //   parallelFor runs the MLS loop, the neighbour graph and the face link. For a fixed seed the
 //   result is bit-identical for any ParallelFor. progress receives [0, 1]; returning false
@@ -148,8 +133,8 @@ struct SkeletonOptions
   /// With part labels: a part takes a bone no other part has taken when that bone holds at
   /// least this share of its area under the nearest-node link (larger overlaps first); else
   /// it shares the bone holding most of it. Default 0.15, range [0, 1]; any value above 0.5
-  /// gives every part the bone holding most of it (shared or not), the rule before this
-  /// option. See the header comment (Bones, the part link) for the measurements.
+  /// gives every part the bone holding most of it (shared or not). See the header comment
+  /// (the part link) for why; the evidence is in docs/skeleton.md.
   double OwnBoneShare = 0.15;
 };
 

@@ -13,7 +13,7 @@
 //      ComputeSkeleton does), an edge whose straight segment meets the surface is left out
 //      (SegmentCrossesSurface, RayCaster.h), so that paths run through one part of the volume,
 //      never from a trunk into the foot it touches or is pushed into. Deviation: the paper has
-//      no such test (see SkeletonSegments.h for the measurement). If this graph splits a surface
+//      no such test (evidence: docs/skeleton.md). If this graph splits a surface
 //      component into several pieces, the pieces are linked by their shortest gaps
 //      (Boruvka rounds), so that every surface component is one graph component.
 //      The graph (CloudNeighborGraph) is handed on to step 5 (SkeletonCoverage.h), which walks
@@ -37,7 +37,8 @@
 //      leaf stubs shorter than about f * radius are removed and inner branches that short are
 //      contracted, so that the number of branches does not change with SDF noise and pose.
 //      ComputeSkeleton passes f = 0 here and cleans after step 4b instead (CleanGraphJunctions,
-//      SkeletonLeafExtension.h), so that a leaf branch is judged with its extension.
+//      SkeletonBones.h; step 4b: SkeletonLeafExtension.h), so that a leaf branch is judged with
+//      its extension.
 //   6. Bones (AssignBranchBones, SkeletonBones.h): the polylines above are pieces of the
 //      algorithm (a fitted segment may run through a junction where a connecting path ends on
 //      it), so they are cut at junctions and grouped into the branches of the tree.

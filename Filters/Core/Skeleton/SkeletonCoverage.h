@@ -18,7 +18,7 @@
 //        of its own, so that the work is done once and the paths obey the same edges. Its
 //        bridges (IsBridge: shortest gaps, not tested against the surface) are not used, so
 //        that a branch runs through the volume only and a piece the inside test cuts off
-//        gets none; with them, two elephant poses grew an 11th leaf (README).
+//        gets none (with them, spurious leaves appeared: docs/skeleton.md).
 //     3. Every group holding at least MinimumShare of all points gets one branch: the
 //        shortest path through the neighbour graph from its point farthest from the skeleton
 //        (the part's tip) to the first covered point, joined to that point's nearest node.
@@ -29,20 +29,18 @@
 //   which can lie a node or two from a junction: ComputeSkeleton then contracts the inner
 //   branches shorter than MinimumBranchFactor radii (CleanGraphJunctions with
 //   LeafPruning::Keep: a branch to an ear can be shorter than the torso's radius at its
-//   junction, and pruning leaves here removed a cat's leaf). Measured (faces changing bone,
-//   elephant / cat / lion poses): 7.62 / 19.84 / 23.20 % -> 7.21 / 18.61 / 23.20 %; with leaf
-//   pruning too 7.21 / 19.51 / 23.20 %; armadillo: an inner branch of 0.32 radii is gone.
+//   junction, and pruning leaves here removed real leaves; docs/skeleton.md).
 //
 // Why: on posed characters the missed parts are not missed in every pose (an ear's sheet of
 // points happens to form a confident segment in some poses only), so the paper's skeleton
 // changes its leaves from pose to pose; with this step every pose gets them. It also reaches
-// limbs whose branch stopped at the hip. Measurements: README "Skeleton against a rig".
+// limbs whose branch stopped at the hip. Measurements: docs/skeleton.md.
 //
 // Step 6 (ReachPartsWithoutBones, with part labels) builds the same kind of branch into one
 // part of the surface (the partition's segment) that the part link left without a bone of its
 // own: the part's points take the place of the uncovered ones, and the branch is added only when
 // the part's tip lies more than PartUncoveredFactor radii from the skeleton. Skeleton.h picks the
-// parts and documents why and the measurements.
+// parts and says why; the measurements are in docs/skeleton.md.
 //
 // Parameters (SkeletonCoverageOptions)
 //   UncoveredFactor      4      [0, 1e6]  in units of the point's radius; 0 = step off.

@@ -19,16 +19,19 @@
 //   part) meets it obliquely and is left alone: the straight extension would leave the
 //   medial axis. Junction cleaning (SkeletonBones.h) then runs on the extended tree, so a
 //   stub is measured to its part's end: the articulated test figure's head, a ball on a short
-//   neck, keeps its branch in both poses (before: in one).
+//   neck, keeps its branch in both poses.
 //   For a capsule limb whose branch stops short, h - r is exactly the distance to the cap's
 //   centre, the end of the medial axis.
 //
-// Why: rigs and users expect a limb's branch to reach the limb's end (the cheburashka rig's
-// head-top joint was the one leaf not reached); measurements: README "Skeleton against a rig".
+// Why: rigs and users expect a limb's branch to reach the limb's end (without this step the
+// cheburashka rig's head-top joint is the one leaf not reached); measurements: docs/skeleton.md.
+//
+// Deviation: the paper's branches end where the confident points end; this step is ours.
 //
 // Parameters (SkeletonLeafExtensionOptions)
-//   MaximumExitAngle   40 degrees   [0, 90]; 0 = step off. The cheburashka's head is met at
-//                      32 degrees, the oblique stub of the bent test figure at 43.
+//   MaximumExitAngle   40 degrees   [0, 90]; 0 = step off. Chosen between the angle at which
+//                      a head-on part end is met and the one of an oblique stub inside a bent
+//                      part (docs/skeleton.md).
 //
 // Determinism: serial over the leaves in node order; the rays do not depend on threads.
 #pragma once

@@ -12,9 +12,8 @@
 //     - (when a volume is given, as ComputeSkeleton does) whose straight step from e meets no
 //       surface (SegmentCrossesSurface, RayCaster.h): a segment does not jump between two
 //       parts that touch or interpenetrate (a trunk resting on a foot). Deviation: the paper
-//       has no such test; on the elephant poses, segments and connecting paths through
-//       touching parts merged a foot with the trunk in 2 of 10 poses (README, "Skeleton
-//       against a rig").
+//       has no such test; without it, segments and connecting paths through touching parts
+//       merged a foot with the trunk in some elephant poses (docs/skeleton.md).
 //   The nearest such q becomes the new end; the other cone points that q has passed (their
 //   projection on d is not beyond q's) are clustered into the segment without becoming nodes.
 //   The direction becomes q's regression line, oriented along d. A side stops when the cone is

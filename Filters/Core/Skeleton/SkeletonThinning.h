@@ -30,19 +30,12 @@
 //                        point at this share of the defined points counted from the most
 //                        confident, so that at least this share of them is eligible for T.
 //                        Default 0.2; valid [0, 1] (0: ConfidenceThreshold alone). Why: a
-//                        character with short, stubby limbs has few tube-like neighbourhoods;
-//                        on the rigged cheburashka (../shared/data/rigs) 0.5 % of the points
-//                        reach 0.8, only the arms got a branch, 29 % of the rig was within 5 %
-//                        of the diagonal of the skeleton and 2 of 5 rig leaves; with 0.2 (the
-//                        threshold becomes 0.63 there) 88 % and 4 of 5 (the fifth is the top
-//                        of a ball-shaped head). Never below 0.6: a junction of three
-//                        branches has about 0.5, a blob at most that (a sphere stays one
-//                        node). Meshes where 20 % of the points reach 0.8 (camel, man,
-//                        armadillo, cactus) are unchanged; the elephant poses (13-16 %) get
-//                        about 0.72: leaves per pose 6-9 -> 7-9 (8 in 5 of 10 poses instead
-//                        of 4), faces changing bone between poses 32.5 -> 30.0 %. Shares
-//                        0.3 / 0.4 (emulated) gave 92 / 91 % but 3 / 4 leaves and 29.9 /
-//                        30.7 %.
+//                        character with short, stubby limbs has few tube-like neighbourhoods,
+//                        so with the threshold alone only its longest limbs get a branch
+//                        (deviation: the paper says only "high confidence"; evidence:
+//                        docs/skeleton.md). Never below 0.6: a junction of three branches has
+//                        about 0.5, a blob at most that (a sphere stays one node). Meshes
+//                        where this share already reaches ConfidenceThreshold are unchanged.
 //   SpacingFactor        epsilon = factor * radius(p); default 0.25 (about 8 nodes along a
 //                        tube twice as long as its radius); valid [0, 10]. The paper uses one
 //                        constant epsilon; a radius-relative one keeps thin parts (fingers)
@@ -55,9 +48,8 @@
 //                        Levin and Lee). true: each iteration fits to the cloud moved by the
 //                        previous one. Deviation note: on a curved tube of centre-line radius
 //                        R the linear fit sits h^2 / (6 R) inside the curve; refitting the moved
-//                        cloud adds that bias up at every iteration (3 iterations put a torus
-//                        R = 6 r skeleton 0.08 r inside its core circle), the fixed-data
-//                        projection does not.
+//                        cloud adds that bias up at every iteration, the fixed-data projection
+//                        does not.
 //
 // Degenerate cases
 //   Empty cloud -> empty result. Zero radius, or all neighbours coincident (e.g. a sphere whose

@@ -29,8 +29,8 @@
 //                                  (FaceGraph::MeanEdgeLength): the smoothing acts on the
 //                                  noise scale of the face-wise SDF, on any mesh scale.
 //   NeighborhoodRadius             2.0,  [0, inf) in units of sigma (Gaussian cut at 2 sigma,
-//                                  weight e^-2 = 0.14 at the rim); about 20 faces on
-//                                  average (the articulated test figure; 29 % hit the cap).
+//                                  weight e^-2 = 0.14 at the rim); a few tens of faces on a
+//                                  regular mesh, capped by MaxNeighbors.
 //   MaxNeighbors                   24,   [0, inf): the cost cap on meshes whose triangles are
 //                                  far smaller than the mean (nearest kept).
 //   RangeThreshold      t          0.1,  [0, inf) as a fraction of the input's robust spread
@@ -54,9 +54,9 @@
 // thread. When it returns false, the remaining faces keep their input value and the
 // result says Aborted. Without a callback: one ParallelFor call over all faces.
 //
-// Cost: per face one bounded Dijkstra (about 20-30 settled faces) and NumberOfIterations
-// passes over its neighbours: linear in the faces (measurements: README, "Performance",
-// "Design measurements").
+// Cost: per face one bounded Dijkstra (at most MaxNeighbors settled faces) and
+// NumberOfIterations passes over its neighbours: linear in the faces (measurements:
+// docs/performance.md).
 // No per-mesh scratch memory beyond the output.
 //
 // Deviations from the paper
