@@ -114,6 +114,8 @@ vtkSDFGMMPartition::vtkSDFGMMPartition()
   this->ModeBandwidth = defaults.Modes.Bandwidth;
   this->ModeProminence = defaults.Modes.MinimumProminence;
   this->ModeValleyDepth = defaults.Modes.MinimumValleyDepth;
+  this->RefineParts = defaults.Refinement.Enabled;
+  this->RefinementMinimumArea = defaults.Refinement.MinimumAreaShare;
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(2);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
@@ -189,6 +191,8 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
   options.Energy.ProbabilityEpsilon = this->Epsilon;
   options.Energy.ConvexityFactor = this->ConvexityFactor;
   options.HistogramBins = this->HistogramBins;
+  options.Refinement.Enabled = this->RefineParts;
+  options.Refinement.MinimumAreaShare = this->RefinementMinimumArea;
   const PartitionResult result =
     PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues, modelInput ? &model : nullptr },
       options, request.Parallel, adapter::MakeProgress(this, 0.0, 1.0));
@@ -210,6 +214,7 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
   vtkCellData* cellData = output->GetCellData();
   cellData->AddArray(probabilities);
   cellData->AddArray(CellIntArray(CLUSTER_ARRAY_NAME, cellCount, first, result.Labels));
+  cellData->AddArray(CellIntArray(BAND_ARRAY_NAME, cellCount, first, result.Bands));
   for (std::size_t level = 0; level < result.Levels.size(); ++level)
   {
     cellData->AddArray(
@@ -249,4 +254,6 @@ void vtkSDFGMMPartition::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ModeBandwidth: " << this->ModeBandwidth << "\n";
   os << indent << "ModeProminence: " << this->ModeProminence << "\n";
   os << indent << "ModeValleyDepth: " << this->ModeValleyDepth << "\n";
+  os << indent << "RefineParts: " << this->RefineParts << "\n";
+  os << indent << "RefinementMinimumArea: " << this->RefinementMinimumArea << "\n";
 }

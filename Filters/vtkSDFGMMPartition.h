@@ -28,11 +28,16 @@
  *    and never increases E. Above 60,000 faces the cut is multilevel
  *    (Filters/Core/Partition/MultilevelCut.h): alpha-expansion on clusters of 8 faces, then on an
  *    8-ring band around the boundaries at full resolution, because with this energy the
- *    plain alpha-expansion's cost grows as faces^1.5 (measurements: README, "Performance").
+ *    plain alpha-expansion's cost grows as faces^1.5 (docs/performance.md).
  * 3. Clusters are numbered by GMM mean, largest first (`SDFCluster` 0 = thickest parts);
  *    the hierarchy `SDFLevel1` … `SDFLevel{k−1}` has level L = min(SDFCluster, L) (the
  *    paper's "sorting the means of the GMM from large to small"); connected parts of
  *    equal cluster are `SDFSegment`, 0 = the largest area.
+ * 4. Optional fine level (RefineParts, default off; Filters/Core/Partition/PartRefinement.h):
+ *    each part of a band covering at least RefinementMinimumArea (default 0.02, [0, 1]) of
+ *    the area is cut again by the density modes of its own values, with the same energy;
+ *    `SDFCluster` is then a (band, level) label and `SDFBand` keeps the band (without it
+ *    `SDFBand` equals `SDFCluster`). The hierarchy levels follow the bands.
  *
  * Family consistency (the paper's title): the optional second input port "Model" takes
  * the output of another vtkSDFGMMPartition; its fitted mixture (field data
@@ -42,7 +47,7 @@
  * to the widest of the members' `SDFNormalizationRange`) and one model (partition the
  * appended members once and feed that output as Model); the pipeline command's `--family`
  * does both. Fewer faces then change cluster between poses than with each pose
- * partitioned alone (README, "Consistency").
+ * partitioned alone (docs/partition.md).
 
  * Parameters (default, range; the ParaView proxy `SDFGMMPartition` mirrors them):
  * - NumberOfClusters k 5, [0, 16]: with ClusterModel 1 the most clusters (the density's
@@ -62,19 +67,18 @@
  * - NumberOfThreads 0 = all cores (vtkSDFSurfaceAlgorithm).
  * - ClusterModel 1 (default) = clusters from the modes of the area-weighted density of the
  *   input values (Filters/Core/Partition/DensityModes.h): the at most k modes rising ModeProminence
- *   (default 0.025, [0, 1]) of the highest peak and ModeValleyDepth (default 0.25, [0, 1])
+ *   (default 0.01, [0, 1]) of the highest peak and ModeValleyDepth (default 0.1, [0, 1])
  *   of their own height above their saddle, in a Gaussian kernel estimate of bandwidth
  *   ModeBandwidth (default 0.02 of the value range, [0.001, 0.5]). The valley depth keeps
  *   shoulders of a larger mode, which come and go with the pose, from becoming clusters;
  *   each cluster is the basin between two valleys, modelled by one Gaussian of its weighted
  *   moments. Boundaries then lie where few faces are, so a small pose-dependent shift moves
- *   few faces: fewer faces change cluster between poses than with EM (README,
- *   "Consistency"). 0 = the paper's EM fit above: exactly k clusters, whose boundaries may
+ *   few faces: fewer faces change cluster between poses than with EM (docs/partition.md). 0 = the paper's EM fit above: exactly k clusters, whose boundaries may
  *   fall inside a dense part of the histogram. A shape with fewer thickness levels than k
- *   gets fewer clusters with the modes (README, "Partition quality").
+ *   gets fewer clusters with the modes (docs/partition.md).
  *
  * Output: the input with every cell and array plus cell arrays `SDFProbabilities`
- * (double, k components), `SDFCluster`, `SDFLevel1`…`SDFLevel{k−1}`, `SDFSegment`
+ * (double, k components), `SDFCluster`, `SDFBand`, `SDFLevel1`…`SDFLevel{k−1}`, `SDFSegment`
  * (int), and field arrays `SDFGMMMeans`, `SDFGMMSigmas`, `SDFGMMWeights` (double, k),
  * `SDFClusterCount` (int), `SDFEnergy` (double). Only polygons are partitioned: other
  * cells get cluster, level and segment −1 and probabilities 0.
@@ -92,11 +96,11 @@
  * Deviations: by default the mixture comes from the modes of the SDF density, not from EM
  * with a user-given k (the paper's consistency claim fails with EM at k = 5: a boundary
  * inside a dense part of the histogram moves whole limbs between poses; measurements:
- * README, "Consistency"); the multilevel cut above 60,000 faces (a local minimum of the
+ * docs/partition.md); the multilevel cut above 60,000 faces (a local minimum of the
  * coarse problem refined near the boundaries, not of every fine expansion move); e2 has a
  * floor (finite cost on flat edges) and a convexity factor; both terms carry the geometric
  * weights w_f, w_fg (the paper's plain sums make the balance depend on the resolution: fine
- * meshes fall into hundreds of segments; README, "Partition quality"); λ and the EM
+ * meshes fall into hundreds of segments; docs/partition.md); λ and the EM
  * settings are ours (the paper gives none); EM fits a fine histogram as the paper does, with
  * exact per-bin moments.
  */
@@ -119,6 +123,8 @@ public:
   /// Output array names.
   static constexpr const char* PROBABILITIES_ARRAY_NAME = "SDFProbabilities";
   static constexpr const char* CLUSTER_ARRAY_NAME = "SDFCluster";
+  /// The thickness band of each face (the coarse cut), 0 = the thickest.
+  static constexpr const char* BAND_ARRAY_NAME = "SDFBand";
   static constexpr const char* LEVEL_ARRAY_PREFIX = "SDFLevel";
   static constexpr const char* SEGMENT_ARRAY_NAME = "SDFSegment";
   static constexpr const char* MEANS_ARRAY_NAME = "SDFGMMMeans";
@@ -209,16 +215,31 @@ public:
 
   ///@{
   /// ClusterModel 1: smallest height of a mode above its saddle, relative to the highest peak
-  /// (default 0.025, range [0, 1]).
+  /// (default 0.01, range [0, 1]).
   vtkSetClampMacro(ModeProminence, double, 0.0, 1.0);
   vtkGetMacro(ModeProminence, double);
   ///@}
 
   ///@{
   /// ClusterModel 1: smallest height of a mode above its saddle, relative to the mode's own
-  /// height (default 0.25, range [0, 1]); 0 = prominence alone.
+  /// height (default 0.1, range [0, 1]); 0 = prominence alone.
   vtkSetClampMacro(ModeValleyDepth, double, 0.0, 1.0);
   vtkGetMacro(ModeValleyDepth, double);
+  ///@}
+
+  ///@{
+  /// The fine level: each part of a band covering at least RefinementMinimumArea of the area
+  /// is cut again by the modes of its own values (Filters/Core/Partition/PartRefinement.h).
+  /// RefineParts default on; off = `SDFCluster` is the band.
+  vtkSetMacro(RefineParts, bool);
+  vtkGetMacro(RefineParts, bool);
+  vtkBooleanMacro(RefineParts, bool);
+  ///@}
+
+  ///@{
+  /// Parts below this share of the area are not refined (default 0.02, range [0, 1]).
+  vtkSetClampMacro(RefinementMinimumArea, double, 0.0, 1.0);
+  vtkGetMacro(RefinementMinimumArea, double);
   ///@}
 
   /// The histogram and fitted densities (output port 1).
@@ -245,6 +266,8 @@ protected:
   double ModeBandwidth;
   double ModeProminence;
   double ModeValleyDepth;
+  bool RefineParts;
+  double RefinementMinimumArea;
 
 private:
   vtkSDFGMMPartition(const vtkSDFGMMPartition&) = delete;

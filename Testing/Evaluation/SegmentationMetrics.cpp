@@ -756,6 +756,36 @@ std::vector<double> ComputeFaceAreas(const PointsView& points, const std::vector
   return SurfaceFromPolygons(points, faceOffsets, faceConnectivity).faceAreas;
 }
 
+std::size_t CountSegmentsCovering(
+  const std::vector<int>& labels, const std::vector<double>& faceWeights, double minimumShare)
+{
+  if (!faceWeights.empty() && faceWeights.size() != labels.size())
+  {
+    throw SegmentationMetricsError("the segmentation has " + std::to_string(labels.size()) + " labels but " +
+      std::to_string(faceWeights.size()) + " face weights");
+  }
+  double total = 0.0;
+  for (double w : faceWeights)
+  {
+    if (!(w >= 0.0) || !std::isfinite(w))
+    {
+      throw SegmentationMetricsError("a face weight is negative or not finite");
+    }
+    total += w;
+  }
+  const bool counted = !(total > 0.0);
+  std::size_t segmentCount = 0;
+  const std::vector<std::uint32_t> segment = CompactLabels(labels, segmentCount);
+  std::vector<double> weight(segmentCount, 0.0);
+  for (std::size_t f = 0; f < labels.size(); ++f)
+  {
+    weight[segment[f]] += counted ? 1.0 : faceWeights[f];
+  }
+  const double threshold = minimumShare * (counted ? static_cast<double>(labels.size()) : total);
+  return static_cast<std::size_t>(
+    std::count_if(weight.begin(), weight.end(), [threshold](double w) { return w >= threshold; }));
+}
+
 // ---------------------------------------------------------------------------------------------
 // .seg files
 

@@ -204,6 +204,13 @@ SegmentationComparison CompareSegmentations(const PointsView& points,
 std::vector<double> ComputeFaceAreas(const PointsView& points,
   const std::vector<std::int64_t>& faceOffsets, const std::vector<std::int64_t>& faceConnectivity);
 
+/// Segments (distinct labels) whose weight is at least minimumShare of the total weight, e.g.
+/// 0.005 = the segments covering >= 0.5 % of the area. faceWeights: one finite value >= 0 per
+/// face (e.g. ComputeFaceAreas), or empty to count faces; a total weight of 0 counts faces too
+/// (as the metrics do). Throws SegmentationMetricsError on a size mismatch or a bad weight.
+std::size_t CountSegmentsCovering(
+  const std::vector<int>& labels, const std::vector<double>& faceWeights, double minimumShare);
+
 // ---- .seg files: one integer label per line, line f = face f (the PSB format).
 
 /// Parses .seg text. Accepted: spaces and tabs around the number, CRLF, a leading '+' or '-',

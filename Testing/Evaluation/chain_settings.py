@@ -38,18 +38,74 @@ def skeleton_edges(skeleton):
 
 
 def add_arguments(parser):
-    """--hit-rule, --cluster-model, --clusters, --lambda; None = the filter's default."""
+    """--hit-rule, --cluster-model, --clusters, --lambda (None = the filter's default) and --set."""
     parser.add_argument("--hit-rule", type=int, default=None, help="vtkShapeDiameterFilter HitRule (default: the filter's)")
     parser.add_argument("--cluster-model", type=int, default=None, help="vtkSDFGMMPartition ClusterModel (0 EM, 1 modes)")
     parser.add_argument("--clusters", type=int, default=None, help="NumberOfClusters (default: the filter's)")
     parser.add_argument("--lambda", dest="smoothness", type=float, default=None, help="Lambda (default: the filter's)")
+    parser.add_argument("--set", dest="settings", action="append", default=[], type=parse_setting,
+                        metavar="Class.Property=value",
+                        help="call Set<Property>(value) on every filter of that class, after the options above "
+                             "(value: int, float or text; 'a,b' passes two arguments); repeatable, e.g. "
+                             "--set vtkSDFGMMPartition.ModeProminence=0.05")
+
+
+# The classes --set may name: the chain's filters.
+SETTABLE = ("vtkShapeDiameterFilter", "vtkSDFBilateralSmooth", "vtkSDFGMMPartition", "vtkSDFSkeleton")
+
+
+def parse_value(text):
+    """int, else float, else the text itself."""
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def parse_setting(text):
+    """'Class.Property=value' -> (class, property, [values]); argparse reports a ValueError-free error."""
+    import argparse
+    name, equals, value = text.partition("=")
+    klass, dot, prop = name.strip().partition(".")
+    if not equals or not dot or not klass or not prop or not value.strip():
+        raise argparse.ArgumentTypeError("expected Class.Property=value, got %r" % text)
+    if klass not in SETTABLE:
+        raise argparse.ArgumentTypeError("%s: the class is not one of %s" % (text, ", ".join(SETTABLE)))
+    if not hasattr(getattr(shapediameter, klass), "Set" + prop):
+        raise argparse.ArgumentTypeError("%s: %s has no Set%s" % (text, klass, prop))
+    return klass, prop, [parse_value(v.strip()) for v in value.split(",")]
+
+
+def apply_settings(algorithm, arguments):
+    """Calls the --set settings that name algorithm's class on it; a value the filter clamped or
+    rejected is an error (SystemExit with the reason), not a silent change of the experiment."""
+    klass = algorithm.GetClassName()
+    for name, prop, values in getattr(arguments, "settings", None) or []:
+        if name != klass:
+            continue
+        try:
+            getattr(algorithm, "Set" + prop)(*values)
+        except TypeError as error:
+            raise SystemExit("--set %s.%s: %s" % (name, prop, error))
+        getter = getattr(algorithm, "Get" + prop, None)
+        if getter is not None and len(values) == 1 and isinstance(values[0], (int, float)):
+            now = getter()
+            if isinstance(now, (int, float)) and now != values[0]:
+                raise SystemExit("--set %s.%s=%s: the filter holds %s (out of its range?)" % (name, prop, values[0], now))
+    return algorithm
 
 
 def shape_diameter(arguments):
     sdf = shapediameter.vtkShapeDiameterFilter()
     if arguments.hit_rule is not None:
         sdf.SetHitRule(arguments.hit_rule)
-    return sdf
+    return apply_settings(sdf, arguments)
+
+
+def smoothing(arguments):
+    return apply_settings(shapediameter.vtkSDFBilateralSmooth(), arguments)
 
 
 def partition(arguments):
@@ -60,4 +116,8 @@ def partition(arguments):
         parts.SetNumberOfClusters(arguments.clusters)
     if arguments.smoothness is not None:
         parts.SetLambda(arguments.smoothness)
-    return parts
+    return apply_settings(parts, arguments)
+
+
+def skeleton(arguments):
+    return apply_settings(shapediameter.vtkSDFSkeleton(), arguments)

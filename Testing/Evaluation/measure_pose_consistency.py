@@ -2,8 +2,9 @@
 """Pose consistency of the whole chain on a folder of poses (same connectivity in every pose).
 
     pvpython Testing/Evaluation/measure_pose_consistency.py FOLDER [--hit-rule 0|1]
-             [--cluster-model 0|1] [--clusters K] [--lambda L] [--family]
-             [--expect-at-most PERCENT] [--skeleton [--skeleton-link segment|nearest]
+             [--cluster-model 0|1] [--clusters K] [--lambda L] [--set Class.Property=value ...]
+             [--family] [--expect-at-most PERCENT] [--expect-segment-change-at-most PERCENT]
+             [--skeleton [--skeleton-link segment|nearest]
              [--skeleton-seeds S1,S2,...] [--expect-bone-change-at-most PERCENT]]
 
 FOLDER holds the poses as .obj, .obj.gz, .off, .ply, .stl or .vtp files with identical
@@ -18,6 +19,9 @@ classes (package shapediameter, from build/) and prints:
 - the Table-2 measure of SDFCluster: mean over all pose pairs of the share of faces with a
   different cluster after the best one-to-one matching of labels (Hungarian, scipy);
 - per pose: clusters covering at least 1 % of the area;
+- the same Table-2 measure of SDFSegment (the connected parts the user sees: segments matched
+  one to one by their shared faces, the faces of unmatched segments count as different), and
+  per pose the segments and the segments covering at least 1 % of the area;
 - with --skeleton: the skeleton of every pose (vtkSDFSkeleton at its defaults on the
   partitioned pose, as the pipeline command chains them): leaves and junctions per pose, and
   the Table-2 measure of SkeletonBoneId (faces changing bone; faces linked to no bone count as
@@ -33,7 +37,9 @@ classes (package shapediameter, from build/) and prints:
 --family normalises every pose with one range (the widest SDFNormalizationRange of the
 poses) and partitions it with one model fitted on all poses together (the pipeline
 command's --family). --expect-at-most makes it a test: exit status 1 when the Table-2 measure
-exceeds PERCENT. A FOLDER that does not exist prints 'SKIP: ...' and exits 0 (ctest skips).
+of SDFCluster exceeds PERCENT; --expect-segment-change-at-most the same for SDFSegment.
+--set Class.Property=value calls Set<Property> on every filter of that class of the chain
+(chain_settings.py), e.g. --set vtkSDFGMMPartition.ModeProminence=0.05. A FOLDER that does not exist prints 'SKIP: ...' and exits 0 (ctest skips).
 
 Needs PYTHONPATH to contain build/lib/python3.11/site-packages (the README's pvpython setup).
 """
@@ -46,7 +52,6 @@ import tempfile
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-import shapediameter
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersCore import vtkAppendPolyData
 from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
@@ -67,6 +72,11 @@ def table2(labelings):
     return 100.0 * float(np.mean(shares))
 
 
+def large_labels(labelings, areas, share=0.01):
+    """Per labeling: the labels covering at least share of the area."""
+    return [int((np.bincount(l, weights=a) / a.sum() >= share).sum()) for l, a in zip(labelings, areas)]
+
+
 def leaves_and_junctions(skeleton):
     """Nodes of degree 1 and of degree >= 3 in the graph of the skeleton's polylines."""
     edges = {(min(a, b), max(a, b)) for a, b in chain_settings.skeleton_edges(skeleton) if a != b}
@@ -83,7 +93,9 @@ def main():
     chain_settings.add_arguments(parser)
     parser.add_argument("--family", action="store_true", help="one normalisation range and one model for all poses")
     parser.add_argument("--expect-at-most", type=float, default=None, metavar="PERCENT",
-                        help="fail (exit 1) when the Table-2 measure exceeds PERCENT")
+                        help="fail (exit 1) when the Table-2 measure of SDFCluster exceeds PERCENT")
+    parser.add_argument("--expect-segment-change-at-most", type=float, default=None, metavar="PERCENT",
+                        help="fail (exit 1) when the Table-2 measure of SDFSegment exceeds PERCENT")
     parser.add_argument("--skeleton", action="store_true",
                         help="also the skeleton of every pose: leaves, junctions, faces changing SkeletonBoneId")
     parser.add_argument("--skeleton-link", choices=("segment", "nearest"), default="segment",
@@ -101,14 +113,14 @@ def main():
                    key=lambda n: (len(n), n))
     if len(names) < 2:
         sys.exit("%s: fewer than two poses" % arguments.folder)
-    columns = {"SDF": [], "SDFSmoothed": [], "SDFNormalized": [], "SDFCluster": [], "Area": []}
+    columns = {"SDF": [], "SDFSmoothed": [], "SDFNormalized": [], "SDFCluster": [], "SDFSegment": [], "Area": []}
 
     smoothed = []
     with tempfile.TemporaryDirectory() as scratch:
         for name in names:
             sdf = chain_settings.shape_diameter(arguments)
             sdf.SetInputData(chain_settings.read_mesh(os.path.join(arguments.folder, name), scratch))
-            smooth = shapediameter.vtkSDFBilateralSmooth()
+            smooth = chain_settings.smoothing(arguments)
             smooth.SetInputConnection(sdf.GetOutputPort())
             smooth.Update()
             smoothed.append(smooth)
@@ -157,18 +169,26 @@ def main():
     measure = table2(labels)
     print("SDFCluster Table-2 measure%s: %.2f %% of the faces change cluster between poses" % (
         " (family model)" if arguments.family else "", measure))
-    large = [int((np.bincount(l, weights=a) / a.sum() >= 0.01).sum()) for l, a in zip(labels, columns["Area"])]
-    print("clusters covering >= 1 %% of the area, per pose: %s" % large)
+    print("clusters covering >= 1 %% of the area, per pose: %s" % large_labels(labels, columns["Area"]))
+    segments = [c.astype(int) for c in columns["SDFSegment"]]
+    segment_change = table2(segments)
+    print("SDFSegment Table-2 measure%s: %.2f %% of the faces change segment between poses" % (
+        " (family model)" if arguments.family else "", segment_change))
+    print("segments per pose: %s" % [len(np.unique(s)) for s in segments])
+    print("segments covering >= 1 %% of the area, per pose: %s" % large_labels(segments, columns["Area"]))
     failures = []
     if arguments.expect_at_most is not None and not measure <= arguments.expect_at_most:
         failures.append("%.2f %% of the faces change cluster, more than %.2f %%" % (measure, arguments.expect_at_most))
+    limit = arguments.expect_segment_change_at_most
+    if limit is not None and not segment_change <= limit:
+        failures.append("%.2f %% of the faces change segment, more than %.2f %%" % (segment_change, limit))
     if arguments.skeleton:
         seeds = [None] if arguments.skeleton_seeds is None else [int(s) for s in arguments.skeleton_seeds.split(",")]
         changes = []
         for seed in seeds:
             bones, shapes = [], []
             for surface in partitioned:
-                skeleton = shapediameter.vtkSDFSkeleton()
+                skeleton = chain_settings.skeleton(arguments)
                 skeleton.SetLinkBySegment(arguments.skeleton_link == "segment")
                 if seed is not None:
                     skeleton.SetSeed(seed)

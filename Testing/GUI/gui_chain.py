@@ -37,12 +37,12 @@ def build_chain():
     return parts
 
 
-def save_unlit_view(view, display, cluster_count, screenshot):
+def save_unlit_view(view, display, cluster_count, present, screenshot):
     lut = simple.GetColorTransferFunction("SDFCluster")
     palette = simple.GetSettingsProxy("ColorPalette")
     background = palette.BackgroundColor if hasattr(palette, "BackgroundColor") else palette.Background
     with open(screenshot + ".json", "w") as stream:
-        json.dump({"ClusterCount": cluster_count, "Background": list(background),
+        json.dump({"ClusterCount": cluster_count, "LabelsPresent": present, "Background": list(background),
                    "ColorArrayName": list(display.ColorArrayName),
                    "InterpretValuesAsCategories": lut.InterpretValuesAsCategories,
                    "ActiveAnnotatedValues": list(lut.ActiveAnnotatedValues),
@@ -78,8 +78,11 @@ def main():
     view = simple.GetActiveViewOrCreate("RenderView")
     display = simple.Show(parts, view)  # no ColorBy / LUT call: the default colouring is checked
     sdf_pipeline.frame_camera(view, parts)
-    means, weights = sdf_pipeline.cluster_model(servermanager.Fetch(parts))  # the mesh, once
-    save_unlit_view(view, display, len(means), os.environ["SHAPEDIAMETER_GUI_SCREENSHOT"])
+    mesh = servermanager.Fetch(parts)  # the mesh, once
+    means, weights = sdf_pipeline.cluster_model(mesh)
+    clusters = mesh.GetCellData().GetArray("SDFCluster")
+    present = sorted({int(clusters.GetValue(i)) for i in range(clusters.GetNumberOfTuples())} - {-1})
+    save_unlit_view(view, display, len(means), present, os.environ["SHAPEDIAMETER_GUI_SCREENSHOT"])
     arrange_window(view, parts, display, means, weights)
     # /usr/bin/python3: Debian's, with python3-pil (ImageGrab over XCB).
     subprocess.Popen(["/usr/bin/python3", os.path.join(source_dir, "Testing", "GUI", "grab_window.py"),

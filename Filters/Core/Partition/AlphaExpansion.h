@@ -21,7 +21,7 @@
 //   capacities (double precision), with the pair terms split evenly between the two faces so
 //   that equal-label pairs add no terminal capacity. Faces and arcs are limited to 2^31 - 2
 //   (std::invalid_argument beyond). Why our own max-flow rather than Boost.Graph's: see
-//   MaxFlow.h (measurements: README, "Performance"); the even split and the
+//   MaxFlow.h (measurements: docs/performance.md); the even split and the
 //   skipped moves below cut the work itself (fewer augmentations, fewer solves).
 //   A move whose result is known (no other move changed the labels since the last move of
 //   the same alpha) is counted as tried without solving it.

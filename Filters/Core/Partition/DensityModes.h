@@ -9,7 +9,7 @@
 //   moves a whole limb to another cluster. On the ten elephant poses
 //   (../shared/data/poses/elephant) the EM argmax disagrees between poses for every k tried,
 //   while the area-weighted density of the values has the same four modes in every pose
-//   (measurements: README, "Consistency"). Clusters bounded by the density's valleys move
+//   (measurements: docs/partition.md). Clusters bounded by the density's valleys move
 //   little when the values shift a little, because few faces lie near a valley.
 //
 // What it computes
@@ -32,10 +32,10 @@
 //   Bandwidth          0.02   (0, 1]   kernel sigma, relative to the value range. On the
 //                                      elephant poses 0.02 gave the same 4 modes in every pose
 //                                      and the most consistent cut (0.01: 4-5 modes).
-//   MinimumProminence  0.025  [0, 1]   relative to the highest peak: drops bumps of a few faces.
-//   MinimumValleyDepth 0.25   [0, 1]   relative to the mode's own height: a mode must be
+//   MinimumProminence  0.01   [0, 1]   relative to the highest peak: drops bumps of a few faces.
+//   MinimumValleyDepth 0.1    [0, 1]   relative to the mode's own height: a mode must be
 //                                      separated from its higher neighbour by a valley at least
-//                                      a quarter of its height deep. A shoulder on the flank of
+//                                      a tenth of its height deep. A shoulder on the flank of
 //                                      a larger mode (two thickness levels that overlap) is not
 //                                      a cluster: whether it shows a local maximum at all
 //                                      depends on the pose.
@@ -49,7 +49,7 @@
 // Why the valley depth: with the prominence relative to the highest peak alone, weak modes of
 // unseen pose families straddled the threshold from pose to pose (the lion got 3, 4 or 5
 // clusters by pose). Shoulders and real modes overlap in prominence but not in valley depth;
-// the figures and the margins, which are narrow: README, "Consistency".
+// the figures and the margins, which are narrow: docs/partition.md.
 //
 // Deviation from the paper: the number of clusters and their boundaries come from the density
 // rather than from k; k only caps the count. A shape with fewer thickness levels than k gets
@@ -74,8 +74,8 @@ public:
 struct DensityModesOptions
 {
   double Bandwidth = 0.02;
-  double MinimumProminence = 0.025;
-  double MinimumValleyDepth = 0.25;
+  double MinimumProminence = 0.01;
+  double MinimumValleyDepth = 0.1;
   int MaximumModes = 5;
   int BinCount = 2048;
   int GridSize = 1201;

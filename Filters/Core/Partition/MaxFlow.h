@@ -19,8 +19,7 @@
 //   expansion moves of one alpha-expansion run, replayed to both in one process
 //   (Testing/Benchmarks/BenchMaxFlow.cpp; topology built once for both, timed: filling the
 //   capacities and solving) -- ours was faster in every run, by more on the larger graph,
-//   with the same flow value on every move (measurements: README, "Performance", "Design
-//   measurements").
+//   with the same flow value on every move (measurements: docs/performance.md).
 //
 // Result
 //   InSourceSet(i): i is reachable from s in the final residual graph. This is the unique
@@ -98,7 +97,7 @@ private:
   std::int64_t OriginDistance(std::int32_t node);
 
   // Arcs and nodes as records: a search step touches every field of one arc or node, so
-  // keeping them together saves cache misses (measurement: README, "Design measurements").
+  // keeping them together saves cache misses (measurement: docs/performance.md).
   struct Arc
   {
     std::int32_t head = 0;

@@ -5,8 +5,7 @@
 // Why
 //   With the resolution-independent energy (PartitionEnergy.h) the cut weight of an edge
 //   grows as sqrt(faces) relative to a face's data cost, so every max-flow of a plain
-//   alpha-expansion routes flow across whole parts and its cost grows as faces^1.5 (README,
-//   "Performance"). The energy approximates an integral over the surface, so its minimiser is
+//   alpha-expansion routes flow across whole parts and its cost grows as faces^1.5 (docs/performance.md). The energy approximates an integral over the surface, so its minimiser is
 //   nearly the same on a coarser graph; only the exact position of the boundaries needs the
 //   fine faces.
 //
@@ -27,10 +26,9 @@
 //      the band faces). The second kind of band is for parts the coarse solve lost: a thin
 //      part whose clusters have ragged boundaries costs more on the coarse graph than its
 //      straight fine cut, vanishes there and leaves no boundary to refine from (seen on the
-//      linear subdivisions of the camel and the man: README, "Consistency", "Resolution").
+//      linear subdivisions of the camel and the man: docs/partition.md).
 //      It also makes the result follow the energy as the plain alpha-expansion does: without
-//      it the coarse solve smoothed more than λ asks (the elephant poses: README,
-//      "Consistency").
+//      it the coarse solve smoothed more than λ asks (the elephant poses: docs/partition.md).
 //   Graphs with at most DirectBelowFaces faces go straight to MinimizeByAlphaExpansion, so
 //   small meshes get exactly the plain alpha-expansion.
 //   The band's connected components (one per part boundary, typically) are independent once
@@ -41,7 +39,7 @@
 //   85k-208k faces, 1 and 2 threads), and do not depend on the thread count. Also tried:
 //   solving coarse levels of 15k-60k nodes by coarsening once more (the coarse solve is the
 //   largest serial step): a little faster, but a clearly higher E; not kept. Measurements:
-//   README, "Performance", "Design measurements".
+//   docs/performance.md.
 //
 // Guarantees and deviation
 //   E never exceeds the energy of the projected coarse labelling, which is the coarse
@@ -50,7 +48,7 @@
 //   alpha-expansion finds: against the plain alpha-expansion, several times faster above
 //   DirectBelowFaces for a slightly higher E and a few percent of the faces labelled
 //   differently. Below DirectBelowFaces the plain alpha-expansion is used: there the multilevel
-//   cut gained too little for the faces it moved. Measurements: README, "Performance",
+//   cut gained too little for the faces it moved. Measurements: docs/performance.md,
 //   "Design measurements".
 //
 // Parameters (MultilevelOptions)
@@ -62,7 +60,7 @@
 //   LostRegionFaces   1024   [1, inf)   smallest region off its most probable label that is
 //                                        re-solved; smaller values enlarge the band for little
 //                                        lower E and the same clusters.
-//   (Measurements of the three: README, "Design measurements".)
+//   (Measurements of the three: docs/performance.md.)
 //
 // Progress and abort: as MinimizeByAlphaExpansion (the coarse solve reports the first half).
 // While bands run concurrently, `progress` is called from the worker threads, one call at a

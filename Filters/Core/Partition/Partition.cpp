@@ -43,6 +43,16 @@ GaussianMixtureModel FitClusterModel(ValuesView values, const FaceGraph& graph, 
     : FitGaussianMixture(values, options.NumberOfClusters, options.Mixture);
 }
 
+/// The refinement's options with the partition's own energy and cut.
+PartRefinementOptions RefinementOptions(const PartitionOptions& options)
+{
+  PartRefinementOptions refinement = options.Refinement;
+  refinement.Energy = options.Energy;
+  refinement.Multilevel = options.Multilevel;
+  refinement.AlphaExpansion = options.AlphaExpansion;
+  return refinement;
+}
+
 } // namespace
 
 void ValidatePartitionOptions(const PartitionOptions& options)
@@ -58,6 +68,14 @@ void ValidatePartitionOptions(const PartitionOptions& options)
   if (options.HistogramBins < 1)
   {
     throw PartitionError("partition: HistogramBins must be >= 1");
+  }
+  try
+  {
+    ValidatePartRefinementOptions(options.Refinement);
+  }
+  catch (const std::exception& error)
+  {
+    throw PartitionError(error.what());
   }
 }
 
@@ -116,15 +134,35 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
   result.Energy = cut.Energy;
   result.CutMoves = cut.Moves;
 
-  // 6. Segments and hierarchy.
-  result.Segments = FindConnectedSegmentsOnValidGraph(view, result.Labels, graph.Areas);
+  // 6. The hierarchy of the bands and their segments.
+  result.Bands = std::move(result.Labels);
+  result.Segments = FindConnectedSegmentsOnValidGraph(view, result.Bands, graph.Areas);
   for (int level = 1; level < result.Model.ComponentCount(); ++level)
   {
-    result.Levels.push_back(HierarchyLevel(result.Labels, level));
+    result.Levels.push_back(HierarchyLevel(result.Bands, level));
   }
   result.Timings.SegmentsMs = Lap(start);
 
-  // 7. The histogram with the fitted densities.
+  // 7. The fine level.
+  if (options.Refinement.Enabled)
+  {
+    PartRefinementResult fine = RefineParts(
+      view, input.FaceValues, result.Bands, result.Segments, RefinementOptions(options), parallelFor);
+    result.Labels = std::move(fine.Labels);
+    result.LabelBands = std::move(fine.LabelBand);
+    result.Segments = FindConnectedSegmentsOnValidGraph(view, result.Labels, graph.Areas);
+  }
+  else
+  {
+    result.Labels = result.Bands;
+    for (int band = 0; band < result.Model.ComponentCount(); ++band)
+    {
+      result.LabelBands.push_back(band);
+    }
+  }
+  result.Timings.RefinementMs = Lap(start);
+
+  // 8. The histogram with the fitted densities.
   result.Histogram = MixtureHistogram(result.Model, input.FaceValues, options.HistogramBins);
   result.Timings.HistogramMs = Lap(start);
   if (progress)

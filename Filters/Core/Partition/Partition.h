@@ -15,10 +15,15 @@
 //     5. MinimizeMultilevel      - the k-way alpha-expansion graph cut, multilevel on large
 //                                  meshes, plain below MultilevelOptions::DirectBelowFaces
 //                                  (MultilevelCut.h, AlphaExpansion.h)
-//     6. the hierarchy levels and the connected segments of equal cluster (PartitionEnergy.h)
-//     7. MixtureHistogram        - the histogram of the values with the fitted densities
+//     6. the hierarchy levels of the bands and their connected segments (PartitionEnergy.h)
+//     7. RefineParts             - the fine level: each large segment of a band cut again by
+//                                  the modes of its own values (PartRefinement.h); the
+//                                  connected segments of the fine labels
+//     8. MixtureHistogram        - the histogram of the values with the fitted densities
 //                                  (the paper's Fig. 7 as data)
-//   Clusters are numbered by mixture mean, largest first (cluster 0 = the thickest parts).
+//   Bands (the cut's labels) are numbered by mixture mean, largest first (band 0 = the thickest
+//   parts); the fine labels (`SDFCluster`) by band, then by mean. Without the refinement the
+//   fine labels are the bands.
 //   Each step's own header documents its method, parameters and deviations from the paper;
 //   this file only chains them, maps the options and times the steps.
 //
@@ -61,6 +66,7 @@
 #include "Partition/GaussianMixture.h"
 #include "Mesh/MeshTypes.h"
 #include "Partition/MultilevelCut.h"
+#include "Partition/PartRefinement.h"
 #include "Parallel.h"
 #include "Partition/PartitionEnergy.h"
 
@@ -111,6 +117,9 @@ struct PartitionOptions
   MultilevelOptions Multilevel;
   /// The alpha-expansion moves (AlphaExpansion.h).
   AlphaExpansionOptions AlphaExpansion;
+  /// The fine level (PartRefinement.h): Enabled, MinimumAreaShare, the modes inside a part.
+  /// Its Energy, Multilevel and AlphaExpansion are not read: the partition's own are used.
+  PartRefinementOptions Refinement;
   /// Bins of the histogram (MixtureHistogram), default 64, [1, inf).
   int HistogramBins = 64;
 };
@@ -154,6 +163,8 @@ struct PartitionTimings
   double CutMs = 0.0;
   /// The connected segments and the hierarchy levels.
   double SegmentsMs = 0.0;
+  /// The fine level and its segments.
+  double RefinementMs = 0.0;
   double HistogramMs = 0.0;
 };
 
@@ -163,11 +174,16 @@ struct PartitionResult
   GaussianMixtureModel Model;
   /// P(cluster | f), faces x k, rows sum to 1.
   PosteriorMatrix Probabilities;
-  /// The cluster of each face after the cut, in [0, k) (`SDFCluster`).
+  /// The band of each face after the cut, in [0, k) (`SDFBand`).
+  std::vector<int> Bands;
+  /// The fine label of each face (`SDFCluster`): the bands refined (PartRefinement.h), or the
+  /// bands themselves when the refinement is off.
   std::vector<int> Labels;
-  /// Levels[L - 1] = hierarchy level L = min(cluster, L), L = 1 .. k - 1 (`SDFLevel{L}`).
+  /// Per fine label, its band.
+  std::vector<int> LabelBands;
+  /// Levels[L - 1] = hierarchy level L = min(band, L), L = 1 .. k - 1 (`SDFLevel{L}`).
   std::vector<std::vector<int>> Levels;
-  /// Connected parts of equal cluster, 0 = the largest area (`SDFSegment`).
+  /// Connected parts of equal fine label, 0 = the largest area (`SDFSegment`).
   ConnectedSegments Segments;
   /// E of the labels (`SDFEnergy`).
   double Energy = 0.0;

@@ -18,7 +18,7 @@
 //   a property of the surface, not of its triangulation: the same lambda gives the same parts
 //   at any resolution, in any unit, on irregular meshes. Without them (the paper's sums) the
 //   smoothness weight falls as 1/sqrt(F) relative to the data term: fine meshes fragment,
-//   coarse ones collapse. Measurements of both: README, "Partition quality".
+//   coarse ones collapse. Measurements of both: docs/partition.md.
 //   Also here: the functions of a final labelling over the same graph -- the hierarchy levels
 //   (paper: "by sorting the means of the GMM from large to small ... the first level separates
 //   the largest value from all other values") and connected segments.
@@ -37,7 +37,7 @@
 //                                         Chosen on the articulated test figure (lowest pose
 //                                         difference by the paper's Table 2 measure; larger
 //                                         values lose thin clusters) and checked on the meshes
-//                                         of README, "Partition quality".
+//                                         of docs/partition.md.
 //   ProbabilityEpsilon  1e-8   [1e-300, 1] epsilon of e1: a zero posterior costs 18.4.
 //   ConvexityFactor     0.08   [0, 1]     phi scale on convex edges (convex creases are not
 //                                         part boundaries; 1 = ignore convexity).

@@ -101,7 +101,7 @@ TEST(DensityModes, AShoulderIsNotAModeButASmallSeparatedModeIs)
 {
   // A thickness level overlapping a larger one (0.52 next to 0.4) makes a shoulder with a
   // shallow local maximum; a small level far from the others (0.85, 2.6 % of the values) makes
-  // a low but separated peak. Only the second is a cluster by default.
+  // a low but separated peak. With a valley depth of 0.25 only the second is a cluster.
   const std::vector<double> values = Mixture({ 0.4, 0.52, 0.85 }, { 0.05, 0.03, 0.02 }, { 8000, 3000, 300 });
   const std::vector<double> ones(values.size(), 1.0);
   DensityModesOptions prominenceAlone;
@@ -112,7 +112,9 @@ TEST(DensityModes, AShoulderIsNotAModeButASmallSeparatedModeIs)
   EXPECT_GT(all.Prominences[1], 0.05) << "prominent enough for the former rule (prominence 0.05 alone)";
   EXPECT_LT(all.ValleyDepths[1], 0.25);
   EXPECT_GT(all.ValleyDepths[2], 0.9);
-  const auto result = FitDensityModes(View(values), View(ones));
+  DensityModesOptions quarterValley;
+  quarterValley.MinimumValleyDepth = 0.25;
+  const auto result = FitDensityModes(View(values), View(ones), quarterValley);
   ASSERT_EQ(result.Modes.size(), 2u);
   EXPECT_NEAR(result.Modes[0], 0.4, 0.03);
   EXPECT_NEAR(result.Modes[1], 0.85, 0.02);

@@ -81,6 +81,7 @@ TEST(Partition, OneCallEqualsTheStepsOneByOne)
       PartitionOptions options;
       options.ClusterModel = clusterModel;
       options.NumberOfClusters = 3;
+      options.Refinement.Enabled = false; // the steps of section 4 alone (the fine level: TestPartRefinement)
       const StepByStep steps = RunSteps(shape, options, parallelFor);
       const PartitionResult result =
         PartitionBySDF(shape.Mesh.Points, shape.Mesh.Triangles, shape.Values, options, parallelFor);
@@ -89,7 +90,8 @@ TEST(Partition, OneCallEqualsTheStepsOneByOne)
       EXPECT_EQ(result.Model.Sigmas, steps.Model.Sigmas);
       EXPECT_EQ(result.Model.Weights, steps.Model.Weights);
       EXPECT_TRUE(result.Probabilities == steps.Posteriors);
-      EXPECT_EQ(result.Labels, steps.Cut.Labels);
+      EXPECT_EQ(result.Bands, steps.Cut.Labels);
+      EXPECT_EQ(result.Labels, steps.Cut.Labels); // refinement off: the fine labels are the bands
       EXPECT_EQ(result.Energy, steps.Cut.Energy);
       EXPECT_EQ(result.CutMoves, steps.Cut.Moves);
       EXPECT_EQ(result.Segments.Segment, steps.Segments.Segment);
