@@ -80,6 +80,158 @@ double Seconds(std::chrono::steady_clock::time_point start)
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
+
+bool IsScattered(const std::vector<int>& scatteredPorts, int port)
+{
+  return std::find(scatteredPorts.begin(), scatteredPorts.end(), port) != scatteredPorts.end();
+}
+
+/// Every process's piece on process 0 (piece 0 = local), nothing elsewhere. Point-to-point
+/// rather than Gather: vtkCommunicator splits sends larger than 2^31 bytes, while a gather's MPI
+/// counts and displacements are ints (whole surfaces above ~2 GiB).
+std::vector<vtkSmartPointer<vtkPolyData>> GatherPieces(vtkMultiProcessController* controller, vtkPolyData* local)
+{
+  const int processes = controller->GetNumberOfProcesses();
+  std::vector<vtkSmartPointer<vtkPolyData>> gathered(static_cast<std::size_t>(processes));
+  if (controller->GetLocalProcessId() == 0)
+  {
+    gathered[0] = local;
+    for (int r = 1; r < processes; ++r)
+    {
+      gathered[static_cast<std::size_t>(r)] = vtkSmartPointer<vtkPolyData>::New();
+      controller->Receive(gathered[static_cast<std::size_t>(r)], r, GATHER_TAG);
+    }
+  }
+  else
+  {
+    controller->Send(local, 0, GATHER_TAG);
+  }
+  return gathered;
+}
+
+/// What process 0's serial run produced: one output per port (empty unless Ran).
+struct WholeRun
+{
+  WholeSurface Whole;
+  std::vector<vtkSmartPointer<vtkDataObject>> Outputs;
+  bool Ran = false;
+  int Status = 1;
+  double BuildSeconds = 0.0;
+  double SerialSeconds = 0.0;
+};
+
+/// Assembles the whole surface from the pieces and runs the serial algorithm on it through
+/// substitute information vectors. A failure is reported and leaves Ran false, so that the
+/// other processes are never left waiting (they get their input back unchanged).
+WholeRun RunSerialOnWhole(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector, const std::vector<vtkPolyData*>& pieces, const SerialBody& serial)
+{
+  WholeRun run;
+  try
+  {
+    auto start = std::chrono::steady_clock::now();
+    run.Whole = AssembleWholeSurface(pieces);
+    run.BuildSeconds = Seconds(start);
+
+    start = std::chrono::steady_clock::now();
+    const int inputPorts = algorithm->GetNumberOfInputPorts();
+    std::vector<vtkInformationVector*> inputs(inputVector, inputVector + inputPorts);
+    vtkNew<vtkInformationVector> wholeInputVector;
+    vtkNew<vtkInformation> wholeInputInfo;
+    wholeInputInfo->Set(vtkDataObject::DATA_OBJECT(), run.Whole.Mesh);
+    wholeInputVector->Append(wholeInputInfo);
+    inputs[0] = wholeInputVector;
+    vtkNew<vtkInformationVector> wholeOutputVector;
+    for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
+    {
+      vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
+      run.Outputs.push_back(vtkSmartPointer<vtkDataObject>::Take(real->NewInstance()));
+      vtkNew<vtkInformation> info;
+      info->Set(vtkDataObject::DATA_OBJECT(), run.Outputs.back());
+      wholeOutputVector->Append(info);
+    }
+    run.Status = serial(inputs.data(), wholeOutputVector);
+    run.SerialSeconds = Seconds(start);
+    run.Ran = true;
+  }
+  catch (const std::exception& error)
+  {
+    vtkErrorWithObjectMacro(algorithm, "Distributed run failed on process 0: " << error.what());
+    run.Status = 0;
+  }
+  return run;
+}
+
+/// On process 0: the whole outputs on its unscattered ports, the status to every process, then
+/// each process's share of every scattered port (process 0's own applied last).
+void ScatterResults(vtkMultiProcessController* controller, vtkPolyData* input, vtkInformationVector* outputVector,
+  const std::vector<int>& scatteredPorts, const std::vector<vtkPolyData*>& pieces, const WholeRun& run)
+{
+  const int processes = controller->GetNumberOfProcesses();
+  for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
+  {
+    vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
+    if (!IsScattered(scatteredPorts, port))
+    {
+      if (run.Ran)
+      {
+        real->ShallowCopy(run.Outputs[static_cast<std::size_t>(port)]);
+      }
+      else
+      {
+        real->Initialize();
+      }
+    }
+  }
+  for (int r = 1; r < processes; ++r)
+  {
+    int status = run.Status;
+    controller->Send(&status, 1, r, STATUS_TAG);
+  }
+  const WholeSurface& whole = run.Whole;
+  for (const int port : scatteredPorts)
+  {
+    auto* wholeOutput = run.Ran ? vtkPolyData::SafeDownCast(run.Outputs[static_cast<std::size_t>(port)]) : nullptr;
+    for (int r = processes - 1; r >= 0; --r)
+    {
+      vtkSmartPointer<vtkPolyData> result = wholeOutput
+        ? LocalResult(pieces[static_cast<std::size_t>(r)], whole.Mesh, wholeOutput,
+            whole.CellToWhole[static_cast<std::size_t>(r)], whole.PointToWhole[static_cast<std::size_t>(r)])
+        : vtkSmartPointer<vtkPolyData>::New(); // nothing usable: the process keeps its input
+      if (r == 0)
+      {
+        ApplyResult(input, result, outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT()));
+      }
+      else
+      {
+        controller->Send(result, r, RESULT_TAG + port);
+      }
+    }
+  }
+}
+
+/// On the other processes: the status, then this process's share of every scattered port (the
+/// other ports are complete on process 0 only).
+int ReceiveResults(vtkMultiProcessController* controller, vtkPolyData* input, vtkInformationVector* outputVector,
+  const std::vector<int>& scatteredPorts)
+{
+  const int status = WaitForStatus(controller);
+  for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
+  {
+    vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
+    if (IsScattered(scatteredPorts, port))
+    {
+      vtkNew<vtkPolyData> result;
+      controller->Receive(result, 0, RESULT_TAG + port);
+      ApplyResult(input, result, real);
+    }
+    else
+    {
+      real->Initialize();
+    }
+  }
+  return status;
+}
 } // namespace
 
 bool IsDistributedRequest(vtkInformationVector** inputVector, vtkInformationVector* outputVector)
@@ -105,155 +257,42 @@ int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVecto
   vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const SerialBody& serial)
 {
   vtkMultiProcessController* controller = Controller();
-  const int rank = controller->GetLocalProcessId();
-  const int processes = controller->GetNumberOfProcesses();
-  const bool timing = rank == 0 && std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING") &&
-    std::string(std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING")) != "0";
-  auto start = std::chrono::steady_clock::now();
-
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkNew<vtkPolyData> local;
   if (input)
   {
     local->ShallowCopy(input);
   }
-  // Point-to-point rather than Gather: vtkCommunicator splits sends larger than 2^31 bytes,
-  // while a gather's MPI counts and displacements are ints (whole surfaces above ~2 GiB).
-  std::vector<vtkSmartPointer<vtkPolyData>> gathered(static_cast<std::size_t>(processes));
-  if (rank == 0)
+  if (controller->GetLocalProcessId() != 0)
   {
-    for (int r = 1; r < processes; ++r)
-    {
-      gathered[static_cast<std::size_t>(r)] = vtkSmartPointer<vtkPolyData>::New();
-      controller->Receive(gathered[static_cast<std::size_t>(r)], r, GATHER_TAG);
-    }
+    GatherPieces(controller, local);
+    return ReceiveResults(controller, input, outputVector, scatteredPorts);
   }
-  else
-  {
-    controller->Send(local, 0, GATHER_TAG);
-  }
+
+  auto start = std::chrono::steady_clock::now();
+  const std::vector<vtkSmartPointer<vtkPolyData>> gathered = GatherPieces(controller, local);
   const double gatherSeconds = Seconds(start);
-
-  int status = 1;
-  const int outputPorts = outputVector->GetNumberOfInformationObjects();
-  auto isScattered = [&](int port) {
-    return std::find(scatteredPorts.begin(), scatteredPorts.end(), port) != scatteredPorts.end();
-  };
-  double buildSeconds = 0.0, serialSeconds = 0.0;
-  if (rank == 0)
+  std::vector<vtkPolyData*> pieces;
+  for (const auto& piece : gathered)
   {
-    start = std::chrono::steady_clock::now();
-    std::vector<vtkPolyData*> pieces;
-    for (int r = 0; r < processes; ++r)
-    {
-      pieces.push_back(r == 0 ? local.GetPointer() : gathered[static_cast<std::size_t>(r)].GetPointer());
-    }
-    WholeSurface whole;
-    std::vector<vtkSmartPointer<vtkDataObject>> wholeOutputs;
-    bool ran = false;
-    try
-    {
-      whole = AssembleWholeSurface(pieces);
-      buildSeconds = Seconds(start);
-
-      // The serial algorithm on substitute information vectors.
-      start = std::chrono::steady_clock::now();
-      const int inputPorts = algorithm->GetNumberOfInputPorts();
-      std::vector<vtkInformationVector*> inputs(inputVector, inputVector + inputPorts);
-      vtkNew<vtkInformationVector> wholeInputVector;
-      vtkNew<vtkInformation> wholeInputInfo;
-      wholeInputInfo->Set(vtkDataObject::DATA_OBJECT(), whole.Mesh);
-      wholeInputVector->Append(wholeInputInfo);
-      inputs[0] = wholeInputVector;
-      vtkNew<vtkInformationVector> wholeOutputVector;
-      for (int port = 0; port < outputPorts; ++port)
-      {
-        vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
-        wholeOutputs.push_back(vtkSmartPointer<vtkDataObject>::Take(real->NewInstance()));
-        vtkNew<vtkInformation> info;
-        info->Set(vtkDataObject::DATA_OBJECT(), wholeOutputs.back());
-        wholeOutputVector->Append(info);
-      }
-      status = serial(inputs.data(), wholeOutputVector);
-      serialSeconds = Seconds(start);
-      ran = true;
-    }
-    catch (const std::exception& error)
-    {
-      // Never leave the other processes waiting: they get their input back unchanged.
-      vtkErrorWithObjectMacro(algorithm, "Distributed run failed on process 0: " << error.what());
-      status = 0;
-    }
-
-    start = std::chrono::steady_clock::now();
-    for (int port = 0; port < outputPorts; ++port)
-    {
-      vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
-      if (!isScattered(port))
-      {
-        if (ran)
-        {
-          real->ShallowCopy(wholeOutputs[static_cast<std::size_t>(port)]);
-        }
-        else
-        {
-          real->Initialize();
-        }
-      }
-    }
-    for (int r = 1; r < processes; ++r)
-    {
-      controller->Send(&status, 1, r, STATUS_TAG);
-    }
-    for (const int port : scatteredPorts)
-    {
-      auto* wholeOutput = ran ? vtkPolyData::SafeDownCast(wholeOutputs[static_cast<std::size_t>(port)]) : nullptr;
-      for (int r = processes - 1; r >= 0; --r)
-      {
-        vtkSmartPointer<vtkPolyData> result = wholeOutput
-          ? LocalResult(pieces[static_cast<std::size_t>(r)], whole.Mesh, wholeOutput,
-              whole.CellToWhole[static_cast<std::size_t>(r)], whole.PointToWhole[static_cast<std::size_t>(r)])
-          : vtkSmartPointer<vtkPolyData>::New(); // nothing usable: the process keeps its input
-        if (r == 0)
-        {
-          ApplyResult(input, result, outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT()));
-        }
-        else
-        {
-          controller->Send(result, r, RESULT_TAG + port);
-        }
-      }
-    }
-    if (timing)
-    {
-      std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName() << " on " << processes
-                << " processes: " << whole.Mesh->GetNumberOfCells() << " cells, "
-                << whole.Mesh->GetNumberOfPoints() << " points, "
-                << whole.Mesh->GetActualMemorySize() / 1024.0 << " MiB (cells by " << ToString(whole.Cells)
-                << ", points by " << ToString(whole.Points) << "); gather " << gatherSeconds << " s, build "
-                << buildSeconds << " s, serial algorithm " << serialSeconds << " s, scatter "
-                << Seconds(start) << " s" << std::endl;
-    }
+    pieces.push_back(piece.GetPointer());
   }
-  else
+  const WholeRun run = RunSerialOnWhole(algorithm, inputVector, outputVector, pieces, serial);
+  start = std::chrono::steady_clock::now();
+  ScatterResults(controller, input, outputVector, scatteredPorts, pieces, run);
+  const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");
+  if (timing && std::string(timing) != "0")
   {
-    status = WaitForStatus(controller);
-    for (int port = 0; port < outputPorts; ++port)
-    {
-      vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
-      if (isScattered(port))
-      {
-        vtkNew<vtkPolyData> result;
-        controller->Receive(result, 0, RESULT_TAG + port);
-        ApplyResult(input, result, real);
-      }
-      else
-      {
-        real->Initialize(); // complete on process 0 only
-      }
-    }
+    const WholeSurface& whole = run.Whole;
+    std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName() << " on "
+              << controller->GetNumberOfProcesses() << " processes: " << whole.Mesh->GetNumberOfCells()
+              << " cells, " << whole.Mesh->GetNumberOfPoints() << " points, "
+              << whole.Mesh->GetActualMemorySize() / 1024.0 << " MiB (cells by " << ToString(whole.Cells)
+              << ", points by " << ToString(whole.Points) << "); gather " << gatherSeconds << " s, build "
+              << run.BuildSeconds << " s, serial algorithm " << run.SerialSeconds << " s, scatter "
+              << Seconds(start) << " s" << std::endl;
   }
-  return status;
+  return run.Status;
 }
 
 } // namespace shapediameter::distributed

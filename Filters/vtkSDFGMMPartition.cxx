@@ -104,10 +104,10 @@ vtkSDFGMMPartition::vtkSDFGMMPartition()
   this->NumberOfClusters = defaults.NumberOfClusters;
   this->MaximumClusters = defaults.MaximumClusters;
   this->Lambda = defaults.Energy.Lambda;
-  this->Epsilon = defaults.Energy.ProbabilityEpsilon;
+  this->Epsilon = defaults.Energy.Epsilon;
   this->ConvexityFactor = defaults.Energy.ConvexityFactor;
   this->Restarts = defaults.Mixture.Restarts;
-  this->MaximumIterations = defaults.Mixture.MaxIterations;
+  this->MaximumIterations = defaults.Mixture.MaximumIterations;
   this->Seed = static_cast<int>(defaults.Mixture.Seed);
   this->HistogramBins = defaults.HistogramBins;
   this->ClusterModel = defaults.ClusterModel == shapediameter::PartitionClusterModel::ExpectationMaximization ? 0 : 1;
@@ -182,13 +182,13 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
   options.NumberOfClusters = this->NumberOfClusters;
   options.MaximumClusters = this->MaximumClusters;
   options.Mixture.Restarts = this->Restarts;
-  options.Mixture.MaxIterations = this->MaximumIterations;
+  options.Mixture.MaximumIterations = this->MaximumIterations;
   options.Mixture.Seed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->Seed));
   options.Modes.Bandwidth = this->ModeBandwidth;
   options.Modes.MinimumProminence = this->ModeProminence;
   options.Modes.MinimumValleyDepth = this->ModeValleyDepth;
   options.Energy.Lambda = this->Lambda;
-  options.Energy.ProbabilityEpsilon = this->Epsilon;
+  options.Energy.Epsilon = this->Epsilon;
   options.Energy.ConvexityFactor = this->ConvexityFactor;
   options.HistogramBins = this->HistogramBins;
   options.Refinement.Enabled = this->RefineParts;

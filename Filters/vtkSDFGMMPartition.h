@@ -199,11 +199,21 @@ public:
   vtkGetMacro(HistogramBins, int);
   ///@}
 
+  /// Values of ClusterModel.
+  enum ClusterModelType
+  {
+    EM = 0,
+    DENSITY_MODES = 1
+  };
+
   ///@{
-  /// How the clusters are found: 1 (default) the at most k modes of the area-weighted SDF
-  /// density (Filters/Core/Partition/DensityModes.h); 0 the paper's EM fit of k Gaussians (range [0, 1]).
-  vtkSetClampMacro(ClusterModel, int, 0, 1);
+  /// How the clusters are found: 1 = DENSITY_MODES (default) the at most k modes of the
+  /// area-weighted SDF density (Filters/Core/Partition/DensityModes.h); 0 = EM the paper's EM
+  /// fit of k Gaussians (range [0, 1]).
+  vtkSetClampMacro(ClusterModel, int, EM, DENSITY_MODES);
   vtkGetMacro(ClusterModel, int);
+  void SetClusterModelToEM() { this->SetClusterModel(EM); }
+  void SetClusterModelToDensityModes() { this->SetClusterModel(DENSITY_MODES); }
   ///@}
 
   ///@{

@@ -4,6 +4,7 @@
 #include "RayCasting/EmbreeRayCaster.h"
 #include "Mesh/MeshGeometry.h"
 #include "Mesh/Orientation.h"
+#include "SDF/SDF.h"
 #include "SDF/ShapeDiameter.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
@@ -64,7 +65,7 @@ vtkShapeDiameterFilter::vtkShapeDiameterFilter()
   // The defaults live in the core's options (Filters/Core/SDF/ShapeDiameter.h); the XML mirrors them.
   const ShapeDiameterOptions defaults;
   this->NumberOfRays = defaults.NumberOfRays;
-  this->ConeAngle = defaults.ConeAngleDegrees;
+  this->ConeAngle = defaults.ConeAngle;
   this->HitRule = defaults.Rule == shapediameter::HitRule::SkipSameFacing ? 1 : 0;
   this->Mode = defaults.Mode == ShapeDiameterMode::Adaptive ? ADAPTIVE : EXACT;
   this->Tolerance = defaults.Tolerance;
@@ -138,11 +139,11 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
   }
   ShapeDiameterOptions options;
   options.NumberOfRays = this->NumberOfRays;
-  options.ConeAngleDegrees = this->ConeAngle;
+  options.ConeAngle = this->ConeAngle;
   options.Rule = this->HitRule == 1 ? shapediameter::HitRule::SkipSameFacing : shapediameter::HitRule::FirstHitLeaving;
   options.Mode = this->Mode == ADAPTIVE ? ShapeDiameterMode::Adaptive : ShapeDiameterMode::Exact;
   options.Tolerance = this->Tolerance;
-  options.IgnoreBuriedOrigins = this->IgnoreBuriedFaces != 0;
+  options.IgnoreBuriedFaces = this->IgnoreBuriedFaces != 0;
   // MakeVertexOrigins normalises the area-weighted normals, and skips zero ones.
   RayOrigins origins = this->PerPoint
     ? MakeVertexOrigins(surface.Points, AreaWeightedVertexNormals(surface.Points, surface.Triangles))

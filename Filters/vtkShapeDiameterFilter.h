@@ -107,12 +107,21 @@ public:
   vtkGetMacro(ConeAngle, double);
   ///@}
 
+  /// Values of HitRule.
+  enum HitRuleType
+  {
+    FIRST_HIT_LEAVING = 0,
+    SKIP_SAME_FACING = 1
+  };
+
   ///@{
-  /// Which hit a ray measures: 0 (default) its first hit, dropped unless the ray leaves the
-  /// volume there; 1 the first hit on a face turned against the origin's, skipping others
-  /// (range [0, 1]).
-  vtkSetClampMacro(HitRule, int, 0, 1);
+  /// Which hit a ray measures: 0 = FIRST_HIT_LEAVING (default) its first hit, dropped unless
+  /// the ray leaves the volume there; 1 = SKIP_SAME_FACING the first hit on a face turned
+  /// against the origin's, skipping others (range [0, 1]).
+  vtkSetClampMacro(HitRule, int, FIRST_HIT_LEAVING, SKIP_SAME_FACING);
   vtkGetMacro(HitRule, int);
+  void SetHitRuleToFirstHitLeaving() { this->SetHitRule(FIRST_HIT_LEAVING); }
+  void SetHitRuleToSkipSameFacing() { this->SetHitRule(SKIP_SAME_FACING); }
   ///@}
 
   ///@{

@@ -46,7 +46,7 @@ def parse_arguments(argv):
                         help="SDF: 'exact' = every face casts its cone (the paper); 'adaptive' = a subset "
                              "of faces spaced at half the local SDF casts, refined where neighbours "
                              "disagree, the rest is interpolated (cost follows the shape, not the face "
-                             "count; README, 'Adaptive SDF')")
+                             "count; docs/adaptive-sdf.md)")
     parser.add_argument("--sdf-tolerance", type=float, default=argparse.SUPPRESS,
                         help="SDF, adaptive mode: relative difference between neighbouring cast faces "
                              "above which more faces are cast, in [0.001, 1] (default: the filter's, 0.15)")

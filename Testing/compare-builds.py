@@ -1,19 +1,43 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """Bit-identity check between two builds of the filters (e.g. before and after a refactor).
 
-    pvpython Testing/compare-builds.py dump BUILD_DIR OUT.npz MESH.off...   (one build)
+    pvpython Testing/compare-builds.py dump BUILD_DIR OUT.npz MESH.off... [--set Class.Property=value]...
     pvpython Testing/compare-builds.py compare A.npz B.npz                  (exact equality)
 
 `dump` runs reader -> ShapeDiameter -> BilateralSmooth -> GMMPartition -> Skeleton at their
-defaults on every mesh and stores every output array (cell, point, field data, points and
-connectivity of every port); `compare` lists every array that differs in any bit.
+defaults (or with the given --set, e.g. --set vtkShapeDiameterFilter.Mode=1 for Adaptive, or
+--set vtkSDFGMMPartition.ClusterModel=0 --set vtkShapeDiameterFilter.HitRule=1) on every mesh
+and stores every output array (cell, point, field data, points and connectivity of every
+port); `compare` lists every array that differs in any bit.
+
+The family chain (one range and one model for several meshes) lives in Plugin/sdf_pipeline.py:
+compare it by running `SHAPEDIAMETER_BUILD_DIR=<build> Plugin/sdf-pipeline --no-setup --no-render
+--family --output-dir <dir> MESH...` for each build and `cmp` on the .vtp files written.
 """
 import glob
 import os
 import sys
 
 
-def dump(build, out, meshes):
+def split_settings(arguments):
+    """(meshes, [(class, property, value)]) from 'MESH... --set Class.Property=value ...'."""
+    meshes, settings = [], []
+    iterator = iter(arguments)
+    for argument in iterator:
+        if argument != "--set":
+            meshes.append(argument)
+            continue
+        text = next(iterator, "")
+        name, equals, value = text.partition("=")
+        klass, dot, prop = name.partition(".")
+        if not equals or not dot:
+            sys.exit("error: compare-builds: expected --set Class.Property=value, got %r" % text)
+        settings.append((klass, prop, float(value) if "." in value else int(value)))
+    return meshes, settings
+
+
+def dump(build, out, arguments):
+    meshes, settings = split_settings(arguments)
     sys.path.insert(0, glob.glob(os.path.join(build, "lib", "python3*", "site-packages"))[0])
     import numpy
     from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -47,6 +71,10 @@ def dump(build, out, meshes):
         partition.SetInputConnection(smooth.GetOutputPort())
         skeleton = sd.vtkSDFSkeleton()
         skeleton.SetInputConnection(partition.GetOutputPort())
+        for klass, prop, value in settings:
+            for stage in (sdf, smooth, partition, skeleton):
+                if stage.GetClassName() == klass:
+                    getattr(stage, "Set" + prop)(value)
         skeleton.Update()
         partition.Update()
         store(key + "/partition", partition.GetOutput())

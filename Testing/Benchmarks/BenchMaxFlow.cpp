@@ -28,6 +28,7 @@
 #include "Partition/MaxFlow.h"
 #include "IO/OFFParser.h"
 #include "Partition/PartitionEnergy.h"
+#include "SDF/SDF.h"
 #include "SDF/ShapeDiameter.h"
 #include "Smoothing/SmoothAndNormalize.h"
 

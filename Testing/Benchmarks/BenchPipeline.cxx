@@ -59,6 +59,7 @@
 #include "LabelMatching.h"
 #include "Mesh/Orientation.h"
 #include "Partition/Partition.h"
+#include "SDF/SDF.h"
 #include "SDF/ShapeDiameter.h"
 #include "Smoothing/SmoothAndNormalize.h"
 #include "SurfaceConversion.h"

@@ -22,6 +22,7 @@
 #include "RayCasting/EmbreeRayCaster.h"
 #include "TestShapes.h"
 #include "RawEmbreeBaseline.h"
+#include "SDF/SDF.h"
 #include "SDF/ShapeDiameter.h"
 
 #include <benchmark/benchmark.h>

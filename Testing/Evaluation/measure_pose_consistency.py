@@ -28,7 +28,7 @@ classes (package shapediameter, from build/) and prints:
   one more label). --skeleton-link nearest turns LinkBySegment off (each face takes the bone
   of its nearest node, not its SDFSegment's bone). --skeleton-seeds runs the skeletons once per
   sampling Seed listed and prints each run and the mean over them: the skeleton's topology
-  changes with the seed about as much as with the pose (README "Skeleton against a rig"), so
+  changes with the seed about as much as with the pose (docs/skeleton.md), so
   one seed's number is partly luck.
 
 --expect-bone-change-at-most applies to the mean over the seeds (the one run without

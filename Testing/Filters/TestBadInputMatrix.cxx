@@ -4,7 +4,7 @@
 // SDF -> smooth -> partition. One ctest entry per (filter, input):
 //   BadInput/BadInputMatrix.<Filter>/<case>.
 //
-// The contract checked (README, "Robustness", and the "Bad input" paragraph of each filter
+// The contract checked (docs/design.md, "Errors and bad input", and the "Bad input" paragraph of each filter
 // header): never a crash, and one of
 //   Error      exactly one vtkErrorMacro; the output is a pass-through copy of the input:
 //              same points, same cells in the same order, the same arrays and no new one;
@@ -44,7 +44,7 @@
 //   degenerate (collapsed) faces .............. Processed (filled from neighbours)
 //   polygon cells with < 3 points ............. Either (not documented)
 //   duplicate points, triangle soup ........... Processed (several components)
-//   NaN / Inf coordinate used by a polygon .... Error for all (README "Robustness")
+//   NaN / Inf coordinate used by a polygon .... Error for all (docs/design.md)
 //   NaN coordinate of an unused point ......... Processed (only points used by polygons count)
 //   all points coincident, tiny (1e-200) scale  Processed (degenerate, finite coordinates)
 //   huge (1e200) scale ........................ Processed / Processed / Either (squared

@@ -168,7 +168,7 @@ TEST_F(FigurePartition, TwoPosesAgreeAndTheSharedModelDoesNotHurt)
   // thickness levels the per-mesh fits split a level differently in each pose, which is what
   // the shared model was first for (EM at k = 5 with the first energy: 7.8 % per mesh, 3.9 %
   // shared). Density modes (the default) at k = 5 find the levels themselves.
-  // The family way (README, "Consistency"): one normalisation range, the widest of the two,
+  // The family way (docs/partition.md, "Consistency"): one normalisation range, the widest of the two,
   // and one model fitted on both poses together.
   const std::array<double, 2> restRange = NormalizationRangeOf(RestNormalized);
   const std::array<double, 2> bentRange = NormalizationRangeOf(BentNormalized);
@@ -220,6 +220,17 @@ TEST_F(FigurePartition, DensityModesFollowTheThicknessLevelsInBothPoses)
   const double percent = shapediameter::CompareLabelings(rest, bent).PercentDifferent;
   std::printf("density modes: k = %d, Table 2 measure on the figure %.3f %%\n", k, percent);
   EXPECT_LE(percent, 3.0);
+}
+
+TEST(SDFGMMPartition, ClusterModelHasNamedSettersAndIsClamped)
+{
+  vtkNew<vtkSDFGMMPartition> partition;
+  partition->SetClusterModelToEM();
+  EXPECT_EQ(partition->GetClusterModel(), 0);
+  partition->SetClusterModelToDensityModes();
+  EXPECT_EQ(partition->GetClusterModel(), 1);
+  partition->SetClusterModel(-3);
+  EXPECT_EQ(partition->GetClusterModel(), vtkSDFGMMPartition::EM);
 }
 
 TEST(SDFGMMPartition, DegenerateInputsAreDefined)
@@ -361,7 +372,7 @@ TEST(SDFGMMPartition, ASubdivisionKeepsTheParts)
 }
 
 // ---------------------------------------------------------------------------------------------
-// Consistency of the whole chain at its defaults (README "Defaults") on inputs where it is
+// Consistency of the whole chain at its defaults (README "Parameters") on inputs where it is
 // not given by construction: a non-rigid pose and another tessellation of the figure.
 
 namespace
@@ -452,12 +463,12 @@ std::vector<int> ClustersAtDefaults(const figure::ArticulatedFigure& shape)
   smooth->SetInputConnection(sdf->GetOutputPort());
   vtkNew<vtkSDFGMMPartition> partition;
   partition->SetInputConnection(smooth->GetOutputPort());
-  // The defaults this test is about (README "Defaults"): if one changes, the thresholds below
+  // The defaults this test is about (README "Parameters"): if one changes, the thresholds below
   // were stated for other settings and must be looked at again.
   EXPECT_EQ(sdf->GetHitRule(), 0);
   EXPECT_EQ(sdf->GetNumberOfRays(), 30);
   EXPECT_EQ(smooth->GetNumberOfIterations(), 3);
-  EXPECT_EQ(partition->GetClusterModel(), 1);
+  EXPECT_EQ(partition->GetClusterModel(), vtkSDFGMMPartition::DENSITY_MODES);
   EXPECT_EQ(partition->GetNumberOfClusters(), 5);
   EXPECT_EQ(partition->GetLambda(), 0.03);
   partition->Update();
@@ -514,7 +525,7 @@ int ClustersCoveringOnePercent(const std::vector<int>& clusters, const std::vect
 TEST_F(FigureConsistencyAtDefaults, NonRigidPoseKeepsThePartsOfTheRestPose)
 {
   // Threshold stated before measuring (commit message): at most 5.5 % of the area, the bound
-  // the elephant's real poses meet at these defaults (README "Consistency": 5.01 %).
+  // the elephant's real poses meet at these defaults (docs/partition.md, "Consistency").
   // Measured 0.70 % of the area (0.70 % of the faces), 4 clusters in both. An SDF scaled by
   // (1 + height) gives 8.2 % and fails; by (1 + height / 2) it gives 1.2 % and passes.
   const std::vector<int> nonRigid = ClustersAtDefaults(*NonRigid);
@@ -531,7 +542,7 @@ TEST_F(FigureConsistencyAtDefaults, NonRigidPoseKeepsThePartsOfTheRestPose)
 TEST_F(FigureConsistencyAtDefaults, AnotherTessellationKeepsTheParts)
 {
   // Threshold stated before measuring (commit message): at most 5.5 % of the reference's
-  // area after nearest-centre transfer, as for the poses (README "Resolution": a subdivision
+  // area after nearest-centre transfer, as for the poses (docs/partition.md, "Consistency": a subdivision
   // changes 0.6-4.7 % on six of seven meshes). Measured 0.92 %, 4 clusters in both; an SDF
   // that depends on the face numbering (x 1.3 on alternate blocks of 500 faces) gives 49 %.
   const std::vector<int> copyClusters = ClustersAtDefaults(*Retriangulated);

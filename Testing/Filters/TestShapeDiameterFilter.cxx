@@ -136,6 +136,10 @@ TEST(ShapeDiameterFilter, HitRuleReachesTheCore)
   EXPECT_NEAR(firstHit / 4.0, 0.77, 0.03);
   vtkNew<vtkShapeDiameterFilter> clamped;
   clamped->SetHitRule(7);
+  EXPECT_EQ(clamped->GetHitRule(), vtkShapeDiameterFilter::SKIP_SAME_FACING);
+  clamped->SetHitRuleToFirstHitLeaving();
+  EXPECT_EQ(clamped->GetHitRule(), 0);
+  clamped->SetHitRuleToSkipSameFacing();
   EXPECT_EQ(clamped->GetHitRule(), 1);
 }
 

@@ -293,6 +293,318 @@ std::int64_t ReadCount(const Token& token, std::int64_t line, const char* what)
   return value;
 }
 
+/// One parse: the input's lines, what the header declares and the mesh read so far. The
+/// steps run in order (ParseOFF); each reads its lines through Reader into Tokens.
+struct OFFReader
+{
+  OFFReader(const char* data, std::size_t size)
+    : Reader(data, size)
+  {
+    this->Tokens.reserve(32);
+  }
+
+  /// Reads the header keyword (optional) and the line with the counts into Tokens; returns
+  /// the index of the first count in Tokens.
+  std::size_t ReadKeyword();
+
+  /// Reads "nVertices nFaces [nEdges]" from Tokens[countsBegin, end).
+  void ReadCounts(std::size_t countsBegin);
+
+  /// Rejects counts the file cannot hold, before anything is allocated for them.
+  void CheckCountsFitInput();
+
+  /// Points, and VertexNormals / VertexColors when the header declares them.
+  void ReadVertices();
+
+  /// Vertex v's line: x y z [nx ny nz] [r g b [a]] [s t] (vertexLayout names them).
+  void ReadVertex(std::size_t v, const std::string& vertexLayout);
+
+  /// FaceOffsets, FaceConnectivity, and FaceColors when some face has a colour.
+  void ReadFaces();
+
+  /// Face f's line: n i_0 ... i_{n-1} [colour]; appends the indices to FaceConnectivity.
+  void ReadFace(std::size_t f);
+
+  /// The `count` values after face f's indices: none, a colour-map index or a colour.
+  void ReadFaceColor(std::size_t f, const Token* values, std::size_t count, std::int64_t line);
+
+  LineReader Reader;
+  std::vector<Token> Tokens;
+  Header Format;
+  /// Line of the counts, where count errors are reported.
+  std::int64_t CountsLine = 0;
+  std::int64_t VertexCount = 0;
+  std::int64_t FaceCount = 0;
+  /// Values on a vertex line besides the colour: x y z, nx ny nz with N, s t with ST.
+  std::size_t FixedVertexValues = 0;
+  OFFMesh Mesh;
+};
+
+std::size_t OFFReader::ReadKeyword()
+{
+  if (!this->Reader.Next(this->Tokens))
+  {
+    Fail(this->Reader.Line(), "empty file: no OFF header");
+  }
+  if (!EndsWithOFF(this->Tokens[0]))
+  {
+    // Geomview makes the keyword optional: a file may start with the counts.
+    std::int64_t ignored = 0;
+    if (ParseInteger(this->Tokens[0], ignored) == NumberStatus::Malformed)
+    {
+      Fail(this->Reader.Line(),
+        "not an OFF file: expected a header keyword such as OFF or COFF, found " +
+          Quoted(this->Tokens[0]));
+    }
+    return 0;
+  }
+  this->Format = ParseKeyword(this->Tokens[0], this->Reader.Line());
+  if (this->Tokens.size() > 1 && this->Tokens[1].Equals("BINARY"))
+  {
+    Fail(this->Reader.Line(), "binary OFF is not supported (convert the file to ASCII OFF)");
+  }
+  if (this->Tokens.size() > 1)
+  {
+    return 1;
+  }
+  if (!this->Reader.Next(this->Tokens))
+  {
+    Fail(this->Reader.Line(), "unexpected end of file: the vertex, face and edge counts are missing");
+  }
+  return 0;
+}
+
+void OFFReader::ReadCounts(std::size_t countsBegin)
+{
+  const std::vector<Token>& tokens = this->Tokens;
+  this->CountsLine = this->Reader.Line();
+  const std::size_t countValues = tokens.size() - countsBegin;
+  if (countValues < 2 || countValues > 3)
+  {
+    Fail(this->CountsLine,
+      "expected the vertex, face and edge counts, found " + std::to_string(countValues) +
+        (countValues == 1 ? " value" : " values"));
+  }
+  this->VertexCount = ReadCount(tokens[countsBegin], this->CountsLine, "vertex count");
+  this->FaceCount = ReadCount(tokens[countsBegin + 1], this->CountsLine, "face count");
+  if (countValues == 3)
+  {
+    // The edge count is informative only (often 0); a huge one is harmless.
+    std::int64_t ignored = 0;
+    if (ParseInteger(tokens[countsBegin + 2], ignored) == NumberStatus::Malformed)
+    {
+      Fail(this->CountsLine, "edge count " + Quoted(tokens[countsBegin + 2]) + " is not an integer");
+    }
+  }
+}
+
+void OFFReader::CheckCountsFitInput()
+{
+  const Header& header = this->Format;
+  this->FixedVertexValues = 3 + (header.normals ? 3 : 0) + (header.textureCoordinates ? 2 : 0);
+  const std::size_t minimumVertexValues = this->FixedVertexValues + (header.colors ? 3 : 0);
+  const std::uint64_t bytesPerVertex = 2 * minimumVertexValues; // "v " per value
+  const std::uint64_t bytesPerFace = 8;                          // "3 0 1 2\n"
+  const std::uint64_t available = this->Reader.RemainingBytes() + 1; // last line may lack '\n'
+  const auto vertices = static_cast<std::uint64_t>(this->VertexCount);
+  const auto faces = static_cast<std::uint64_t>(this->FaceCount);
+  if (vertices > available / bytesPerVertex || faces > available / bytesPerFace ||
+    vertices * bytesPerVertex + faces * bytesPerFace > available)
+  {
+    Fail(this->CountsLine,
+      "the header declares " + std::to_string(this->VertexCount) + " vertices and " +
+        std::to_string(this->FaceCount) + " faces but only " +
+        std::to_string(this->Reader.RemainingBytes()) + " bytes follow, too few for them (a vertex " +
+        "needs at least " + std::to_string(bytesPerVertex) + " bytes, a face " +
+        std::to_string(bytesPerFace) + "): truncated file or wrong counts");
+  }
+}
+
+void OFFReader::ReadVertices()
+{
+  const Header& header = this->Format;
+  std::string vertexLayout = "x y z";
+  vertexLayout += header.normals ? " nx ny nz" : "";
+  vertexLayout += header.colors ? " r g b [a]" : "";
+  vertexLayout += header.textureCoordinates ? " s t" : "";
+
+  const auto vertices = static_cast<std::size_t>(this->VertexCount);
+  this->Mesh.Points.resize(3 * vertices);
+  if (header.normals)
+  {
+    this->Mesh.VertexNormals.resize(3 * vertices);
+  }
+  if (header.colors)
+  {
+    this->Mesh.VertexColors.resize(4 * vertices);
+  }
+  for (std::size_t v = 0; v < vertices; ++v)
+  {
+    this->ReadVertex(v, vertexLayout);
+  }
+}
+
+void OFFReader::ReadVertex(std::size_t v, const std::string& vertexLayout)
+{
+  const Header& header = this->Format;
+  const std::vector<Token>& tokens = this->Tokens;
+  const std::size_t fixedVertexValues = this->FixedVertexValues;
+  const auto index = static_cast<std::int64_t>(v);
+  if (!this->Reader.Next(this->Tokens))
+  {
+    Fail(this->Reader.Line(),
+      "unexpected end of file: " + std::to_string(v) + " of " + std::to_string(this->VertexCount) +
+        " vertices read");
+  }
+  const std::int64_t line = this->Reader.Line();
+  std::size_t colorValues = 0;
+  if (header.colors)
+  {
+    colorValues = tokens.size() >= fixedVertexValues ? tokens.size() - fixedVertexValues : 0;
+    if (colorValues != 3 && colorValues != 4)
+    {
+      Fail(line,
+        "vertex " + std::to_string(v) + " has " + std::to_string(tokens.size()) +
+          " values, expected " + std::to_string(fixedVertexValues + 3) + " or " +
+          std::to_string(fixedVertexValues + 4) + " (" + vertexLayout + ")");
+    }
+  }
+  else if (tokens.size() != fixedVertexValues)
+  {
+    Fail(line,
+      "vertex " + std::to_string(v) + " has " + std::to_string(tokens.size()) +
+        " values, expected " + std::to_string(fixedVertexValues) + " (" + vertexLayout + ")");
+  }
+  std::size_t t = 0;
+  for (std::size_t k = 0; k < 3; ++k)
+  {
+    this->Mesh.Points[3 * v + k] = ReadFinite(tokens[t++], line, "vertex", index);
+  }
+  if (header.normals)
+  {
+    for (std::size_t k = 0; k < 3; ++k)
+    {
+      this->Mesh.VertexNormals[3 * v + k] = ReadFinite(tokens[t++], line, "vertex", index);
+    }
+  }
+  if (header.colors)
+  {
+    ReadColor(&tokens[t], colorValues, &this->Mesh.VertexColors[4 * v], line, "vertex", index);
+    t += colorValues;
+  }
+  if (header.textureCoordinates)
+  {
+    for (std::size_t k = 0; k < 2; ++k)
+    {
+      double dropped = 0.0;
+      if (ParseReal(tokens[t], dropped) == NumberStatus::Malformed)
+      {
+        Fail(line, "vertex " + std::to_string(v) + ": " + Quoted(tokens[t]) + " is not a number");
+      }
+      ++t;
+    }
+  }
+}
+
+void OFFReader::ReadFaces()
+{
+  const auto faces = static_cast<std::size_t>(this->FaceCount);
+  this->Mesh.FaceOffsets.reserve(faces + 1);
+  this->Mesh.FaceOffsets.push_back(0);
+  this->Mesh.FaceConnectivity.reserve(3 * faces);
+  for (std::size_t f = 0; f < faces; ++f)
+  {
+    this->ReadFace(f);
+    this->Mesh.FaceOffsets.push_back(static_cast<std::int64_t>(this->Mesh.FaceConnectivity.size()));
+  }
+}
+
+void OFFReader::ReadFace(std::size_t f)
+{
+  const std::vector<Token>& tokens = this->Tokens;
+  // A local copy: the int64 index stores below may alias the member as far as the compiler
+  // knows, and reloading it per index is measurably slower.
+  const std::int64_t vertexCount = this->VertexCount;
+  if (!this->Reader.Next(this->Tokens))
+  {
+    Fail(this->Reader.Line(),
+      "unexpected end of file: " + std::to_string(f) + " of " + std::to_string(this->FaceCount) +
+        " faces read");
+  }
+  const std::int64_t line = this->Reader.Line();
+  const std::size_t valuesAfterSize = tokens.size() - 1;
+  std::int64_t faceSize = 0;
+  const NumberStatus sizeStatus = ParseInteger(tokens[0], faceSize);
+  if (sizeStatus == NumberStatus::Malformed)
+  {
+    Fail(line, "face " + std::to_string(f) + ": vertex count " + Quoted(tokens[0]) +
+        " is not an integer");
+  }
+  if (sizeStatus == NumberStatus::OutOfRange ||
+    (faceSize >= 3 && static_cast<std::uint64_t>(faceSize) > valuesAfterSize))
+  {
+    Fail(line, "face " + std::to_string(f) + " declares " + Printable(tokens[0]) +
+        " vertices but its line holds only " + std::to_string(valuesAfterSize) + " values");
+  }
+  if (faceSize < 3)
+  {
+    Fail(line, "face " + std::to_string(f) + " has " + std::to_string(faceSize) +
+        " vertices; at least 3 are required");
+  }
+  const auto corners = static_cast<std::size_t>(faceSize);
+  const std::size_t extra = valuesAfterSize - corners;
+  if (extra == 2 || extra > 4)
+  {
+    Fail(line, "face " + std::to_string(f) + " has " + std::to_string(extra) +
+        " values after its " + std::to_string(corners) +
+        " indices; expected none, a colour-map index, or an r g b [a] colour");
+  }
+  for (std::size_t k = 1; k <= corners; ++k)
+  {
+    std::int64_t vertex = 0;
+    const NumberStatus status = ParseInteger(tokens[k], vertex);
+    if (status == NumberStatus::Malformed)
+    {
+      Fail(line, "face " + std::to_string(f) + ": vertex index " + Quoted(tokens[k]) +
+          " is not an integer");
+    }
+    if (status == NumberStatus::OutOfRange || vertex < 0 || vertex >= vertexCount)
+    {
+      Fail(line, "face " + std::to_string(f) + ": vertex index " + Printable(tokens[k]) +
+          " is out of range [0, " + std::to_string(vertexCount) + ")");
+    }
+    this->Mesh.FaceConnectivity.push_back(vertex);
+  }
+  this->ReadFaceColor(f, tokens.data() + corners + 1, extra, line);
+}
+
+void OFFReader::ReadFaceColor(std::size_t f, const Token* values, std::size_t count, std::int64_t line)
+{
+  if (count == 1)
+  {
+    // A Geomview colour-map index: no map to resolve it against, so the face has no colour.
+    std::int64_t mapIndex = 0;
+    if (ParseInteger(values[0], mapIndex) == NumberStatus::Malformed)
+    {
+      Fail(line, "face " + std::to_string(f) + ": colour-map index " + Quoted(values[0]) +
+          " is not an integer");
+    }
+  }
+  else if (count >= 3)
+  {
+    const auto faces = static_cast<std::size_t>(this->FaceCount);
+    if (this->Mesh.FaceColors.empty())
+    {
+      this->Mesh.FaceColors.resize(4 * faces);
+      for (std::size_t g = 0; g < faces; ++g)
+      {
+        std::copy(kOFFDefaultFaceColor.begin(), kOFFDefaultFaceColor.end(),
+          this->Mesh.FaceColors.begin() + static_cast<std::ptrdiff_t>(4 * g));
+      }
+    }
+    ReadColor(values, count, &this->Mesh.FaceColors[4 * f], line, "face", static_cast<std::int64_t>(f));
+  }
+}
 } // namespace
 
 OFFParseError::OFFParseError(
@@ -309,249 +621,13 @@ OFFMesh ParseOFF(const char* data, std::size_t size)
   {
     size = 0;
   }
-  LineReader reader(data, size);
-  std::vector<Token> tokens;
-  tokens.reserve(32);
-
-  // ---- header keyword and counts
-  if (!reader.Next(tokens))
-  {
-    Fail(reader.Line(), "empty file: no OFF header");
-  }
-  Header header;
-  std::size_t countsBegin = 0;
-  if (EndsWithOFF(tokens[0]))
-  {
-    header = ParseKeyword(tokens[0], reader.Line());
-    if (tokens.size() > 1 && tokens[1].Equals("BINARY"))
-    {
-      Fail(reader.Line(), "binary OFF is not supported (convert the file to ASCII OFF)");
-    }
-    countsBegin = 1;
-    if (tokens.size() == 1)
-    {
-      if (!reader.Next(tokens))
-      {
-        Fail(reader.Line(), "unexpected end of file: the vertex, face and edge counts are missing");
-      }
-      countsBegin = 0;
-    }
-  }
-  else
-  {
-    // Geomview makes the keyword optional: a file may start with the counts.
-    std::int64_t ignored = 0;
-    if (ParseInteger(tokens[0], ignored) == NumberStatus::Malformed)
-    {
-      Fail(reader.Line(),
-        "not an OFF file: expected a header keyword such as OFF or COFF, found " +
-          Quoted(tokens[0]));
-    }
-  }
-  const std::int64_t countsLine = reader.Line();
-  const std::size_t countValues = tokens.size() - countsBegin;
-  if (countValues < 2 || countValues > 3)
-  {
-    Fail(countsLine,
-      "expected the vertex, face and edge counts, found " + std::to_string(countValues) +
-        (countValues == 1 ? " value" : " values"));
-  }
-  const std::int64_t vertexCount = ReadCount(tokens[countsBegin], countsLine, "vertex count");
-  const std::int64_t faceCount = ReadCount(tokens[countsBegin + 1], countsLine, "face count");
-  if (countValues == 3)
-  {
-    // The edge count is informative only (often 0); a huge one is harmless.
-    std::int64_t ignored = 0;
-    if (ParseInteger(tokens[countsBegin + 2], ignored) == NumberStatus::Malformed)
-    {
-      Fail(countsLine, "edge count " + Quoted(tokens[countsBegin + 2]) + " is not an integer");
-    }
-  }
-
-  // ---- reject counts the file cannot hold, before allocating anything for them
-  const std::size_t fixedVertexValues =
-    3 + (header.normals ? 3 : 0) + (header.textureCoordinates ? 2 : 0);
-  const std::size_t minimumVertexValues = fixedVertexValues + (header.colors ? 3 : 0);
-  {
-    const std::uint64_t bytesPerVertex = 2 * minimumVertexValues; // "v " per value
-    const std::uint64_t bytesPerFace = 8;                          // "3 0 1 2\n"
-    const std::uint64_t available = reader.RemainingBytes() + 1; // last line may lack '\n'
-    const auto vertices = static_cast<std::uint64_t>(vertexCount);
-    const auto faces = static_cast<std::uint64_t>(faceCount);
-    if (vertices > available / bytesPerVertex || faces > available / bytesPerFace ||
-      vertices * bytesPerVertex + faces * bytesPerFace > available)
-    {
-      Fail(countsLine,
-        "the header declares " + std::to_string(vertexCount) + " vertices and " +
-          std::to_string(faceCount) + " faces but only " +
-          std::to_string(reader.RemainingBytes()) + " bytes follow, too few for them (a vertex " +
-          "needs at least " + std::to_string(bytesPerVertex) + " bytes, a face " +
-          std::to_string(bytesPerFace) + "): truncated file or wrong counts");
-    }
-  }
-
-  std::string vertexLayout = "x y z";
-  vertexLayout += header.normals ? " nx ny nz" : "";
-  vertexLayout += header.colors ? " r g b [a]" : "";
-  vertexLayout += header.textureCoordinates ? " s t" : "";
-
-  OFFMesh mesh;
-  const auto vertices = static_cast<std::size_t>(vertexCount);
-  const auto faces = static_cast<std::size_t>(faceCount);
-
-  // ---- vertices
-  mesh.Points.resize(3 * vertices);
-  if (header.normals)
-  {
-    mesh.VertexNormals.resize(3 * vertices);
-  }
-  if (header.colors)
-  {
-    mesh.VertexColors.resize(4 * vertices);
-  }
-  for (std::size_t v = 0; v < vertices; ++v)
-  {
-    const auto index = static_cast<std::int64_t>(v);
-    if (!reader.Next(tokens))
-    {
-      Fail(reader.Line(),
-        "unexpected end of file: " + std::to_string(v) + " of " + std::to_string(vertexCount) +
-          " vertices read");
-    }
-    const std::int64_t line = reader.Line();
-    std::size_t colorValues = 0;
-    if (header.colors)
-    {
-      colorValues = tokens.size() >= fixedVertexValues ? tokens.size() - fixedVertexValues : 0;
-      if (colorValues != 3 && colorValues != 4)
-      {
-        Fail(line,
-          "vertex " + std::to_string(v) + " has " + std::to_string(tokens.size()) +
-            " values, expected " + std::to_string(fixedVertexValues + 3) + " or " +
-            std::to_string(fixedVertexValues + 4) + " (" + vertexLayout + ")");
-      }
-    }
-    else if (tokens.size() != fixedVertexValues)
-    {
-      Fail(line,
-        "vertex " + std::to_string(v) + " has " + std::to_string(tokens.size()) +
-          " values, expected " + std::to_string(fixedVertexValues) + " (" + vertexLayout + ")");
-    }
-    std::size_t t = 0;
-    for (std::size_t k = 0; k < 3; ++k)
-    {
-      mesh.Points[3 * v + k] = ReadFinite(tokens[t++], line, "vertex", index);
-    }
-    if (header.normals)
-    {
-      for (std::size_t k = 0; k < 3; ++k)
-      {
-        mesh.VertexNormals[3 * v + k] = ReadFinite(tokens[t++], line, "vertex", index);
-      }
-    }
-    if (header.colors)
-    {
-      ReadColor(&tokens[t], colorValues, &mesh.VertexColors[4 * v], line, "vertex", index);
-      t += colorValues;
-    }
-    if (header.textureCoordinates)
-    {
-      for (std::size_t k = 0; k < 2; ++k)
-      {
-        double dropped = 0.0;
-        if (ParseReal(tokens[t], dropped) == NumberStatus::Malformed)
-        {
-          Fail(line, "vertex " + std::to_string(v) + ": " + Quoted(tokens[t]) + " is not a number");
-        }
-        ++t;
-      }
-    }
-  }
-
-  // ---- faces
-  mesh.FaceOffsets.reserve(faces + 1);
-  mesh.FaceOffsets.push_back(0);
-  mesh.FaceConnectivity.reserve(3 * faces);
-  for (std::size_t f = 0; f < faces; ++f)
-  {
-    const auto index = static_cast<std::int64_t>(f);
-    if (!reader.Next(tokens))
-    {
-      Fail(reader.Line(),
-        "unexpected end of file: " + std::to_string(f) + " of " + std::to_string(faceCount) +
-          " faces read");
-    }
-    const std::int64_t line = reader.Line();
-    const std::size_t valuesAfterSize = tokens.size() - 1;
-    std::int64_t faceSize = 0;
-    const NumberStatus sizeStatus = ParseInteger(tokens[0], faceSize);
-    if (sizeStatus == NumberStatus::Malformed)
-    {
-      Fail(line, "face " + std::to_string(f) + ": vertex count " + Quoted(tokens[0]) +
-          " is not an integer");
-    }
-    if (sizeStatus == NumberStatus::OutOfRange ||
-      (faceSize >= 3 && static_cast<std::uint64_t>(faceSize) > valuesAfterSize))
-    {
-      Fail(line, "face " + std::to_string(f) + " declares " + Printable(tokens[0]) +
-          " vertices but its line holds only " + std::to_string(valuesAfterSize) + " values");
-    }
-    if (faceSize < 3)
-    {
-      Fail(line, "face " + std::to_string(f) + " has " + std::to_string(faceSize) +
-          " vertices; at least 3 are required");
-    }
-    const auto corners = static_cast<std::size_t>(faceSize);
-    const std::size_t extra = valuesAfterSize - corners;
-    if (extra == 2 || extra > 4)
-    {
-      Fail(line, "face " + std::to_string(f) + " has " + std::to_string(extra) +
-          " values after its " + std::to_string(corners) +
-          " indices; expected none, a colour-map index, or an r g b [a] colour");
-    }
-    for (std::size_t k = 1; k <= corners; ++k)
-    {
-      std::int64_t vertex = 0;
-      const NumberStatus status = ParseInteger(tokens[k], vertex);
-      if (status == NumberStatus::Malformed)
-      {
-        Fail(line, "face " + std::to_string(f) + ": vertex index " + Quoted(tokens[k]) +
-            " is not an integer");
-      }
-      if (status == NumberStatus::OutOfRange || vertex < 0 || vertex >= vertexCount)
-      {
-        Fail(line, "face " + std::to_string(f) + ": vertex index " + Printable(tokens[k]) +
-            " is out of range [0, " + std::to_string(vertexCount) + ")");
-      }
-      mesh.FaceConnectivity.push_back(vertex);
-    }
-    if (extra == 1)
-    {
-      // A Geomview colour-map index: no map to resolve it against, so the face has no colour.
-      std::int64_t mapIndex = 0;
-      if (ParseInteger(tokens[corners + 1], mapIndex) == NumberStatus::Malformed)
-      {
-        Fail(line, "face " + std::to_string(f) + ": colour-map index " +
-            Quoted(tokens[corners + 1]) + " is not an integer");
-      }
-    }
-    else if (extra >= 3)
-    {
-      if (mesh.FaceColors.empty())
-      {
-        mesh.FaceColors.resize(4 * faces);
-        for (std::size_t g = 0; g < faces; ++g)
-        {
-          std::copy(kOFFDefaultFaceColor.begin(), kOFFDefaultFaceColor.end(),
-            mesh.FaceColors.begin() + static_cast<std::ptrdiff_t>(4 * g));
-        }
-      }
-      ReadColor(&tokens[corners + 1], extra, &mesh.FaceColors[4 * f], line, "face", index);
-    }
-    mesh.FaceOffsets.push_back(static_cast<std::int64_t>(mesh.FaceConnectivity.size()));
-  }
+  OFFReader reader(data, size);
+  reader.ReadCounts(reader.ReadKeyword());
+  reader.CheckCountsFitInput();
+  reader.ReadVertices();
+  reader.ReadFaces();
   // Anything after the declared elements is ignored on purpose (see the header).
-  return mesh;
+  return std::move(reader.Mesh);
 }
 
 OFFMesh ReadOFFFile(const std::string& path)

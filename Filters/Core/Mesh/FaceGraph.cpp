@@ -92,57 +92,71 @@ void ValidateInput(const PointsView& points, const std::vector<std::int64_t>& of
   }
 }
 
-} // namespace
-
-double FaceGraph::DihedralAngle(std::int64_t entry) const
+// The polygon sides (half-edges) of the input. Side h of its face runs from connectivity[h] to
+// NextVertex(h); sides of faces with fewer than three vertices are not edges.
+struct PolygonSides
 {
-  const double angle = NormalAngles[static_cast<std::size_t>(entry)];
-  return Concave[static_cast<std::size_t>(entry)] ? Pi + angle : Pi - angle;
-}
-
-FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_t>& faceOffsets,
-  const std::vector<std::int64_t>& faceConnectivity, const ParallelFor& parallelFor)
-{
-  ValidateInput(points, faceOffsets, faceConnectivity);
-
-  FaceGraph graph;
-  const std::size_t faceCount = faceOffsets.empty() ? 0 : faceOffsets.size() - 1;
-  const std::size_t halfedgeCount = faceConnectivity.size();
-  const std::size_t pointCount = static_cast<std::size_t>(points.rows());
-  const auto& offsets = faceOffsets;
-  const auto& connectivity = faceConnectivity;
-  auto point = [&points](std::int64_t index) -> Vec3 { return points.row(index).transpose(); };
-  auto faceSize = [&offsets](std::size_t f) { return offsets[f + 1] - offsets[f]; };
-  // Side h of its face runs from connectivity[h] to nextVertex(h); sides of faces with fewer
-  // than three vertices are not edges.
-  std::vector<std::int64_t> halfedgeFace(halfedgeCount);
-  for (std::size_t f = 0; f < faceCount; ++f)
+  PolygonSides(const PointsView& points, const std::vector<std::int64_t>& offsets,
+    const std::vector<std::int64_t>& connectivity)
+    : Points(points)
+    , Offsets(offsets)
+    , Connectivity(connectivity)
+    , FaceCount(offsets.empty() ? 0 : offsets.size() - 1)
+    , HalfedgeFace(connectivity.size())
   {
-    std::fill(halfedgeFace.begin() + offsets[f], halfedgeFace.begin() + offsets[f + 1],
-      static_cast<std::int64_t>(f));
+    for (std::size_t f = 0; f < this->FaceCount; ++f)
+    {
+      std::fill(this->HalfedgeFace.begin() + offsets[f], this->HalfedgeFace.begin() + offsets[f + 1],
+        static_cast<std::int64_t>(f));
+    }
   }
-  auto nextVertex = [&](std::int64_t h) {
-    const std::size_t f = static_cast<std::size_t>(halfedgeFace[static_cast<std::size_t>(h)]);
-    return h + 1 < offsets[f + 1] ? connectivity[static_cast<std::size_t>(h + 1)]
-                                  : connectivity[static_cast<std::size_t>(offsets[f])];
-  };
-  auto isEdge = [&](std::int64_t h) {
-    const std::size_t f = static_cast<std::size_t>(halfedgeFace[static_cast<std::size_t>(h)]);
-    return faceSize(f) >= 3 && connectivity[static_cast<std::size_t>(h)] != nextVertex(h);
-  };
 
-  // ---- per-face geometry
+  Vec3 Point(std::int64_t index) const { return this->Points.row(index).transpose(); }
+  std::int64_t FaceSize(std::size_t f) const { return this->Offsets[f + 1] - this->Offsets[f]; }
+  std::int64_t NextVertex(std::int64_t h) const
+  {
+    const std::size_t f = static_cast<std::size_t>(this->HalfedgeFace[static_cast<std::size_t>(h)]);
+    return h + 1 < this->Offsets[f + 1] ? this->Connectivity[static_cast<std::size_t>(h + 1)]
+                                        : this->Connectivity[static_cast<std::size_t>(this->Offsets[f])];
+  }
+  bool IsEdge(std::int64_t h) const
+  {
+    const std::size_t f = static_cast<std::size_t>(this->HalfedgeFace[static_cast<std::size_t>(h)]);
+    return this->FaceSize(f) >= 3 && this->Connectivity[static_cast<std::size_t>(h)] != this->NextVertex(h);
+  }
+
+  const PointsView& Points;
+  const std::vector<std::int64_t>& Offsets;
+  const std::vector<std::int64_t>& Connectivity;
+  const std::size_t FaceCount;
+  std::vector<std::int64_t> HalfedgeFace;
+};
+
+/// Per face, the total length and the number of its sides that are edges.
+struct FacePerimeters
+{
+  std::vector<double> Lengths;
+  std::vector<std::int64_t> SideCounts;
+};
+
+/// Centers, Normals, Areas and Degenerate of `graph`; returns the face perimeters.
+FacePerimeters ComputeFaceGeometry(const PolygonSides& sides, const ParallelFor& parallelFor, FaceGraph& graph)
+{
+  const std::size_t faceCount = sides.FaceCount;
   graph.Centers.setZero(static_cast<Eigen::Index>(faceCount), 3);
   graph.Normals.setZero(static_cast<Eigen::Index>(faceCount), 3);
   graph.Areas.assign(faceCount, 0.0);
   graph.Degenerate.assign(faceCount, 1);
-  std::vector<double> perimeters(faceCount, 0.0);
-  std::vector<std::int64_t> sideCounts(faceCount, 0);
+  FacePerimeters result;
+  std::vector<double>& perimeters = result.Lengths;
+  std::vector<std::int64_t>& sideCounts = result.SideCounts;
+  perimeters.assign(faceCount, 0.0);
+  sideCounts.assign(faceCount, 0);
   parallelFor(faceCount, [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f)
     {
-      const std::int64_t first = offsets[f];
-      const std::int64_t size = faceSize(f);
+      const std::int64_t first = sides.Offsets[f];
+      const std::int64_t size = sides.FaceSize(f);
       if (size == 0)
       {
         continue;
@@ -150,7 +164,7 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
       Vec3 center = Vec3::Zero();
       for (std::int64_t h = first; h < first + size; ++h)
       {
-        center += point(connectivity[static_cast<std::size_t>(h)]);
+        center += sides.Point(sides.Connectivity[static_cast<std::size_t>(h)]);
       }
       center /= static_cast<double>(size);
       graph.Centers.row(static_cast<Eigen::Index>(f)) = center.transpose();
@@ -162,11 +176,11 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
       double squaredSides = 0.0;
       for (std::int64_t h = first; h < first + size; ++h)
       {
-        const Vec3 a = point(connectivity[static_cast<std::size_t>(h)]);
-        const Vec3 b = point(nextVertex(h));
+        const Vec3 a = sides.Point(sides.Connectivity[static_cast<std::size_t>(h)]);
+        const Vec3 b = sides.Point(sides.NextVertex(h));
         areaVector += (a - center).cross(b - center);
         squaredSides += (b - a).squaredNorm();
-        if (isEdge(h))
+        if (sides.IsEdge(h))
         {
           perimeters[f] += (b - a).norm();
           ++sideCounts[f];
@@ -182,57 +196,81 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
       }
     }
   });
+  return result;
+}
+
+/// DegenerateFaceCount, MeanEdgeLength and BoundingBoxDiagonal of `graph` (serial sums, in
+/// face order).
+void ComputeMeshMeasures(const PolygonSides& sides, const FacePerimeters& perimeters, FaceGraph& graph)
+{
   double perimeterSum = 0.0;
   std::int64_t sideSum = 0;
-  for (std::size_t f = 0; f < faceCount; ++f)
+  for (std::size_t f = 0; f < sides.FaceCount; ++f)
   {
-    perimeterSum += perimeters[f];
-    sideSum += sideCounts[f];
+    perimeterSum += perimeters.Lengths[f];
+    sideSum += perimeters.SideCounts[f];
     graph.DegenerateFaceCount += graph.Degenerate[f];
   }
   graph.MeanEdgeLength = sideSum > 0 ? perimeterSum / static_cast<double>(sideSum) : 0.0;
-  if (halfedgeCount > 0)
+  if (!sides.Connectivity.empty())
   {
     Vec3 lower = Vec3::Constant(std::numeric_limits<double>::infinity());
     Vec3 upper = -lower;
-    for (std::int64_t index : connectivity)
+    for (std::int64_t index : sides.Connectivity)
     {
-      lower = lower.cwiseMin(point(index));
-      upper = upper.cwiseMax(point(index));
+      lower = lower.cwiseMin(sides.Point(index));
+      upper = upper.cwiseMax(sides.Point(index));
     }
     graph.BoundingBoxDiagonal = (upper - lower).norm();
   }
+}
 
-  // ---- group the sides of each undirected edge: counting sort by lower vertex, then a
-  // small sort per vertex bucket.
-  std::vector<std::int64_t> bucketOffsets(pointCount + 1, 0);
+// The sides of each undirected edge, side by side: Entries[GroupBegin[h], GroupEnd[h]) holds
+// all sides of h's undirected edge (both -1 when h is not an edge).
+struct EdgeGroups
+{
+  /// Entries[BucketOffsets[v], BucketOffsets[v + 1]) are the sides whose lower vertex is v.
+  std::vector<std::int64_t> BucketOffsets;
+  std::vector<BucketEntry> Entries;
+  std::vector<std::int64_t> GroupBegin;
+  std::vector<std::int64_t> GroupEnd;
+};
+
+// A counting sort by lower vertex, then a small sort per vertex bucket.
+EdgeGroups GroupEdgeSides(const PolygonSides& sides, const ParallelFor& parallelFor)
+{
+  const std::size_t halfedgeCount = sides.Connectivity.size();
+  const std::size_t pointCount = static_cast<std::size_t>(sides.Points.rows());
+  EdgeGroups groups;
+  std::vector<std::int64_t>& bucketOffsets = groups.BucketOffsets;
+  bucketOffsets.assign(pointCount + 1, 0);
   for (std::size_t h = 0; h < halfedgeCount; ++h)
   {
-    if (isEdge(static_cast<std::int64_t>(h)))
+    if (sides.IsEdge(static_cast<std::int64_t>(h)))
     {
-      const std::int64_t low = std::min(connectivity[h], nextVertex(static_cast<std::int64_t>(h)));
+      const std::int64_t low = std::min(sides.Connectivity[h], sides.NextVertex(static_cast<std::int64_t>(h)));
       ++bucketOffsets[static_cast<std::size_t>(low) + 1];
     }
   }
   std::partial_sum(bucketOffsets.begin(), bucketOffsets.end(), bucketOffsets.begin());
-  std::vector<BucketEntry> entries(static_cast<std::size_t>(bucketOffsets.back()));
+  std::vector<BucketEntry>& entries = groups.Entries;
+  entries.resize(static_cast<std::size_t>(bucketOffsets.back()));
   {
     std::vector<std::int64_t> fill(bucketOffsets.begin(), bucketOffsets.end() - 1);
     for (std::size_t h = 0; h < halfedgeCount; ++h)
     {
       const auto hh = static_cast<std::int64_t>(h);
-      if (isEdge(hh))
+      if (sides.IsEdge(hh))
       {
-        const std::int64_t a = connectivity[h];
-        const std::int64_t b = nextVertex(hh);
+        const std::int64_t a = sides.Connectivity[h];
+        const std::int64_t b = sides.NextVertex(hh);
         entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(std::min(a, b))]++)] =
           BucketEntry{ std::max(a, b), hh };
       }
     }
   }
-  // groupBegin/groupEnd: the range of `entries` holding all sides of h's undirected edge.
-  std::vector<std::int64_t> groupBegin(halfedgeCount, -1);
-  std::vector<std::int64_t> groupEnd(halfedgeCount, -1);
+  groups.GroupBegin.assign(halfedgeCount, -1);
+  groups.GroupEnd.assign(halfedgeCount, -1);
   parallelFor(pointCount, [&](std::size_t begin, std::size_t end) {
     for (std::size_t v = begin; v < end; ++v)
     {
@@ -250,36 +288,50 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
         for (std::int64_t p = groupFirst; p < groupLast; ++p)
         {
           const auto h = static_cast<std::size_t>(entries[static_cast<std::size_t>(p)].Halfedge);
-          groupBegin[h] = groupFirst;
-          groupEnd[h] = groupLast;
+          groups.GroupBegin[h] = groupFirst;
+          groups.GroupEnd[h] = groupLast;
         }
         groupFirst = groupLast;
       }
     }
   });
-  for (std::size_t p = 0; p < entries.size(); ++p)
+  return groups;
+}
+
+/// EdgeCount, BoundaryEdgeCount and NonManifoldEdgeCount of `graph`.
+void CountEdges(const EdgeGroups& groups, FaceGraph& graph)
+{
+  for (std::size_t p = 0; p < groups.Entries.size(); ++p)
   {
-    const auto h = static_cast<std::size_t>(entries[p].Halfedge);
-    if (groupBegin[h] == static_cast<std::int64_t>(p))
+    const auto h = static_cast<std::size_t>(groups.Entries[p].Halfedge);
+    if (groups.GroupBegin[h] == static_cast<std::int64_t>(p))
     {
-      const std::int64_t sides = groupEnd[h] - groupBegin[h];
+      const std::int64_t sides = groups.GroupEnd[h] - groups.GroupBegin[h];
       ++graph.EdgeCount;
       graph.BoundaryEdgeCount += sides == 1;
       graph.NonManifoldEdgeCount += sides >= 3;
     }
   }
+}
 
-  // ---- adjacency lists, one pass: each face's merged list goes to slots sized by an upper
-  // bound (its sides' other incidences), compacted afterwards only when merging left gaps.
+// The adjacency lists are built in one pass: each face's merged list goes to slots sized by an
+// upper bound (its sides' other incidences), compacted afterwards only when merging left gaps.
+
+/// Where each face's slots begin (faceCount + 1 entries); sizes the adjacency arrays of `graph`
+/// to the total.
+std::vector<std::int64_t> ReserveAdjacencySlots(
+  const PolygonSides& sides, const EdgeGroups& groups, const ParallelFor& parallelFor, FaceGraph& graph)
+{
+  const std::size_t faceCount = sides.FaceCount;
   std::vector<std::int64_t> slotOffsets(faceCount + 1, 0);
   parallelFor(faceCount, [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f)
     {
       std::int64_t bound = 0;
-      for (std::int64_t h = offsets[f]; h < offsets[f + 1]; ++h)
+      for (std::int64_t h = sides.Offsets[f]; h < sides.Offsets[f + 1]; ++h)
       {
         const auto hh = static_cast<std::size_t>(h);
-        bound += groupBegin[hh] < 0 ? 0 : groupEnd[hh] - groupBegin[hh] - 1;
+        bound += groups.GroupBegin[hh] < 0 ? 0 : groups.GroupEnd[hh] - groups.GroupBegin[hh] - 1;
       }
       slotOffsets[f + 1] = bound;
     }
@@ -291,26 +343,50 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
   graph.CenterDistances.resize(slotCount);
   graph.NormalAngles.resize(slotCount);
   graph.Concave.resize(slotCount);
-  std::vector<std::int64_t> neighborCounts(faceCount, 0);
-  parallelFor(faceCount, [&](std::size_t begin, std::size_t end) {
+  return slotOffsets;
+}
+
+/// CenterDistances, NormalAngles and Concave at `slot`, the entry of neighbour candidate.Neighbor
+/// in the list of face f.
+void ComputePairGeometry(
+  const PolygonSides& sides, std::size_t f, const Candidate& candidate, std::size_t slot, FaceGraph& graph)
+{
+  const Vec3 centerF = graph.Centers.row(static_cast<Eigen::Index>(f)).transpose();
+  const Vec3 normalF = graph.Normals.row(static_cast<Eigen::Index>(f)).transpose();
+  const Vec3 centerG = graph.Centers.row(static_cast<Eigen::Index>(candidate.Neighbor)).transpose();
+  const Vec3 normalG = graph.Normals.row(static_cast<Eigen::Index>(candidate.Neighbor)).transpose();
+  const Vec3 edgeMidpoint = 0.5 * (sides.Point(candidate.EdgeLow) + sides.Point(candidate.EdgeHigh));
+  const double fold = normalF.dot(centerG - edgeMidpoint) + normalG.dot(centerF - edgeMidpoint);
+  const double foldTolerance = 1e-12 * ((centerG - edgeMidpoint).norm() + (centerF - edgeMidpoint).norm());
+  graph.CenterDistances[slot] = (centerG - centerF).norm();
+  graph.NormalAngles[slot] = std::atan2(normalF.cross(normalG).norm(), normalF.dot(normalG));
+  graph.Concave[slot] = fold > foldTolerance ? 1 : 0;
+}
+
+/// Writes each face's merged, sorted neighbour list to its slots; returns the list lengths.
+std::vector<std::int64_t> FillAdjacencySlots(const PolygonSides& sides, const EdgeGroups& groups,
+  const std::vector<std::int64_t>& slotOffsets, const ParallelFor& parallelFor, FaceGraph& graph)
+{
+  std::vector<std::int64_t> neighborCounts(sides.FaceCount, 0);
+  parallelFor(sides.FaceCount, [&](std::size_t begin, std::size_t end) {
     std::vector<Candidate> candidates;
     for (std::size_t f = begin; f < end; ++f)
     {
       candidates.clear();
-      for (std::int64_t h = offsets[f]; h < offsets[f + 1]; ++h)
+      for (std::int64_t h = sides.Offsets[f]; h < sides.Offsets[f + 1]; ++h)
       {
         const auto hh = static_cast<std::size_t>(h);
-        if (groupBegin[hh] < 0)
+        if (groups.GroupBegin[hh] < 0)
         {
           continue;
         }
-        const std::int64_t a = connectivity[hh];
-        const std::int64_t b = nextVertex(h);
-        const double length = (point(b) - point(a)).norm();
-        for (std::int64_t p = groupBegin[hh]; p < groupEnd[hh]; ++p)
+        const std::int64_t a = sides.Connectivity[hh];
+        const std::int64_t b = sides.NextVertex(h);
+        const double length = (sides.Point(b) - sides.Point(a)).norm();
+        for (std::int64_t p = groups.GroupBegin[hh]; p < groups.GroupEnd[hh]; ++p)
         {
           const std::int64_t other =
-            halfedgeFace[static_cast<std::size_t>(entries[static_cast<std::size_t>(p)].Halfedge)];
+            sides.HalfedgeFace[static_cast<std::size_t>(groups.Entries[static_cast<std::size_t>(p)].Halfedge)];
           if (other != static_cast<std::int64_t>(f))
           {
             candidates.push_back(Candidate{ other, std::min(a, b), std::max(a, b), length });
@@ -328,61 +404,66 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
           graph.SharedEdgeLengths[slot - 1] += candidate.Length;
           continue;
         }
-        // The pair's geometry is symmetric: computed once, by the lower face (below).
+        // The pair's geometry is symmetric: computed once, by the lower face (see
+        // CopyMirrorGeometry).
         graph.Neighbors[slot] = candidate.Neighbor;
         graph.SharedEdgeLengths[slot] = candidate.Length;
         if (candidate.Neighbor > static_cast<std::int64_t>(f))
         {
-          const Vec3 centerF = graph.Centers.row(static_cast<Eigen::Index>(f)).transpose();
-          const Vec3 normalF = graph.Normals.row(static_cast<Eigen::Index>(f)).transpose();
-          const Vec3 centerG = graph.Centers.row(static_cast<Eigen::Index>(candidate.Neighbor)).transpose();
-          const Vec3 normalG = graph.Normals.row(static_cast<Eigen::Index>(candidate.Neighbor)).transpose();
-          const Vec3 edgeMidpoint = 0.5 * (point(candidate.EdgeLow) + point(candidate.EdgeHigh));
-          const double fold = normalF.dot(centerG - edgeMidpoint) + normalG.dot(centerF - edgeMidpoint);
-          const double foldTolerance = 1e-12 * ((centerG - edgeMidpoint).norm() + (centerF - edgeMidpoint).norm());
-          graph.CenterDistances[slot] = (centerG - centerF).norm();
-          graph.NormalAngles[slot] = std::atan2(normalF.cross(normalG).norm(), normalF.dot(normalG));
-          graph.Concave[slot] = fold > foldTolerance ? 1 : 0;
+          ComputePairGeometry(sides, f, candidate, slot, graph);
         }
         ++slot;
       }
       neighborCounts[f] = static_cast<std::int64_t>(slot - first);
     }
   });
+  return neighborCounts;
+}
+
+/// Offsets of `graph` from the list lengths; moves the lists down to them when faces sharing
+/// several edges left unused slots.
+void CompactAdjacency(
+  const std::vector<std::int64_t>& slotOffsets, const std::vector<std::int64_t>& neighborCounts, FaceGraph& graph)
+{
+  const std::size_t faceCount = neighborCounts.size();
   graph.Offsets.assign(faceCount + 1, 0);
   for (std::size_t f = 0; f < faceCount; ++f)
   {
     graph.Offsets[f + 1] = graph.Offsets[f] + neighborCounts[f];
   }
-  if (graph.Offsets.back() != slotOffsets.back())
+  if (graph.Offsets.back() == slotOffsets.back())
   {
-    // Faces sharing several edges left unused slots: move every list down to its place.
-    for (std::size_t f = 0; f < faceCount; ++f)
-    {
-      const auto from = static_cast<std::size_t>(slotOffsets[f]);
-      const auto to = static_cast<std::size_t>(graph.Offsets[f]);
-      for (std::size_t i = 0; i < static_cast<std::size_t>(neighborCounts[f]) && from != to; ++i)
-      {
-        graph.Neighbors[to + i] = graph.Neighbors[from + i];
-        graph.SharedEdgeLengths[to + i] = graph.SharedEdgeLengths[from + i];
-        graph.CenterDistances[to + i] = graph.CenterDistances[from + i];
-        graph.NormalAngles[to + i] = graph.NormalAngles[from + i];
-        graph.Concave[to + i] = graph.Concave[from + i];
-      }
-    }
-    const auto adjacencyCount = static_cast<std::size_t>(graph.Offsets.back());
-    graph.Neighbors.resize(adjacencyCount);
-    graph.SharedEdgeLengths.resize(adjacencyCount);
-    graph.CenterDistances.resize(adjacencyCount);
-    graph.NormalAngles.resize(adjacencyCount);
-    graph.Concave.resize(adjacencyCount);
+    return;
   }
-  // The higher face of each pair copies the lower one's geometry from its mirror entry (the
-  // values are symmetric in f and g, bit for bit: same operands, commuted). Lists are sorted by
-  // neighbour. Nothing is thrown inside the loop (worker threads): a missing mirror, which the
-  // construction rules out, is reported after it.
+  for (std::size_t f = 0; f < faceCount; ++f)
+  {
+    const auto from = static_cast<std::size_t>(slotOffsets[f]);
+    const auto to = static_cast<std::size_t>(graph.Offsets[f]);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(neighborCounts[f]) && from != to; ++i)
+    {
+      graph.Neighbors[to + i] = graph.Neighbors[from + i];
+      graph.SharedEdgeLengths[to + i] = graph.SharedEdgeLengths[from + i];
+      graph.CenterDistances[to + i] = graph.CenterDistances[from + i];
+      graph.NormalAngles[to + i] = graph.NormalAngles[from + i];
+      graph.Concave[to + i] = graph.Concave[from + i];
+    }
+  }
+  const auto adjacencyCount = static_cast<std::size_t>(graph.Offsets.back());
+  graph.Neighbors.resize(adjacencyCount);
+  graph.SharedEdgeLengths.resize(adjacencyCount);
+  graph.CenterDistances.resize(adjacencyCount);
+  graph.NormalAngles.resize(adjacencyCount);
+  graph.Concave.resize(adjacencyCount);
+}
+
+// The higher face of each pair copies the lower one's geometry from its mirror entry (the
+// values are symmetric in f and g, bit for bit: same operands, commuted). Lists are sorted by
+// neighbour. Nothing is thrown inside the loop (worker threads): a missing mirror, which the
+// construction rules out, is reported after it.
+void CopyMirrorGeometry(const ParallelFor& parallelFor, FaceGraph& graph)
+{
   std::atomic<bool> mirrorMissing{ false };
-  parallelFor(faceCount, [&](std::size_t begin, std::size_t end) {
+  parallelFor(graph.FaceCount(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f)
     {
       for (auto e = static_cast<std::size_t>(graph.Offsets[f]); e < static_cast<std::size_t>(graph.Offsets[f + 1]); ++e)
@@ -410,6 +491,33 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
   {
     throw FaceGraphError("internal error: the adjacency is not symmetric");
   }
+}
+
+} // namespace
+
+double FaceGraph::DihedralAngle(std::int64_t entry) const
+{
+  const double angle = NormalAngles[static_cast<std::size_t>(entry)];
+  return Concave[static_cast<std::size_t>(entry)] ? Pi + angle : Pi - angle;
+}
+
+FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_t>& faceOffsets,
+  const std::vector<std::int64_t>& faceConnectivity, const ParallelFor& parallelFor)
+{
+  ValidateInput(points, faceOffsets, faceConnectivity);
+  // The scratch arrays (sides, perimeters, groups, slot offsets, counts) all live until the
+  // end: freeing some of them between the steps changes how glibc trims its heap, and repeated
+  // builds got about 3x slower (page faults).
+  FaceGraph graph;
+  const PolygonSides sides(points, faceOffsets, faceConnectivity);
+  const FacePerimeters perimeters = ComputeFaceGeometry(sides, parallelFor, graph);
+  ComputeMeshMeasures(sides, perimeters, graph);
+  const EdgeGroups groups = GroupEdgeSides(sides, parallelFor);
+  CountEdges(groups, graph);
+  const std::vector<std::int64_t> slotOffsets = ReserveAdjacencySlots(sides, groups, parallelFor, graph);
+  const std::vector<std::int64_t> neighborCounts = FillAdjacencySlots(sides, groups, slotOffsets, parallelFor, graph);
+  CompactAdjacency(slotOffsets, neighborCounts, graph);
+  CopyMirrorGeometry(parallelFor, graph);
   return graph;
 }
 

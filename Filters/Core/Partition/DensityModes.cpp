@@ -75,53 +75,44 @@ std::vector<PeakSeparation> Separations(const std::vector<double>& density, cons
   return separations;
 }
 
-} // namespace
-
-DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const DensityModesOptions& options)
+/// The values' weights as used by every step: the given ones, or 1 each when they sum to 0.
+struct SampleWeights
 {
-  CheckInput(values, weights, options);
-  const Eigen::Index count = values.size();
-  double totalWeight = weights.sum();
-  const bool unweighted = !(totalWeight > 0);
-  auto weightOf = [&](Eigen::Index i) { return unweighted ? 1.0 : weights[i]; };
-  if (unweighted)
-  {
-    totalWeight = static_cast<double>(count);
-  }
-  const double low = values.minCoeff();
-  const double high = values.maxCoeff();
-  const double span = high - low;
+  ValuesView Weights;
+  bool Unweighted;
+  double Total;
 
-  DensityModesResult result;
-  GaussianMixtureModel& model = result.Model;
-  model.SampleCount = static_cast<std::size_t>(count);
-  if (!(span > 0))
-  {
-    model.Means = { low };
-    model.Sigmas = { options.MinSigmaRelative * std::max(std::abs(low), 1.0) };
-    model.Weights = { 1.0 };
-    result.Modes = { low };
-    result.Prominences = { 1.0 };
-    return result;
-  }
+  double operator()(Eigen::Index i) const { return Unweighted ? 1.0 : Weights[i]; }
+};
 
-  // 1. Weighted histogram, then the kernel density on the grid (kernel cut at 6 sigma).
+/// The density on its evaluation grid.
+struct GridDensity
+{
+  std::vector<double> Grid;
+  std::vector<double> Density;
+};
+
+/// Weighted histogram of the values, then the Gaussian kernel density on the grid (kernel cut
+/// at 6 sigma; header step 1).
+GridDensity KernelDensity(ValuesView values, const SampleWeights& weightOf, double low, double span,
+  const DensityModesOptions& options)
+{
   const auto bins = static_cast<std::size_t>(options.BinCount);
   std::vector<double> histogram(bins, 0.0);
   const double binWidth = span / static_cast<double>(bins);
-  for (Eigen::Index i = 0; i < count; ++i)
+  for (Eigen::Index i = 0; i < values.size(); ++i)
   {
     const auto bin = std::min(bins - 1, static_cast<std::size_t>((values[i] - low) / binWidth));
-    histogram[bin] += weightOf(i) / totalWeight;
+    histogram[bin] += weightOf(i) / weightOf.Total;
   }
   const double bandwidth = options.Bandwidth * span;
   const auto points = static_cast<std::size_t>(options.GridSize);
   const double gridLow = low - 3 * bandwidth;
   const double gridStep = (span + 6 * bandwidth) / static_cast<double>(points - 1);
-  std::vector<double> grid(points), density(points, 0.0);
+  GridDensity result{ std::vector<double>(points), std::vector<double>(points, 0.0) };
   for (std::size_t g = 0; g < points; ++g)
   {
-    grid[g] = gridLow + gridStep * static_cast<double>(g);
+    result.Grid[g] = gridLow + gridStep * static_cast<double>(g);
   }
   for (std::size_t b = 0; b < bins; ++b)
   {
@@ -134,21 +125,28 @@ DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const 
     const auto end = std::min(points, static_cast<std::size_t>(std::ceil((centre + 6 * bandwidth - gridLow) / gridStep)) + 1);
     for (std::size_t g = first; g < end; ++g)
     {
-      const double z = (grid[g] - centre) / bandwidth;
-      density[g] += histogram[b] * std::exp(-0.5 * z * z);
+      const double z = (result.Grid[g] - centre) / bandwidth;
+      result.Density[g] += histogram[b] * std::exp(-0.5 * z * z);
     }
   }
+  return result;
+}
 
-  // 2-3. Peaks, prominences, the kept modes and the valleys between them.
+/// The density's peaks, the ones kept as modes (most prominent first, up to MaximumModes) and
+/// the valleys between neighbouring kept modes, into result (header steps 2-3).
+void SelectModes(const GridDensity& density, const DensityModesOptions& options, DensityModesResult& result)
+{
+  const std::vector<double>& grid = density.Grid;
+  const std::vector<double>& values = density.Density;
   std::vector<int> peaks;
-  for (std::size_t g = 1; g + 1 < points; ++g)
+  for (std::size_t g = 1; g + 1 < values.size(); ++g)
   {
-    if (density[g] >= density[g - 1] && density[g] > density[g + 1])
+    if (values[g] >= values[g - 1] && values[g] > values[g + 1])
     {
       peaks.push_back(static_cast<int>(g));
     }
   }
-  const std::vector<PeakSeparation> separation = Separations(density, peaks);
+  const std::vector<PeakSeparation> separation = Separations(values, peaks);
   std::vector<std::size_t> order(peaks.size());
   std::iota(order.begin(), order.end(), std::size_t{ 0 });
   std::stable_sort(order.begin(), order.end(),
@@ -174,17 +172,22 @@ DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const 
     result.ValleyDepths.push_back(separation[kept[m]].ValleyDepth);
     if (m > 0)
     {
-      const auto from = density.begin() + peaks[kept[m - 1]];
-      const auto to = density.begin() + peaks[kept[m]] + 1;
-      result.Valleys.push_back(grid[static_cast<std::size_t>(std::min_element(from, to) - density.begin())]);
+      const auto from = values.begin() + peaks[kept[m - 1]];
+      const auto to = values.begin() + peaks[kept[m]] + 1;
+      result.Valleys.push_back(grid[static_cast<std::size_t>(std::min_element(from, to) - values.begin())]);
     }
   }
+}
 
-  // 4. One Gaussian per basin (weighted moments).
-  const std::size_t basins = kept.size();
+/// One Gaussian per basin between the valleys, from the weighted moments of its values, largest
+/// mean first (header step 4). A basin whose values all weigh 0 gives no cluster.
+void FitBasinGaussians(ValuesView values, const SampleWeights& weightOf, double span,
+  const DensityModesOptions& options, DensityModesResult& result)
+{
+  const std::size_t basins = result.Modes.size();
   std::vector<double> sum(basins, 0.0), sumWeights(basins, 0.0), sumSquares(basins, 0.0);
-  std::vector<std::size_t> basinOf(static_cast<std::size_t>(count));
-  for (Eigen::Index i = 0; i < count; ++i)
+  std::vector<std::size_t> basinOf(static_cast<std::size_t>(values.size()));
+  for (Eigen::Index i = 0; i < values.size(); ++i)
   {
     const auto basin = static_cast<std::size_t>(
       std::upper_bound(result.Valleys.begin(), result.Valleys.end(), values[i]) - result.Valleys.begin());
@@ -197,25 +200,31 @@ DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const 
   {
     means[c] = sumWeights[c] > 0 ? sum[c] / sumWeights[c] : result.Modes[c];
   }
-  for (Eigen::Index i = 0; i < count; ++i)
+  for (Eigen::Index i = 0; i < values.size(); ++i)
   {
     const std::size_t basin = basinOf[static_cast<std::size_t>(i)];
     sumSquares[basin] += weightOf(i) * (values[i] - means[basin]) * (values[i] - means[basin]);
   }
   const double sigmaFloor = options.MinSigmaRelative * span;
+  GaussianMixtureModel& model = result.Model;
+  // Largest mean first: the basins are in increasing order and their means increase with them.
   for (std::size_t c = basins; c-- > 0;)
   {
     if (!(sumWeights[c] > 0))
     {
-      continue; // a basin without weight (all its values weigh 0): no cluster
+      continue;
     }
     model.Means.push_back(means[c]);
     model.Sigmas.push_back(std::max(sigmaFloor, std::sqrt(sumSquares[c] / sumWeights[c])));
-    model.Weights.push_back(sumWeights[c] / totalWeight);
+    model.Weights.push_back(sumWeights[c] / weightOf.Total);
   }
-  // Largest mean first: the basins are in increasing order and their means increase with them.
+}
+
+/// The unweighted log-likelihood of the values under the mixture (each term floored at 1e-300).
+double LogLikelihood(ValuesView values, const GaussianMixtureModel& model)
+{
   double logLikelihood = 0.0;
-  for (Eigen::Index i = 0; i < count; ++i)
+  for (Eigen::Index i = 0; i < values.size(); ++i)
   {
     double likelihood = 0.0;
     for (std::size_t c = 0; c < model.Means.size(); ++c)
@@ -225,7 +234,36 @@ DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const 
     }
     logLikelihood += std::log(std::max(likelihood, 1e-300));
   }
-  model.LogLikelihood = logLikelihood;
+  return logLikelihood;
+}
+
+} // namespace
+
+DensityModesResult FitDensityModes(ValuesView values, ValuesView weights, const DensityModesOptions& options)
+{
+  CheckInput(values, weights, options);
+  const double weightSum = weights.sum();
+  const bool unweighted = !(weightSum > 0);
+  const SampleWeights weightOf{ weights, unweighted, unweighted ? static_cast<double>(values.size()) : weightSum };
+  const double low = values.minCoeff();
+  const double high = values.maxCoeff();
+  const double span = high - low;
+
+  DensityModesResult result;
+  GaussianMixtureModel& model = result.Model;
+  model.SampleCount = static_cast<std::size_t>(values.size());
+  if (!(span > 0))
+  {
+    model.Means = { low };
+    model.Sigmas = { options.MinSigmaRelative * std::max(std::abs(low), 1.0) };
+    model.Weights = { 1.0 };
+    result.Modes = { low };
+    result.Prominences = { 1.0 };
+    return result;
+  }
+  SelectModes(KernelDensity(values, weightOf, low, span, options), options, result);
+  FitBasinGaussians(values, weightOf, span, options, result);
+  model.LogLikelihood = LogLikelihood(values, model);
   model.Converged = true;
   return result;
 }

@@ -52,9 +52,9 @@ void ValidateOptions(const GaussianMixtureOptions& options)
   {
     throw GaussianMixtureError("GMM: Restarts must be in [1, 1000]");
   }
-  if (options.MaxIterations < 1 || options.MaxIterations > 1000000)
+  if (options.MaximumIterations < 1 || options.MaximumIterations > 1000000)
   {
-    throw GaussianMixtureError("GMM: MaxIterations must be in [1, 1e6]");
+    throw GaussianMixtureError("GMM: MaximumIterations must be in [1, 1e6]");
   }
   if (!InRange(options.Tolerance, 0.0, 1.0))
   {
@@ -396,7 +396,7 @@ GaussianMixtureModel FitGaussianMixture(
   double bestLogLikelihood = -std::numeric_limits<double>::infinity();
   int bestIterations = 0;
   bool bestConverged = false;
-  const int screening = std::min(options.ScreeningIterations, options.MaxIterations);
+  const int screening = std::min(options.ScreeningIterations, options.MaximumIterations);
   for (int restart = 0; restart < options.Restarts; ++restart)
   {
     Parameters parameters = Seed(points, k, sigmaFloor, generator);
@@ -414,7 +414,7 @@ GaussianMixtureModel FitGaussianMixture(
   if (!bestConverged)
   {
     ExpectationStep(points, best, responsibility);
-    bestConverged = runEm(best, bestLogLikelihood, bestIterations, options.MaxIterations);
+    bestConverged = runEm(best, bestLogLikelihood, bestIterations, options.MaximumIterations);
   }
   GaussianMixtureModel model = ToSortedModel(best, points.origin);
   model.LogLikelihood = bestLogLikelihood;

@@ -30,13 +30,13 @@
 //     log-likelihood then (the first on ties) runs on to convergence. Screening keeps the cost
 //     of restarts low: EM crawls for hundreds of iterations when k exceeds the modes present.
 //   - Convergence: stop when the log-likelihood per value increases by less than `Tolerance`,
-//     or after `MaxIterations` iterations in all (the model's `Converged` says which).
+//     or after `MaximumIterations` iterations in all (the model's `Converged` says which).
 //   - Posteriors (ComputePosteriors) are evaluated per value, exactly, from the fitted
 //     parameters with a log-sum-exp: every row sums to 1 (to rounding) and is finite.
 //
 // Parameters (GaussianMixtureOptions; the paper gives none of these)
 //   Restarts        5       [1, 1000]   k-means++ seedings; the most likely is kept.
-//   MaxIterations   500     [1, 1e6]    EM iterations of the kept seeding, screening included.
+//   MaximumIterations 500   [1, 1e6]    EM iterations of the kept seeding, screening included.
 //   ScreeningIterations 20  [1, 1e6]    EM iterations given to every seeding before choosing.
 //   Tolerance       1e-8    [0, 1]      stop when the log-likelihood per value gains less.
 //   BinCount        512     [0, 1e7]    histogram bins; 0 = exact EM on distinct values.
@@ -92,7 +92,7 @@ using PosteriorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Ei
 struct GaussianMixtureOptions
 {
   int Restarts = 5;
-  int MaxIterations = 500;
+  int MaximumIterations = 500;
   int ScreeningIterations = 20;
   double Tolerance = 1e-8;
   int BinCount = 512;
@@ -110,7 +110,7 @@ struct GaussianMixtureModel
   double LogLikelihood = 0.0;
   std::size_t SampleCount = 0;
   int Iterations = 0;     ///< EM iterations of the kept restart
-  bool Converged = false; ///< the kept restart met the tolerance before MaxIterations
+  bool Converged = false; ///< the kept restart met the tolerance before MaximumIterations
 
   int ComponentCount() const { return static_cast<int>(Means.size()); }
   /// Bayesian information criterion -2 logL + (3k - 1) ln n (lower is better).

@@ -105,12 +105,12 @@ struct PartitionOptions
   int NumberOfClusters = 5;
   /// Default 8, [1, inf) ([2, inf) for the BIC search): the most clusters when k = 0.
   int MaximumClusters = 8;
-  /// The EM fit (Restarts, MaxIterations, Seed, ...; GaussianMixture.h).
+  /// The EM fit (Restarts, MaximumIterations, Seed, ...; GaussianMixture.h).
   GaussianMixtureOptions Mixture;
   /// The density modes (Bandwidth, MinimumProminence, ...; DensityModes.h). MaximumModes is not
   /// read: it is k, or MaximumClusters when k = 0.
   DensityModesOptions Modes;
-  /// The energy: Lambda (the paper's λ), ProbabilityEpsilon (ε), ConvexityFactor, ...
+  /// The energy: Lambda (the paper's λ), Epsilon (ε), ConvexityFactor, ...
   /// (PartitionEnergy.h).
   PartitionEnergyOptions Energy;
   /// When and how the cut is multilevel (MultilevelCut.h).

@@ -27,9 +27,9 @@ void ValidateOptions(const PartitionEnergyOptions& options)
   {
     throw PartitionEnergyError("partition energy: Lambda must be in [0, 1e3]");
   }
-  if (!InRange(options.ProbabilityEpsilon, 1e-300, 1.0))
+  if (!InRange(options.Epsilon, 1e-300, 1.0))
   {
-    throw PartitionEnergyError("partition energy: ProbabilityEpsilon must be in [1e-300, 1]");
+    throw PartitionEnergyError("partition energy: Epsilon must be in [1e-300, 1]");
   }
   if (!InRange(options.ConvexityFactor, 0.0, 1.0))
   {
@@ -297,7 +297,7 @@ PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> po
       for (std::size_t l = 0; l < k; ++l)
       {
         const double p = posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l));
-        energy.DataCosts[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.ProbabilityEpsilon);
+        energy.DataCosts[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.Epsilon);
       }
       std::size_t higher = 0;
       for (std::int64_t e = graph.Offsets[f]; e < graph.Offsets[f + 1]; ++e)

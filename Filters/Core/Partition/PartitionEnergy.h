@@ -38,7 +38,7 @@
 //                                         difference by the paper's Table 2 measure; larger
 //                                         values lose thin clusters) and checked on the meshes
 //                                         of docs/partition.md.
-//   ProbabilityEpsilon  1e-8   [1e-300, 1] epsilon of e1: a zero posterior costs 18.4.
+//   Epsilon             1e-8   [1e-300, 1] epsilon of e1: a zero posterior costs 18.4.
 //   ConvexityFactor     0.08   [0, 1]     phi scale on convex edges (convex creases are not
 //                                         part boundaries; 1 = ignore convexity).
 //   MinAngleRatio       1e-5   [1e-300, 1] floor of phi'/pi: a flat edge costs -log(1e-5) = 11.5,
@@ -103,7 +103,7 @@ DualGraphView MakeDualGraphView(const FaceGraph& graph);
 struct PartitionEnergyOptions
 {
   double Lambda = 0.03;
-  double ProbabilityEpsilon = 1e-8;
+  double Epsilon = 1e-8;
   double ConvexityFactor = 0.08;
   double MinAngleRatio = 1e-5;
   bool GeometricWeights = true;

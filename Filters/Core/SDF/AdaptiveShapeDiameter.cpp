@@ -68,6 +68,101 @@ void CheckNeighbors(const RayOrigins& origins, std::size_t n)
   }
 }
 
+/// The origins that may be cast (the others keep 0 / 0, as in the Exact mode), their unit
+/// normals and the bounding box of their points.
+struct CastableOrigins
+{
+  std::vector<std::uint8_t> Eligible;
+  std::vector<double> Normals; ///< 3 per origin, 0 for the origins that are not eligible
+  double MinCorner[3];
+  double MaxCorner[3];
+};
+
+CastableOrigins FindCastableOrigins(const RayOrigins& origins, std::size_t n)
+{
+  CastableOrigins castable;
+  castable.Eligible.assign(n, 0);
+  castable.Normals.assign(3 * n, 0.0);
+  for (int c = 0; c < 3; ++c)
+  {
+    castable.MinCorner[c] = std::numeric_limits<double>::infinity();
+    castable.MaxCorner[c] = -castable.MinCorner[c];
+  }
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const auto row = static_cast<Eigen::Index>(i);
+    if ((!origins.Skip.empty() && origins.Skip[i]) || !origins.Points.row(row).allFinite())
+    {
+      continue;
+    }
+    const double length = origins.Normals.row(row).norm();
+    if (!(length > 0) || !std::isfinite(length))
+    {
+      continue;
+    }
+    castable.Eligible[i] = 1;
+    for (int c = 0; c < 3; ++c)
+    {
+      castable.Normals[3 * i + c] = origins.Normals(row, c) / length;
+      castable.MinCorner[c] = std::min(castable.MinCorner[c], origins.Points(row, c));
+      castable.MaxCorner[c] = std::max(castable.MaxCorner[c], origins.Points(row, c));
+    }
+  }
+  return castable;
+}
+
+/// The cell sizes h_k = E 2^k of the levels k = 0..K.
+struct LevelScale
+{
+  double CellUnit = 0; ///< E
+  int CoarseLevel = 0; ///< K; 0 = the origins are no denser than the coarsest cells
+};
+
+/// E: mean distance between neighbouring origins; K: the coarse level, h_K ~ diagonal / 32.
+LevelScale MeasureLevelScale(
+  const RayOrigins& origins, const Graph& graph, const CastableOrigins& castable, std::size_t n)
+{
+  const std::vector<std::uint8_t>& eligible = castable.Eligible;
+  const double* minCorner = castable.MinCorner;
+  const double* maxCorner = castable.MaxCorner;
+  double edgeSum = 0;
+  std::size_t edgeCount = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (std::size_t k = graph.Begin(i); k < graph.End(i); ++k)
+    {
+      const std::size_t j = graph.At(k);
+      if (eligible[i] && eligible[j] && i != j)
+      {
+        edgeSum += (origins.Points.row(static_cast<Eigen::Index>(i)) -
+          origins.Points.row(static_cast<Eigen::Index>(j)))
+                     .norm();
+        ++edgeCount;
+      }
+    }
+  }
+  double diagonal = 0;
+  for (int c = 0; c < 3; ++c)
+  {
+    diagonal += maxCorner[c] > minCorner[c] ? (maxCorner[c] - minCorner[c]) * (maxCorner[c] - minCorner[c]) : 0.0;
+  }
+  diagonal = std::sqrt(diagonal);
+  double cellUnit = edgeCount > 0 ? edgeSum / static_cast<double>(edgeCount) : 0.0;
+  if (!(cellUnit > 0) || !std::isfinite(cellUnit))
+  {
+    cellUnit = diagonal > 0 ? diagonal / std::sqrt(static_cast<double>(n)) : 1.0;
+  }
+  int coarseLevel = 0;
+  if (diagonal * kCoarseCellFraction > cellUnit)
+  {
+    coarseLevel = std::min(30, static_cast<int>(std::floor(std::log2(diagonal * kCoarseCellFraction / cellUnit))));
+  }
+  LevelScale scale;
+  scale.CellUnit = cellUnit;
+  scale.CoarseLevel = coarseLevel;
+  return scale;
+}
+
 /// Step 1: one origin per (level, cell, normal direction) among the candidates; every
 /// candidate at level 0. Sorted, distinct.
 std::vector<std::size_t> Select(const std::vector<std::size_t>& candidates,
@@ -169,12 +264,401 @@ void UpdateRegions(const Graph& graph, const std::vector<std::size_t>& added,
     layer.swap(next);
   }
 }
+
+/// Steps 1-5 over the state they share: the level each origin is selected at, which origins
+/// are cast (and with a valid value: the sources), the regions (owner and depth in hops) and
+/// the progress reported so far. The results go to `result`, sized by the caller.
+class AdaptiveCasting
+{
+public:
+  AdaptiveCasting(const RayCaster& caster, const RayOrigins& origins,
+    const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
+    const ProgressCallback& progress, const Graph& graph, const CastableOrigins& castable,
+    const LevelScale& scale, ShapeDiameterResult& result);
+
+  /// The coarse pass, the spacing from its estimate and the refinement rounds (steps 1-4).
+  /// False when aborted.
+  bool CastCoarseAndRefine();
+  /// Step 4b: the extremes. False when aborted.
+  bool CastExtremes();
+  /// Step 5: the interpolation.
+  void Interpolate();
+
+private:
+  int LevelFor(double sdf) const;
+  std::vector<std::size_t> SelectUncast(const std::vector<std::size_t>& among) const;
+  bool CastAndUpdateRegions(const std::vector<std::size_t>& chosen, double span);
+  std::vector<std::size_t> SpacingFromEstimate();
+  std::vector<std::size_t> RefinementCandidates();
+  std::vector<std::size_t> ExtremeRegionOrigins() const;
+  void TakeOwnerValues(std::vector<std::uint8_t>& known, std::vector<std::uint8_t>& free);
+  void SmoothAcrossNeighbors(
+    const std::vector<std::uint8_t>& known, const std::vector<std::uint8_t>& free);
+
+  const RayCaster& Caster;
+  const RayOrigins& Origins;
+  const ShapeDiameterOptions& Options;
+  const ParallelFor& Parallel;
+  const ProgressCallback& Progress;
+  const Graph& Adjacency; ///< the origins' neighbour graph
+  const CastableOrigins& Castable;
+  const LevelScale Scale;
+  ShapeDiameterResult& Result;
+  const std::size_t N;
+
+  std::vector<int> Level;
+  std::vector<std::uint8_t> Cast, Source;
+  std::vector<std::atomic<std::uint8_t>> Refine;
+  std::vector<std::int64_t> Owner; ///< empty until the first cast
+  std::vector<int> Depth;
+  double ProgressDone = 0;
+};
+
+AdaptiveCasting::AdaptiveCasting(const RayCaster& caster, const RayOrigins& origins,
+  const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
+  const ProgressCallback& progress, const Graph& graph, const CastableOrigins& castable,
+  const LevelScale& scale, ShapeDiameterResult& result)
+  : Caster(caster)
+  , Origins(origins)
+  , Options(options)
+  , Parallel(parallelFor)
+  , Progress(progress)
+  , Adjacency(graph)
+  , Castable(castable)
+  , Scale(scale)
+  , Result(result)
+  , N(static_cast<std::size_t>(origins.Points.rows()))
+  , Level(N, scale.CoarseLevel)
+  , Cast(N, 0)
+  , Source(N, 0)
+  , Refine(N)
+{
+}
+
+int AdaptiveCasting::LevelFor(double sdf) const
+{
+  const double spacing = Options.SpacingFraction * sdf;
+  if (!(spacing >= 2 * Scale.CellUnit))
+  {
+    return 0;
+  }
+  return std::min(
+    Scale.CoarseLevel, static_cast<int>(std::floor(std::log2(spacing / Scale.CellUnit))));
+}
+
+std::vector<std::size_t> AdaptiveCasting::SelectUncast(const std::vector<std::size_t>& among) const
+{
+  std::vector<std::size_t> selected =
+    Select(among, Level, Origins.Points, Castable.Normals, Castable.MinCorner, Scale.CellUnit);
+  selected.erase(
+    std::remove_if(selected.begin(), selected.end(), [&](std::size_t i) { return Cast[i] != 0; }),
+    selected.end());
+  return selected;
+}
+
+/// Casts the chosen origins, reporting progress over the next `span` of the whole, and grows
+/// the regions of the new sources. False when aborted.
+bool AdaptiveCasting::CastAndUpdateRegions(const std::vector<std::size_t>& chosen, double span)
+{
+  ProgressCallback roundProgress;
+  if (Progress)
+  {
+    roundProgress = [this, base = ProgressDone, span](double fraction) {
+      return Progress(base + span * fraction);
+    };
+  }
+  const bool completed =
+    CastShapeDiameterCones(Caster, Origins, Options, &chosen, Result, Parallel, roundProgress);
+  ProgressDone += span;
+  if (!completed)
+  {
+    return false;
+  }
+  for (const std::size_t i : chosen)
+  {
+    Cast[i] = 1;
+    Source[i] = Result.ValidRays[i] > 0 ? 1 : 0;
+  }
+  if (Owner.empty())
+  {
+    Owner.assign(N, -1);
+    Depth.assign(N, -1);
+  }
+  UpdateRegions(Adjacency, chosen, Source, Owner, Depth);
+  return true;
+}
+
+bool AdaptiveCasting::CastCoarseAndRefine()
+{
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < N; ++i)
+  {
+    if (Castable.Eligible[i])
+    {
+      candidates.push_back(i);
+    }
+  }
+  bool checked = true; // the current regions went through RefinementCandidates
+  for (int round = 0; round <= Scale.CoarseLevel + kExtraRounds; ++round)
+  {
+    std::vector<std::size_t> chosen = SelectUncast(candidates);
+    if (chosen.empty() && !checked)
+    {
+      candidates = RefinementCandidates();
+      checked = true;
+      chosen = SelectUncast(candidates);
+    }
+    if (chosen.empty())
+    {
+      break;
+    }
+    const double span = round == 0 ? 0.1 : 0.5 * (0.95 - ProgressDone);
+    if (!CastAndUpdateRegions(chosen, span))
+    {
+      return false;
+    }
+    if (round == 0)
+    {
+      candidates = SpacingFromEstimate();
+      checked = false;
+    }
+    else
+    {
+      candidates = RefinementCandidates();
+      checked = true;
+    }
+  }
+  return true;
+}
+
+/// Step 3: the spacing from the coarse estimate. Returns the origins whose level dropped, and
+/// those no region reached (one level finer), to be selected again.
+std::vector<std::size_t> AdaptiveCasting::SpacingFromEstimate()
+{
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < N; ++i)
+  {
+    if (!Castable.Eligible[i] || Cast[i])
+    {
+      continue;
+    }
+    const int wanted = Owner[i] < 0 ? std::max(0, Level[i] - 1)
+                                    : LevelFor(Result.Values[static_cast<std::size_t>(Owner[i])]);
+    if (wanted < Level[i] || Owner[i] < 0)
+    {
+      Level[i] = std::min(Level[i], wanted);
+      candidates.push_back(i);
+    }
+  }
+  return candidates;
+}
+
+/// Step 4's test on the current regions: the origins to select again, one level finer.
+std::vector<std::size_t> AdaptiveCasting::RefinementCandidates()
+{
+  // In parallel: the flags are only ever set, so their final state does not depend on the
+  // order (relaxed atomic stores; the scan reads nothing else that changes).
+  for (auto& flag : Refine)
+  {
+    flag.store(0, std::memory_order_relaxed);
+  }
+  const double tolerance = Options.Tolerance;
+  Parallel((N + kSweepChunk - 1) / kSweepChunk, [&](std::size_t chunkBegin, std::size_t chunkEnd) {
+    for (std::size_t i = chunkBegin * kSweepChunk; i < std::min(N, chunkEnd * kSweepChunk); ++i)
+    {
+      const std::int64_t a = Owner[i];
+      if (a < 0)
+      {
+        continue;
+      }
+      const double va = Result.Values[static_cast<std::size_t>(a)];
+      for (std::size_t k = Adjacency.Begin(i); k < Adjacency.End(i); ++k)
+      {
+        const std::int64_t b = Owner[Adjacency.At(k)];
+        if (b > a) // each pair of regions once per edge direction is enough
+        {
+          const double vb = Result.Values[static_cast<std::size_t>(b)];
+          if (std::abs(va - vb) > tolerance * std::max(va, vb))
+          {
+            Refine[static_cast<std::size_t>(a)].store(1, std::memory_order_relaxed);
+            Refine[static_cast<std::size_t>(b)].store(1, std::memory_order_relaxed);
+          }
+        }
+      }
+      if (Depth[i] > 2 * (1 << std::min(Level[i], 20)) + 2)
+      {
+        Refine[static_cast<std::size_t>(a)].store(1, std::memory_order_relaxed);
+      }
+    }
+  });
+  std::vector<std::size_t> selected;
+  for (std::size_t i = 0; i < N; ++i)
+  {
+    if (!Castable.Eligible[i] || Cast[i])
+    {
+      continue;
+    }
+    if (Owner[i] < 0)
+    {
+      Level[i] = std::max(0, Level[i] - 1);
+      selected.push_back(i);
+    }
+    else if (Refine[static_cast<std::size_t>(Owner[i])].load(std::memory_order_relaxed))
+    {
+      Level[i] = std::max(0, Level[i] - 1);
+      selected.push_back(i);
+    }
+  }
+  return selected;
+}
+
+/// The uncast origins of the regions whose value is in the lowest or highest
+/// kExtremeFraction of the cast values.
+std::vector<std::size_t> AdaptiveCasting::ExtremeRegionOrigins() const
+{
+  std::vector<double> castValues;
+  for (std::size_t i = 0; i < N; ++i)
+  {
+    if (Source[i])
+    {
+      castValues.push_back(Result.Values[i]);
+    }
+  }
+  std::vector<std::size_t> chosen;
+  if (castValues.empty())
+  {
+    return chosen;
+  }
+  std::sort(castValues.begin(), castValues.end());
+  const auto last = castValues.size() - 1;
+  const double low = castValues[static_cast<std::size_t>(kExtremeFraction * static_cast<double>(last))];
+  const double high = castValues[last - static_cast<std::size_t>(kExtremeFraction * static_cast<double>(last))];
+  for (std::size_t i = 0; i < N; ++i)
+  {
+    if (Castable.Eligible[i] && !Cast[i] && Owner[i] >= 0)
+    {
+      const double v = Result.Values[static_cast<std::size_t>(Owner[i])];
+      if (v <= low || v >= high)
+      {
+        chosen.push_back(i);
+      }
+    }
+  }
+  return chosen;
+}
+
+/// The normalisation maps the smoothed SDF's minimum and maximum to 0 and 1, so a missed
+/// extreme shifts every normalised value: the extreme regions (ExtremeRegionOrigins) are
+/// selected again kExtremeLevels levels finer.
+bool AdaptiveCasting::CastExtremes()
+{
+  if (Owner.empty() || !(kExtremeFraction > 0))
+  {
+    return true;
+  }
+  std::vector<std::size_t> chosen = ExtremeRegionOrigins();
+  for (const std::size_t i : chosen)
+  {
+    Level[i] = std::max(0, Level[i] - kExtremeLevels);
+  }
+  chosen = SelectUncast(chosen);
+  if (chosen.empty())
+  {
+    return true;
+  }
+  return CastAndUpdateRegions(chosen, 0.5 * (0.95 - ProgressDone));
+}
+
+void AdaptiveCasting::Interpolate()
+{
+  std::vector<std::uint8_t> known(N, 0), free(N, 0);
+  TakeOwnerValues(known, free);
+  SmoothAcrossNeighbors(known, free);
+}
+
+/// Every origin a region reached is known; those not cast with a valid value (free) take
+/// their owner's value and ValidRays.
+void AdaptiveCasting::TakeOwnerValues(
+  std::vector<std::uint8_t>& known, std::vector<std::uint8_t>& free)
+{
+  for (std::size_t i = 0; i < N; ++i)
+  {
+    if (!Castable.Eligible[i] || Owner.empty() || Owner[i] < 0)
+    {
+      continue;
+    }
+    known[i] = 1;
+    if (!Source[i])
+    {
+      free[i] = 1;
+      const auto a = static_cast<std::size_t>(Owner[i]);
+      Result.Values[i] = Result.Values[a];
+      Result.ValidRays[i] = Result.ValidRays[a];
+    }
+  }
+}
+
+/// Jacobi sweeps: each free origin becomes the mean of itself and its known neighbours of the
+/// previous sweep, not across concave creases.
+void AdaptiveCasting::SmoothAcrossNeighbors(
+  const std::vector<std::uint8_t>& known, const std::vector<std::uint8_t>& free)
+{
+  const std::size_t chunks = (N + kSweepChunk - 1) / kSweepChunk;
+  const double creaseCos = std::cos(kCreaseAngleDegrees * 3.14159265358979323846 / 180.0);
+  std::vector<double> next(Result.Values);
+  const int sweeps = kSmoothingIterations;
+  for (int sweep = 0; sweep < sweeps && !Owner.empty(); ++sweep)
+  {
+    Parallel(chunks, [&](std::size_t chunkBegin, std::size_t chunkEnd) {
+      for (std::size_t i = chunkBegin * kSweepChunk; i < std::min(N, chunkEnd * kSweepChunk); ++i)
+      {
+        if (!free[i])
+        {
+          next[i] = Result.Values[i];
+          continue;
+        }
+        double sum = Result.Values[i];
+        int count = 1;
+        const double* ni = Castable.Normals.data() + 3 * i;
+        for (std::size_t k = Adjacency.Begin(i); k < Adjacency.End(i); ++k)
+        {
+          const std::size_t j = Adjacency.At(k);
+          if (!known[j] || j == i)
+          {
+            continue;
+          }
+          const double* nj = Castable.Normals.data() + 3 * j;
+          const double cosine = ni[0] * nj[0] + ni[1] * nj[1] + ni[2] * nj[2];
+          if (cosine < creaseCos)
+          {
+            double above = 0;
+            for (int c = 0; c < 3; ++c)
+            {
+              above += (Origins.Points(static_cast<Eigen::Index>(j), c) -
+                         Origins.Points(static_cast<Eigen::Index>(i), c)) * ni[c];
+            }
+            if (above > 0)
+            {
+              continue; // concave crease
+            }
+          }
+          sum += Result.Values[j];
+          ++count;
+        }
+        next[i] = sum / count;
+      }
+    });
+    Result.Values.swap(next);
+  }
+}
 } // namespace
 
 ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
   const RayOrigins& origins, const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
   const ProgressCallback& progress)
 {
+  CheckShapeDiameterOptions(options);
+  CheckRayOrigins(origins);
   const auto n = static_cast<std::size_t>(origins.Points.rows());
   ShapeDiameterResult result;
   result.Values.assign(n, 0.0);
@@ -188,361 +672,24 @@ ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
     return result;
   }
   const Graph graph{ origins.NeighborOffsets, origins.Neighbors };
-
-  // Origins that may be cast (the others keep 0 / 0, as in the Exact mode), unit normals.
-  std::vector<std::uint8_t> eligible(n, 0);
-  std::vector<double> normals(3 * n, 0.0);
-  double minCorner[3] = { std::numeric_limits<double>::infinity(),
-    std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
-  double maxCorner[3] = { -minCorner[0], -minCorner[1], -minCorner[2] };
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const auto row = static_cast<Eigen::Index>(i);
-    if ((!origins.Skip.empty() && origins.Skip[i]) || !origins.Points.row(row).allFinite())
-    {
-      continue;
-    }
-    const double length = origins.Normals.row(row).norm();
-    if (!(length > 0) || !std::isfinite(length))
-    {
-      continue;
-    }
-    eligible[i] = 1;
-    for (int c = 0; c < 3; ++c)
-    {
-      normals[3 * i + c] = origins.Normals(row, c) / length;
-      minCorner[c] = std::min(minCorner[c], origins.Points(row, c));
-      maxCorner[c] = std::max(maxCorner[c], origins.Points(row, c));
-    }
-  }
-
-  // E: mean distance between neighbouring origins; K: the coarse level.
-  double edgeSum = 0;
-  std::size_t edgeCount = 0;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    for (std::size_t k = graph.Begin(i); k < graph.End(i); ++k)
-    {
-      const std::size_t j = graph.At(k);
-      if (eligible[i] && eligible[j] && i != j)
-      {
-        edgeSum += (origins.Points.row(static_cast<Eigen::Index>(i)) -
-          origins.Points.row(static_cast<Eigen::Index>(j)))
-                     .norm();
-        ++edgeCount;
-      }
-    }
-  }
-  double diagonal = 0;
-  for (int c = 0; c < 3; ++c)
-  {
-    diagonal += maxCorner[c] > minCorner[c] ? (maxCorner[c] - minCorner[c]) * (maxCorner[c] - minCorner[c]) : 0.0;
-  }
-  diagonal = std::sqrt(diagonal);
-  double cellUnit = edgeCount > 0 ? edgeSum / static_cast<double>(edgeCount) : 0.0;
-  if (!(cellUnit > 0) || !std::isfinite(cellUnit))
-  {
-    cellUnit = diagonal > 0 ? diagonal / std::sqrt(static_cast<double>(n)) : 1.0;
-  }
-  int coarseLevel = 0;
-  if (diagonal * kCoarseCellFraction > cellUnit)
-  {
-    coarseLevel = std::min(30, static_cast<int>(std::floor(std::log2(diagonal * kCoarseCellFraction / cellUnit))));
-  }
-  const double spacingFraction = options.SpacingFraction;
-  const double tolerance = options.Tolerance;
-  if (coarseLevel == 0)
+  const CastableOrigins castable = FindCastableOrigins(origins, n);
+  const LevelScale scale = MeasureLevelScale(origins, graph, castable, n);
+  if (scale.CoarseLevel == 0)
   {
     // The coarsest cell is no larger than the spacing of the origins: every origin would be
     // cast, so the Exact mode runs (same values, none of the bookkeeping).
     result.Aborted = !CastShapeDiameterCones(caster, origins, options, nullptr, result, parallelFor, progress);
     return result;
   }
-  const auto levelFor = [&](double sdf) {
-    const double spacing = spacingFraction * sdf;
-    if (!(spacing >= 2 * cellUnit))
-    {
-      return 0;
-    }
-    return std::min(coarseLevel, static_cast<int>(std::floor(std::log2(spacing / cellUnit))));
-  };
 
-  std::vector<int> level(n, coarseLevel);
-  std::vector<std::uint8_t> cast(n, 0), source(n, 0);
-  std::vector<std::atomic<std::uint8_t>> refine(n);
-  std::vector<std::int64_t> owner;
-  std::vector<int> depth;
-  std::vector<std::size_t> candidates;
-  for (std::size_t i = 0; i < n; ++i)
+  AdaptiveCasting casting(
+    caster, origins, options, parallelFor, progress, graph, castable, scale, result);
+  if (!casting.CastCoarseAndRefine() || !casting.CastExtremes())
   {
-    if (eligible[i])
-    {
-      candidates.push_back(i);
-    }
+    result.Aborted = true;
+    return result;
   }
-
-  // Step 4's test on the current regions: the origins to select again.
-  const auto refinementCandidates = [&]() {
-    // In parallel: the flags are only ever set, so their final state does not depend on the
-    // order (relaxed atomic stores; the scan reads nothing else that changes).
-    for (auto& flag : refine)
-    {
-      flag.store(0, std::memory_order_relaxed);
-    }
-    parallelFor((n + kSweepChunk - 1) / kSweepChunk, [&](std::size_t chunkBegin, std::size_t chunkEnd) {
-      for (std::size_t i = chunkBegin * kSweepChunk; i < std::min(n, chunkEnd * kSweepChunk); ++i)
-      {
-        const std::int64_t a = owner[i];
-        if (a < 0)
-        {
-          continue;
-        }
-        const double va = result.Values[static_cast<std::size_t>(a)];
-        for (std::size_t k = graph.Begin(i); k < graph.End(i); ++k)
-        {
-          const std::int64_t b = owner[graph.At(k)];
-          if (b > a) // each pair of regions once per edge direction is enough
-          {
-            const double vb = result.Values[static_cast<std::size_t>(b)];
-            if (std::abs(va - vb) > tolerance * std::max(va, vb))
-            {
-              refine[static_cast<std::size_t>(a)].store(1, std::memory_order_relaxed);
-              refine[static_cast<std::size_t>(b)].store(1, std::memory_order_relaxed);
-            }
-          }
-        }
-        if (depth[i] > 2 * (1 << std::min(level[i], 20)) + 2)
-        {
-          refine[static_cast<std::size_t>(a)].store(1, std::memory_order_relaxed);
-        }
-      }
-    });
-    std::vector<std::size_t> selected;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      if (!eligible[i] || cast[i])
-      {
-        continue;
-      }
-      if (owner[i] < 0)
-      {
-        level[i] = std::max(0, level[i] - 1);
-        selected.push_back(i);
-      }
-      else if (refine[static_cast<std::size_t>(owner[i])].load(std::memory_order_relaxed))
-      {
-        level[i] = std::max(0, level[i] - 1);
-        selected.push_back(i);
-      }
-    }
-    return selected;
-  };
-
-  double progressDone = 0;
-  bool checked = true; // the current regions went through refinementCandidates
-  for (int round = 0; round <= coarseLevel + kExtraRounds; ++round)
-  {
-    const auto selectUncast = [&]() {
-      std::vector<std::size_t> selected = Select(candidates, level, origins.Points, normals, minCorner, cellUnit);
-      selected.erase(
-        std::remove_if(selected.begin(), selected.end(), [&](std::size_t i) { return cast[i] != 0; }),
-        selected.end());
-      return selected;
-    };
-    std::vector<std::size_t> chosen = selectUncast();
-    if (chosen.empty() && !checked)
-    {
-      candidates = refinementCandidates();
-      checked = true;
-      chosen = selectUncast();
-    }
-    if (chosen.empty())
-    {
-      break;
-    }
-
-    const double span = round == 0 ? 0.1 : 0.5 * (0.95 - progressDone);
-    ProgressCallback roundProgress;
-    if (progress)
-    {
-      roundProgress = [&, base = progressDone, span](double fraction) { return progress(base + span * fraction); };
-    }
-    const bool completed =
-      CastShapeDiameterCones(caster, origins, options, &chosen, result, parallelFor, roundProgress);
-    progressDone += span;
-    if (!completed)
-    {
-      result.Aborted = true;
-      return result;
-    }
-    for (const std::size_t i : chosen)
-    {
-      cast[i] = 1;
-      source[i] = result.ValidRays[i] > 0 ? 1 : 0;
-    }
-    if (round == 0)
-    {
-      owner.assign(n, -1);
-      depth.assign(n, -1);
-    }
-    UpdateRegions(graph, chosen, source, owner, depth);
-
-    if (round == 0)
-    {
-      // Step 3: the spacing from the coarse estimate.
-      candidates.clear();
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        if (!eligible[i] || cast[i])
-        {
-          continue;
-        }
-        const int wanted = owner[i] < 0 ? std::max(0, level[i] - 1)
-                                        : levelFor(result.Values[static_cast<std::size_t>(owner[i])]);
-        if (wanted < level[i] || owner[i] < 0)
-        {
-          level[i] = std::min(level[i], wanted);
-          candidates.push_back(i);
-        }
-      }
-      checked = false;
-    }
-    else
-    {
-      candidates = refinementCandidates();
-      checked = true;
-    }
-  }
-
-  // Step 4b: the extremes. The normalisation maps the smoothed SDF's minimum and maximum to 0
-  // and 1, so a missed extreme shifts every normalised value: the regions whose value is in
-  // the lowest or highest kExtremeFraction of the cast values are selected again
-  // kExtremeLevels levels finer.
-  const double extremeFraction = kExtremeFraction;
-  const int extremeDrop = kExtremeLevels;
-  if (!owner.empty() && extremeFraction > 0)
-  {
-    std::vector<double> castValues;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      if (source[i])
-      {
-        castValues.push_back(result.Values[i]);
-      }
-    }
-    if (!castValues.empty())
-    {
-      std::sort(castValues.begin(), castValues.end());
-      const auto last = castValues.size() - 1;
-      const double low = castValues[static_cast<std::size_t>(extremeFraction * static_cast<double>(last))];
-      const double high = castValues[last - static_cast<std::size_t>(extremeFraction * static_cast<double>(last))];
-      std::vector<std::size_t> chosen;
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        if (eligible[i] && !cast[i] && owner[i] >= 0)
-        {
-          const double v = result.Values[static_cast<std::size_t>(owner[i])];
-          if (v <= low || v >= high)
-          {
-            chosen.push_back(i);
-          }
-        }
-      }
-      for (const std::size_t i : chosen)
-      {
-        level[i] = std::max(0, level[i] - extremeDrop);
-      }
-      chosen = Select(chosen, level, origins.Points, normals, minCorner, cellUnit);
-      chosen.erase(std::remove_if(chosen.begin(), chosen.end(), [&](std::size_t i) { return cast[i] != 0; }),
-        chosen.end());
-      if (!chosen.empty())
-      {
-        const double span = 0.5 * (0.95 - progressDone);
-        ProgressCallback roundProgress;
-        if (progress)
-        {
-          roundProgress = [&, base = progressDone, span](double fraction) { return progress(base + span * fraction); };
-        }
-        if (!CastShapeDiameterCones(caster, origins, options, &chosen, result, parallelFor, roundProgress))
-        {
-          result.Aborted = true;
-          return result;
-        }
-        progressDone += span;
-        for (const std::size_t i : chosen)
-        {
-          cast[i] = 1;
-          source[i] = result.ValidRays[i] > 0 ? 1 : 0;
-        }
-        UpdateRegions(graph, chosen, source, owner, depth);
-      }
-    }
-  }
-
-  // Step 5: interpolation.
-  std::vector<std::uint8_t> known(n, 0), free(n, 0);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    if (!eligible[i] || owner.empty() || owner[i] < 0)
-    {
-      continue;
-    }
-    known[i] = 1;
-    if (!source[i])
-    {
-      free[i] = 1;
-      const auto a = static_cast<std::size_t>(owner[i]);
-      result.Values[i] = result.Values[a];
-      result.ValidRays[i] = result.ValidRays[a];
-    }
-  }
-  const std::size_t chunks = (n + kSweepChunk - 1) / kSweepChunk;
-  const double creaseCos = std::cos(kCreaseAngleDegrees * 3.14159265358979323846 / 180.0);
-  std::vector<double> next(result.Values);
-  const int sweeps = kSmoothingIterations;
-  for (int sweep = 0; sweep < sweeps && !owner.empty(); ++sweep)
-  {
-    parallelFor(chunks, [&](std::size_t chunkBegin, std::size_t chunkEnd) {
-      for (std::size_t i = chunkBegin * kSweepChunk; i < std::min(n, chunkEnd * kSweepChunk); ++i)
-      {
-        if (!free[i])
-        {
-          next[i] = result.Values[i];
-          continue;
-        }
-        double sum = result.Values[i];
-        int count = 1;
-        const double* ni = normals.data() + 3 * i;
-        for (std::size_t k = graph.Begin(i); k < graph.End(i); ++k)
-        {
-          const std::size_t j = graph.At(k);
-          if (!known[j] || j == i)
-          {
-            continue;
-          }
-          const double* nj = normals.data() + 3 * j;
-          const double cosine = ni[0] * nj[0] + ni[1] * nj[1] + ni[2] * nj[2];
-          if (cosine < creaseCos)
-          {
-            double above = 0;
-            for (int c = 0; c < 3; ++c)
-            {
-              above += (origins.Points(static_cast<Eigen::Index>(j), c) -
-                         origins.Points(static_cast<Eigen::Index>(i), c)) * ni[c];
-            }
-            if (above > 0)
-            {
-              continue; // concave crease
-            }
-          }
-          sum += result.Values[j];
-          ++count;
-        }
-        next[i] = sum / count;
-      }
-    });
-    result.Values.swap(next);
-  }
+  casting.Interpolate();
   if (progress && !progress(1.0))
   {
     result.Aborted = true;

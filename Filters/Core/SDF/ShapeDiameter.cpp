@@ -1,10 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "SDF/ShapeDiameter.h"
 
-#include "SDF/AdaptiveShapeDiameter.h"
 #include "RayCasting/ConeSampling.h"
-#include "RayCasting/EmbreeRayCaster.h"
-#include "Mesh/Orientation.h"
 
 #include <Eigen/Geometry>
 
@@ -96,56 +93,6 @@ double RobustWeightedMeanOf(
   return value;
 }
 
-void CheckOptions(const ShapeDiameterOptions& options)
-{
-  if (!(options.VertexOriginOffset >= 0 && options.VertexOriginOffset <= 1e-2))
-  {
-    throw ShapeDiameterError("shape diameter: VertexOriginOffset must be in [0, 0.01], got " +
-      std::to_string(options.VertexOriginOffset));
-  }
-  if (options.OriginsPerChunk < 1)
-  {
-    throw ShapeDiameterError("shape diameter: OriginsPerChunk must be >= 1");
-  }
-  if (options.Mode != ShapeDiameterMode::Exact && options.Mode != ShapeDiameterMode::Adaptive)
-  {
-    throw ShapeDiameterError("shape diameter: unknown Mode");
-  }
-  if (!(options.Tolerance > 0 && options.Tolerance <= 1))
-  {
-    throw ShapeDiameterError("shape diameter: Tolerance must be in (0, 1], got " +
-      std::to_string(options.Tolerance));
-  }
-  if (!(options.SpacingFraction > 0 && options.SpacingFraction <= 8))
-  {
-    throw ShapeDiameterError("shape diameter: SpacingFraction must be in (0, 8], got " +
-      std::to_string(options.SpacingFraction));
-  }
-}
-
-void CheckOrigins(const RayOrigins& origins)
-{
-  const auto n = origins.Points.rows();
-  if (origins.Normals.rows() != n)
-  {
-    throw ShapeDiameterError("shape diameter: " + std::to_string(n) + " origins but " +
-      std::to_string(origins.Normals.rows()) + " normals");
-  }
-  if (origins.FirstAxes.rows() != 0 && origins.FirstAxes.rows() != n)
-  {
-    throw ShapeDiameterError("shape diameter: FirstAxes must have 0 or one row per origin");
-  }
-  if (!origins.SourceTriangles.empty() &&
-    origins.SourceTriangles.size() != static_cast<std::size_t>(n))
-  {
-    throw ShapeDiameterError("shape diameter: SourceTriangles must be empty or one per origin");
-  }
-  if (!origins.Skip.empty() && origins.Skip.size() != static_cast<std::size_t>(n))
-  {
-    throw ShapeDiameterError("shape diameter: Skip must be empty or one per origin");
-  }
-}
-
 /// Unit normal of the origin, or false when it has none.
 bool UnitNormal(const RayOrigins& origins, Eigen::Index i, double normal[3])
 {
@@ -181,6 +128,56 @@ double Median(std::vector<double> samples)
 }
 
 } // namespace
+
+void CheckShapeDiameterOptions(const ShapeDiameterOptions& options)
+{
+  if (!(options.VertexOriginOffset >= 0 && options.VertexOriginOffset <= 1e-2))
+  {
+    throw ShapeDiameterError("shape diameter: VertexOriginOffset must be in [0, 0.01], got " +
+      std::to_string(options.VertexOriginOffset));
+  }
+  if (options.OriginsPerChunk < 1)
+  {
+    throw ShapeDiameterError("shape diameter: OriginsPerChunk must be >= 1");
+  }
+  if (options.Mode != ShapeDiameterMode::Exact && options.Mode != ShapeDiameterMode::Adaptive)
+  {
+    throw ShapeDiameterError("shape diameter: unknown Mode");
+  }
+  if (!(options.Tolerance > 0 && options.Tolerance <= 1))
+  {
+    throw ShapeDiameterError("shape diameter: Tolerance must be in (0, 1], got " +
+      std::to_string(options.Tolerance));
+  }
+  if (!(options.SpacingFraction > 0 && options.SpacingFraction <= 8))
+  {
+    throw ShapeDiameterError("shape diameter: SpacingFraction must be in (0, 8], got " +
+      std::to_string(options.SpacingFraction));
+  }
+}
+
+void CheckRayOrigins(const RayOrigins& origins)
+{
+  const auto n = origins.Points.rows();
+  if (origins.Normals.rows() != n)
+  {
+    throw ShapeDiameterError("shape diameter: " + std::to_string(n) + " origins but " +
+      std::to_string(origins.Normals.rows()) + " normals");
+  }
+  if (origins.FirstAxes.rows() != 0 && origins.FirstAxes.rows() != n)
+  {
+    throw ShapeDiameterError("shape diameter: FirstAxes must have 0 or one row per origin");
+  }
+  if (!origins.SourceTriangles.empty() &&
+    origins.SourceTriangles.size() != static_cast<std::size_t>(n))
+  {
+    throw ShapeDiameterError("shape diameter: SourceTriangles must be empty or one per origin");
+  }
+  if (!origins.Skip.empty() && origins.Skip.size() != static_cast<std::size_t>(n))
+  {
+    throw ShapeDiameterError("shape diameter: Skip must be empty or one per origin");
+  }
+}
 
 double RobustWeightedMean(
   const std::vector<double>& lengths, const std::vector<double>& weights, int& keptCount)
@@ -275,7 +272,7 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
   ConePattern pattern;
   try
   {
-    pattern = MakeConePattern(options.NumberOfRays, options.ConeAngleDegrees);
+    pattern = MakeConePattern(options.NumberOfRays, options.ConeAngle);
   }
   catch (const ConeSamplingError& error)
   {
@@ -338,7 +335,7 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
         origin.Rule = options.Rule;
 
         ++rangeCasts;
-        if (options.IgnoreBuriedOrigins && IsBuried(caster, origin))
+        if (options.IgnoreBuriedFaces && IsBuried(caster, origin))
         {
           result.Values[o] = 0.0; // no cone: its rays would measure the enclosing part
           result.ValidRays[o] = 0;
@@ -377,20 +374,16 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
   return !aborted.load();
 }
 
-ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigins& origins,
+ShapeDiameterResult ComputeExactShapeDiameter(const RayCaster& caster, const RayOrigins& origins,
   const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
   const ProgressCallback& progress)
 {
-  CheckOptions(options);
-  CheckOrigins(origins);
-  if (options.Mode == ShapeDiameterMode::Adaptive)
-  {
-    return ComputeAdaptiveShapeDiameter(caster, origins, options, parallelFor, progress);
-  }
+  CheckShapeDiameterOptions(options);
+  CheckRayOrigins(origins);
   // Pattern errors before any work, also for an empty input.
   try
   {
-    MakeConePattern(options.NumberOfRays, options.ConeAngleDegrees);
+    MakeConePattern(options.NumberOfRays, options.ConeAngle);
   }
   catch (const ConeSamplingError& error)
   {
@@ -403,22 +396,6 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
   result.ValidRays.assign(originCount, 0);
   result.Aborted = !CastShapeDiameterCones(caster, origins, options, nullptr, result, parallelFor, progress);
   return result;
-}
-
-ShapeDiameterResult ComputeFaceShapeDiameter(const PointsView& points,
-  const TrianglesView& triangles, const ShapeDiameterOptions& options,
-  const ParallelFor& parallelFor, const ProgressCallback& progress)
-{
-  CheckOptions(options);
-  const EmbreeRayCaster caster(points, triangles);
-  RayOrigins origins = MakeFaceOrigins(points, triangles);
-  if (options.Mode == ShapeDiameterMode::Adaptive)
-  {
-    TriangleAdjacency adjacency = BuildTriangleAdjacency(triangles);
-    origins.NeighborOffsets = std::move(adjacency.Offsets);
-    origins.Neighbors = std::move(adjacency.Neighbors);
-  }
-  return ComputeShapeDiameter(caster, origins, options, parallelFor, progress);
 }
 
 FillFromNeighborsSummary FillFromNeighbors(std::vector<double>& values,

@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // ShapeDiameter: the shape diameter function f_v of Shapira, Shamir & Cohen-Or 2008, Sect. 3.
 //
+// Entry points: ComputeShapeDiameter and ComputeFaceShapeDiameter (SDF.h) run this file's
+// ComputeExactShapeDiameter or, in ShapeDiameterMode::Adaptive, ComputeAdaptiveShapeDiameter
+// (AdaptiveShapeDiameter.h). This file holds the Exact mode and what both modes share.
+//
 // What it computes
 //   For each origin p (a face centre by default, or a vertex) with outward unit normal n:
-//   1. cast NumberOfRays rays from p inside the cone of full opening angle ConeAngleDegrees
+//   1. cast NumberOfRays rays from p inside the cone of full opening angle ConeAngle
 //      around the inward normal -n (pattern and frame: ConeSampling.h);
 //   2. keep each ray's VALID hit under options.Rule (RayCaster.h; p's own face is never hit):
 //      HitRule::FirstHitLeaving (the default) takes the ray's first hit and keeps it only when
@@ -23,7 +27,7 @@
 //
 // Parameters (ShapeDiameterOptions)
 //   NumberOfRays      default 30 (paper), range [1, 4096].
-//   ConeAngleDegrees  default 120 (paper, full opening angle), range (0, 180).
+//   ConeAngle  default 120 (paper, full opening angle), range (0, 180).
 //   VertexOriginOffset default 1e-6, range [0, 1e-2], RELATIVE TO THE MESH BOUNDING-BOX
 //                     DIAGONAL: origins without a source triangle (vertices) ignore hits
 //                     closer than this (Embree's tnear), because a vertex lies on all its
@@ -70,7 +74,7 @@
 //   - The paper computes f_v at face centres and says nothing about faces without a valid
 //     ray; FillFromNeighbors is our documented fill. Vertex origins are an option.
 //
-// Buried origins (ours; IgnoreBuriedOrigins, default on)
+// Buried origins (ours; IgnoreBuriedFaces, default on)
 //   Posed characters often self-intersect (a paw pushed into the torso, skinning folds at a
 //   joint). A face inside another part's volume has no thickness of its own to measure: its
 //   rays leave the enclosing part's surface first, a short distance away, so its value
@@ -121,7 +125,7 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-/// How ComputeShapeDiameter evaluates the origins.
+/// How ComputeShapeDiameter (SDF.h) evaluates the origins.
 enum class ShapeDiameterMode
 {
   Exact,   ///< every origin casts its cone (the paper)
@@ -131,7 +135,7 @@ enum class ShapeDiameterMode
 struct ShapeDiameterOptions
 {
   int NumberOfRays = 30;            ///< rays per cone (paper: 30)
-  double ConeAngleDegrees = 120.0;  ///< full opening angle (paper: 120 degrees)
+  double ConeAngle = 120.0;  ///< full opening angle (paper: 120 degrees)
   double VertexOriginOffset = 1e-6; ///< tnear for origins without a source triangle, x bbox diagonal
   /// Which hit a ray measures (RayCaster.h; step 2 above). Default FirstHitLeaving: the
   /// normalised SDF changes less between poses than with SkipSameFacing (docs/sdf.md).
@@ -145,7 +149,7 @@ struct ShapeDiameterOptions
   double SpacingFraction = 0.5;
   /// An origin buried inside another part of a self-intersecting mesh gets no value
   /// (ValidRays 0, left for FillFromNeighbors); see "Buried origins" above. Default on.
-  bool IgnoreBuriedOrigins = true;
+  bool IgnoreBuriedFaces = true;
 };
 
 /// Where the cones start. All matrices have one row per origin (n rows), except FirstAxes and
@@ -188,31 +192,34 @@ struct ShapeDiameterResult
   std::vector<int> ValidRays;
   bool Aborted = false;       ///< the ProgressCallback asked to stop
   std::size_t CastCount = 0;  ///< origins evaluated: cone cast or found buried (all castable ones in Exact mode)
-  std::size_t BuriedCount = 0; ///< cast origins found buried (IgnoreBuriedOrigins), value 0
+  std::size_t BuriedCount = 0; ///< cast origins found buried (IgnoreBuriedFaces), value 0
 };
 
 /// True when the origin lies inside the volume of another part of the mesh: the first surface
 /// a ray along its outward normal meets is one the ray leaves (see "Buried origins" above).
 bool IsBuried(const RayCaster& caster, const RayOrigin& origin);
 
-/// The SDF of every origin. Throws ShapeDiameterError on bad options or inconsistent sizes.
-ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigins& origins,
+/// The checks both modes make before any work. Throws ShapeDiameterError on an option out of
+/// its range (those of either mode, whatever options.Mode) or an unknown Mode.
+void CheckShapeDiameterOptions(const ShapeDiameterOptions& options);
+
+/// Throws ShapeDiameterError when the origins' arrays do not have one row / entry per origin
+/// (or none, where allowed). The neighbour graph is checked by the Adaptive mode only.
+void CheckRayOrigins(const RayOrigins& origins);
+
+/// The Exact mode: every origin casts its cone, whatever options.Mode (ComputeShapeDiameter,
+/// SDF.h, chooses the mode). Throws ShapeDiameterError on bad options or inconsistent sizes.
+ShapeDiameterResult ComputeExactShapeDiameter(const RayCaster& caster, const RayOrigins& origins,
   const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
   const ProgressCallback& progress = ProgressCallback());
 
 /// Casts the cones of the origins listed in `subset` (distinct indices; nullptr = all) into
-/// result.Values / ValidRays (sized by the caller), as ComputeShapeDiameter's Exact mode does
-/// for each of them; adds the casts to result.CastCount. Progress as ComputeShapeDiameter's,
+/// result.Values / ValidRays (sized by the caller), as ComputeExactShapeDiameter does for
+/// each of them; adds the casts to result.CastCount. Progress as ComputeExactShapeDiameter's,
 /// over the listed origins. Returns false when aborted. Used by the Adaptive mode.
 bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
   const ShapeDiameterOptions& options, const std::vector<std::size_t>* subset,
   ShapeDiameterResult& result, const ParallelFor& parallelFor, const ProgressCallback& progress);
-
-/// Convenience for the default per-face SDF: builds an EmbreeRayCaster over the mesh and
-/// MakeFaceOrigins (plus the triangle adjacency in Adaptive mode), then ComputeShapeDiameter. Throws RayCasterError / ShapeDiameterError.
-ShapeDiameterResult ComputeFaceShapeDiameter(const PointsView& points,
-  const TrianglesView& triangles, const ShapeDiameterOptions& options,
-  const ParallelFor& parallelFor, const ProgressCallback& progress = ProgressCallback());
 
 /// Steps 3-4 above for one origin: lengths (+inf = no hit, dropped) and their weights.
 /// Returns the weighted mean of the kept lengths and sets keptCount (0 and value 0 when no

@@ -11,7 +11,6 @@
 #include <limits>
 #include <map>
 #include <numeric>
-#include <optional>
 #include <set>
 #include <tuple>
 #include <unordered_map>
@@ -148,98 +147,97 @@ std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& face
   return faceBone;
 }
 
-SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
-  const std::vector<double>& faceSdf, PointsView faceNormals,
-  const std::vector<std::int64_t>& faceComponents, const SkeletonOptions& options,
-  const ParallelFor& parallelFor, const ProgressCallback& progress,
-  const std::vector<std::int64_t>& faceParts)
+namespace
 {
-  ValidateSkeletonOptions(options);
-  ValidateSkeletonInput(points, triangles, faceSdf, faceNormals, faceComponents);
-  if (!faceParts.empty() && faceParts.size() != static_cast<std::size_t>(triangles.rows()))
-  {
-    throw SkeletonError("skeleton: face part labels must be empty or one per triangle");
-  }
-  SkeletonResult result;
-  const auto faces = static_cast<std::size_t>(triangles.rows());
-  if (faces == 0)
-  {
-    return result;
-  }
-  const std::vector<std::int64_t> faceComponent = faceComponents.empty()
-    ? LabelFaceComponents(triangles, static_cast<std::size_t>(points.rows()))
-    : DenseLabels(faceComponents);
 
-  // 1. Projected cloud P.
-  const ProjectedCloud cloud =
-    SampleProjectedCloud(points, triangles, faceSdf, faceNormals, options.Sampling);
-  if (progress && !progress(0.05))
-  {
-    return AbortedResult();
-  }
+/// Surface component of each point of P: that of its source face.
+std::vector<std::int64_t> PointComponents(
+  const ProjectedCloud& cloud, const std::vector<std::int64_t>& faceComponent)
+{
   std::vector<std::int64_t> pointComponent(cloud.Size());
   for (std::size_t i = 0; i < cloud.Size(); ++i)
   {
     pointComponent[i] = faceComponent[cloud.SourceFace[i]];
   }
+  return pointComponent;
+}
 
-  // 2. MLS thinning -> T.
-  const ThinnedCloud thinned =
-    ThinProjectedCloud(cloud, options.Thinning, parallelFor, SubProgress(progress, 0.05, 0.65));
-  if (thinned.Aborted)
-  {
-    return AbortedResult();
-  }
-
-  // 3. Poly-segments, through the volume only.
+/// Build options of the volume that growth, connection and coverage test their segments
+/// against.
+EmbreeRayCasterOptions VolumeOptions()
+{
   // Low build quality: the volume answers some 10^5 segment tests, so the build dominates and
-  // the faster one wins (832k faces: skeleton 0.82 -> 0.62 s; same output, README "Design
-  // measurements"); the SDF's 25 M rays keep Medium.
+  // the faster one wins (832k faces: skeleton 0.82 -> 0.62 s; same output, docs/performance.md
+  // "Design measurements"); the SDF's 25 M rays keep Medium.
   EmbreeRayCasterOptions volumeOptions;
   volumeOptions.BuildQuality = EmbreeBuildQuality::Low;
-  const EmbreeRayCaster volume(points, triangles, volumeOptions);
-  const std::vector<PolySegment> segments =
-    GrowPolySegments(cloud, thinned, pointComponent, options.Segments, &volume);
-  if (progress && !progress(0.7))
-  {
-    return AbortedResult();
-  }
+  return volumeOptions;
+}
 
-  // 4. Connection, through the volume only; its neighbour graph on P is kept for step 5. Its
-  // junction cleaning waits for 4b, so that a leaf branch is judged with its extension.
-  bool aborted = false;
-  CloudNeighborGraph neighbours;
+/// ConnectPolySegments through the volume only, its neighbour graph on P kept for
+/// ReachUncoveredParts and ReachPartsWithoutBones. Its junction cleaning is left to
+/// ExtendLeavesAndCleanJunctions, so that a leaf branch is judged with its extension.
+SkeletonGraph ConnectThroughVolume(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
+  const std::vector<PolySegment>& segments, const std::vector<std::int64_t>& pointComponent,
+  const SkeletonOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress,
+  bool& aborted, const RayCaster& volume, CloudNeighborGraph& neighbours)
+{
   SkeletonConnectionOptions connection = options.Connection;
   connection.MinimumBranchFactor = 0.0;
-  SkeletonGraph graph = ConnectPolySegments(cloud, thinned, segments, pointComponent,
-    connection, parallelFor, SubProgress(progress, 0.7, 0.9), aborted, &volume, &neighbours);
-  if (aborted)
-  {
-    return AbortedResult();
-  }
+  return ConnectPolySegments(cloud, thinned, segments, pointComponent, connection, parallelFor,
+    progress, aborted, &volume, &neighbours);
+}
 
-  // 4b. Leaves carried on to their parts' ends (ours; SkeletonLeafExtension.h), then the
-  // connection's junction cleaning and bones.
+/// Leaves carried on to their parts' ends (ours; SkeletonLeafExtension.h), then the
+/// connection's junction cleaning and bones.
+void ExtendLeavesAndCleanJunctions(
+  SkeletonGraph& graph, const RayCaster& volume, const SkeletonOptions& options)
+{
   ExtendLeavesToPartEnds(graph, volume, options.LeafExtension);
   CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor);
+}
 
-  // 5. Branches into the parts the skeleton does not reach (ours; SkeletonCoverage.h).
-  // Its branches join the nearest node, which may lie a node or two from a junction: their
-  // junctions are cleaned too, but its leaves are not pruned: a branch reaching a part far
-  // from the skeleton (an ear) can be shorter than the radius at its junction (the torso's).
-  if (ReachUncoveredParts(graph, cloud, thinned, pointComponent, neighbours, options.Coverage, parallelFor) > 0)
+/// What the coverage steps read of the cloud: P, its thinning, the component of each point and
+/// the connection's neighbour graph on P.
+struct CloudView
+{
+  const ProjectedCloud& Cloud;
+  const ThinnedCloud& Thinned;
+  const std::vector<std::int64_t>& PointComponent;
+  const CloudNeighborGraph& Neighbours;
+};
+
+/// Branches into the parts the skeleton does not reach (ours; SkeletonCoverage.h).
+/// Its branches join the nearest node, which may lie a node or two from a junction: their
+/// junctions are cleaned too, but its leaves are not pruned: a branch reaching a part far
+/// from the skeleton (an ear) can be shorter than the radius at its junction (the torso's).
+void ReachUncoveredPartsAndCleanJunctions(SkeletonGraph& graph, const CloudView& cloud,
+  const SkeletonOptions& options, const ParallelFor& parallelFor)
+{
+  if (ReachUncoveredParts(graph, cloud.Cloud, cloud.Thinned, cloud.PointComponent, cloud.Neighbours,
+        options.Coverage, parallelFor) > 0)
   {
     CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor, LeafPruning::Keep);
   }
-  if (progress && !progress(0.92))
-  {
-    return AbortedResult();
-  }
+}
 
-  // Face centres pushed inward by SDF/2: the link to the skeleton, and the fallback node of a
-  // component without samples.
-  PointMatrix projectedCentres(static_cast<Eigen::Index>(faces), 3);
-  std::vector<double> faceArea(faces);
+/// Face centres pushed inward by SDF/2 (the link to the skeleton, and the fallback node of a
+/// component without samples), and face areas (0 where not finite).
+struct ProjectedFaces
+{
+  PointMatrix Centres;
+  std::vector<double> Area;
+};
+
+ProjectedFaces ProjectFaceCentres(PointsView points, TrianglesView triangles,
+  const std::vector<double>& faceSdf, PointsView faceNormals, const ParallelFor& parallelFor)
+{
+  const auto faces = static_cast<std::size_t>(triangles.rows());
+  ProjectedFaces projected;
+  projected.Centres.resize(static_cast<Eigen::Index>(faces), 3);
+  projected.Area.resize(faces);
+  PointMatrix& projectedCentres = projected.Centres;
+  std::vector<double>& faceArea = projected.Area;
   parallelFor(faces, [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f)
     {
@@ -253,7 +251,28 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
       faceArea[f] = std::isfinite(area) ? area : 0.0;
     }
   });
-  // Surface components are dense labels (LabelFaceComponents, DenseLabels).
+  return projected;
+}
+
+/// What the surface link reads of the faces.
+struct SurfaceFaces
+{
+  /// Surface component per face, dense labels 0.. (LabelFaceComponents, DenseLabels).
+  const std::vector<std::int64_t>& Component;
+  /// Part label per face, or empty.
+  const std::vector<std::int64_t>& Parts;
+  const PointMatrix& ProjectedCentres;
+  const std::vector<double>& Area;
+
+  std::size_t Size() const { return Area.size(); }
+};
+
+/// A single node at the projected centre of the largest face of every component that has no
+/// node (no samples: tiny area, or only degenerate faces); each becomes a bone of its own.
+void AddFallbackNodes(
+  SkeletonGraph& graph, const SurfaceFaces& surface, const std::vector<double>& faceSdf)
+{
+  const std::vector<std::int64_t>& faceComponent = surface.Component;
   std::vector<char> componentHasNode(
     static_cast<std::size_t>(*std::max_element(faceComponent.begin(), faceComponent.end()) + 1), 0);
   for (const std::int64_t c : graph.NodeComponent)
@@ -261,7 +280,7 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     componentHasNode[static_cast<std::size_t>(c)] = 1;
   }
   std::map<std::int64_t, std::size_t> largestFace;
-  for (std::size_t f = 0; f < faces; ++f)
+  for (std::size_t f = 0; f < surface.Size(); ++f)
   {
     const std::int64_t c = faceComponent[f];
     if (componentHasNode[static_cast<std::size_t>(c)])
@@ -269,7 +288,7 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
       continue;
     }
     const auto found = largestFace.find(c);
-    if (found == largestFace.end() || faceArea[found->second] < faceArea[f])
+    if (found == largestFace.end() || surface.Area[found->second] < surface.Area[f])
     {
       largestFace[c] = f;
     }
@@ -277,7 +296,7 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   std::vector<Eigen::Vector3d> extraPositions;
   for (const auto& [c, f] : largestFace)
   {
-    extraPositions.emplace_back(projectedCentres.row(static_cast<Eigen::Index>(f)).transpose());
+    extraPositions.emplace_back(surface.ProjectedCentres.row(static_cast<Eigen::Index>(f)).transpose());
     graph.NodeRadius.push_back(0.5 * faceSdf[f]);
     graph.NodeConfidence.push_back(0.0);
     graph.NodeCloudIndex.push_back(-1);
@@ -293,117 +312,180 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     {
       graph.NodePositions.row(before + static_cast<Eigen::Index>(i)) = extraPositions[i].transpose();
     }
-    AssignBranchBones(graph); // the fallback nodes become bones of their own
+    AssignBranchBones(graph);
   }
+}
 
-  // Surface link: nearest node of the same component to each projected face centre; with part
-  // labels, every part then takes one bone (see LinkPartsToBones).
+/// The nearest-node link: every face to the node of its own component nearest to its
+/// projected centre, and to that node's bone. Made again whenever ReachPartsWithoutOwnBones
+/// adds a branch.
+void LinkToNearestNodes(const SkeletonGraph& graph, const SurfaceFaces& surface,
+  const ParallelFor& parallelFor, SkeletonResult& result)
+{
+  const std::vector<std::int64_t>& faceComponent = surface.Component;
   const bool singleComponent =
     *std::max_element(faceComponent.begin(), faceComponent.end()) == 0;
-  // The tree of the current nodes: rebuilt (with the nearest-node link) whenever step 6 below
-  // adds a branch.
-  std::optional<SkeletonPointTree> nodeTree;
-  const auto linkToNearestNodes = [&]() {
-    nodeTree.emplace(graph.NodePositions);
-    result.FaceNodeId.assign(faces, 0);
-    result.FaceBoneId.assign(faces, 0);
-    parallelFor(faces, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t f = begin; f < end; ++f)
-      {
-        const std::int64_t c = faceComponent[f];
-        const Eigen::Vector3d centre = projectedCentres.row(static_cast<Eigen::Index>(f)).transpose();
-        // One component: no predicate, so the search makes no call per candidate.
-        const std::int64_t node = singleComponent
-          ? nodeTree->NearestAccepted(centre, {})
-          : nodeTree->NearestAccepted(centre, [&](std::int64_t n) { return graph.NodeComponent[n] == c; });
-        result.FaceNodeId[f] = node;
-        result.FaceBoneId[f] = graph.NodeBone[node];
-      }
-    });
-  };
-  linkToNearestNodes();
-  if (!faceParts.empty())
+  const SkeletonPointTree nodeTree(graph.NodePositions);
+  result.FaceNodeId.assign(surface.Size(), 0);
+  result.FaceBoneId.assign(surface.Size(), 0);
+  parallelFor(surface.Size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f)
+    {
+      const std::int64_t c = faceComponent[f];
+      const Eigen::Vector3d centre = surface.ProjectedCentres.row(static_cast<Eigen::Index>(f)).transpose();
+      // One component: no predicate, so the search makes no call per candidate.
+      const std::int64_t node = singleComponent
+        ? nodeTree.NearestAccepted(centre, {})
+        : nodeTree.NearestAccepted(centre, [&](std::int64_t n) { return graph.NodeComponent[n] == c; });
+      result.FaceNodeId[f] = node;
+      result.FaceBoneId[f] = graph.NodeBone[node];
+    }
+  });
+}
+
+/// The bone of every face's part (LinkPartsToBones) and whether each part got one of its own.
+struct PartBones
+{
+  std::vector<std::int64_t> FaceBone;
+  std::vector<char> HasOwnBone;
+};
+
+PartBones LinkParts(
+  const SurfaceFaces& surface, const std::vector<std::int64_t>& faceBone, double ownBoneShare)
+{
+  PartBones parts;
+  parts.FaceBone = LinkPartsToBones(
+    surface.Parts, surface.Component, surface.Area, faceBone, ownBoneShare, &parts.HasOwnBone);
+  return parts;
+}
+
+/// Number of points of P per part (PartsWithinComponents labels).
+std::vector<std::size_t> PointsPerPart(
+  const std::vector<std::int64_t>& part, const ProjectedCloud& cloud)
+{
+  std::vector<std::size_t> partPoints(
+    static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1), 0);
+  for (const std::int64_t face : cloud.SourceFace)
   {
-    std::vector<char> partHasOwnBone;
-    std::vector<std::int64_t> partBone =
-      LinkPartsToBones(faceParts, faceComponent, faceArea, result.FaceBoneId, options.OwnBoneShare, &partHasOwnBone);
-
-    // 6. A branch into every large part left without a bone of its own (ours; header
-    // comment), largest part first, each part once; the link is made again after each branch.
-    const std::vector<std::int64_t> part = PartsWithinComponents(faceParts, faceComponent);
-    std::vector<std::size_t> partPoints(static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1), 0);
-    for (const std::int64_t face : cloud.SourceFace)
-    {
-      ++partPoints[static_cast<std::size_t>(part[static_cast<std::size_t>(face)])];
-    }
-    const double minimumPoints = options.Coverage.PartMinimumShare * static_cast<double>(cloud.Size());
-    std::vector<char> tried(partPoints.size(), 0);
-    while (options.Coverage.PartUncoveredFactor > 0.0)
-    {
-      std::int64_t target = -1;
-      for (std::size_t q = 0; q < partPoints.size(); ++q)
-      {
-        if (!partHasOwnBone[q] && !tried[q] && static_cast<double>(partPoints[q]) >= minimumPoints && partPoints[q] > 0 &&
-          (target < 0 || partPoints[q] > partPoints[static_cast<std::size_t>(target)]))
-        {
-          target = static_cast<std::int64_t>(q);
-        }
-      }
-      if (target < 0)
-      {
-        break;
-      }
-      tried[static_cast<std::size_t>(target)] = 1;
-      std::vector<char> inPart(cloud.Size(), 0);
-      for (std::size_t i = 0; i < cloud.Size(); ++i)
-      {
-        inPart[i] = part[static_cast<std::size_t>(cloud.SourceFace[i])] == target;
-      }
-      if (ReachPartsWithoutBones(graph, cloud, thinned, pointComponent, neighbours, inPart, options.Coverage, parallelFor) > 0)
-      {
-        CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor, LeafPruning::Keep);
-        linkToNearestNodes();
-        partBone = LinkPartsToBones(
-          faceParts, faceComponent, faceArea, result.FaceBoneId, options.OwnBoneShare, &partHasOwnBone);
-      }
-    }
-
-    // A face moved to its part's bone links to that bone's nearest node: a scan of the bone's
-    // nodes in index order (ties to the lower index, as the tree's search), far cheaper than
-    // a tree search whose predicate rejects all but a few dozen nodes.
-    std::vector<std::vector<std::int64_t>> boneNodes(graph.BoneLength.size());
-    for (std::size_t n = 0; n < graph.NodeBone.size(); ++n)
-    {
-      boneNodes[static_cast<std::size_t>(graph.NodeBone[n])].push_back(static_cast<std::int64_t>(n));
-    }
-    parallelFor(faces, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t f = begin; f < end; ++f)
-      {
-        const std::int64_t bone = partBone[f];
-        if (bone == result.FaceBoneId[f])
-        {
-          continue;
-        }
-        const auto row = static_cast<Eigen::Index>(f);
-        double best = std::numeric_limits<double>::infinity();
-        result.FaceNodeId[f] = -1;
-        for (const std::int64_t n : boneNodes[static_cast<std::size_t>(bone)])
-        {
-          const double dx = graph.NodePositions(n, 0) - projectedCentres(row, 0);
-          const double dy = graph.NodePositions(n, 1) - projectedCentres(row, 1);
-          const double dz = graph.NodePositions(n, 2) - projectedCentres(row, 2);
-          const double squared = dx * dx + dy * dy + dz * dz;
-          if (squared < best)
-          {
-            best = squared;
-            result.FaceNodeId[f] = n;
-          }
-        }
-        result.FaceBoneId[f] = bone;
-      }
-    });
+    ++partPoints[static_cast<std::size_t>(part[static_cast<std::size_t>(face)])];
   }
+  return partPoints;
+}
 
+/// The largest part not yet tried that has no bone of its own and at least minimumPoints
+/// (and at least one) points of P; -1 if none (ties: the lowest part).
+std::int64_t LargestPartWithoutOwnBone(const std::vector<std::size_t>& partPoints,
+  const std::vector<char>& partHasOwnBone, const std::vector<char>& tried, double minimumPoints)
+{
+  std::int64_t target = -1;
+  for (std::size_t q = 0; q < partPoints.size(); ++q)
+  {
+    if (!partHasOwnBone[q] && !tried[q] && static_cast<double>(partPoints[q]) >= minimumPoints && partPoints[q] > 0 &&
+      (target < 0 || partPoints[q] > partPoints[static_cast<std::size_t>(target)]))
+    {
+      target = static_cast<std::int64_t>(q);
+    }
+  }
+  return target;
+}
+
+/// A branch into every large part left without a bone of its own (ours; ReachPartsWithoutBones
+/// and the header comment), largest part first, each part once; after each branch the
+/// junctions are cleaned as after ReachUncoveredParts and both links are made again.
+void ReachPartsWithoutOwnBones(SkeletonGraph& graph, const CloudView& cloud,
+  const SurfaceFaces& surface, const SkeletonOptions& options, const ParallelFor& parallelFor,
+  SkeletonResult& result, PartBones& partBones)
+{
+  const std::vector<std::int64_t> part = PartsWithinComponents(surface.Parts, surface.Component);
+  const std::vector<std::size_t> partPoints = PointsPerPart(part, cloud.Cloud);
+  const double minimumPoints =
+    options.Coverage.PartMinimumShare * static_cast<double>(cloud.Cloud.Size());
+  std::vector<char> tried(partPoints.size(), 0);
+  while (options.Coverage.PartUncoveredFactor > 0.0)
+  {
+    const std::int64_t target =
+      LargestPartWithoutOwnBone(partPoints, partBones.HasOwnBone, tried, minimumPoints);
+    if (target < 0)
+    {
+      break;
+    }
+    tried[static_cast<std::size_t>(target)] = 1;
+    std::vector<char> inPart(cloud.Cloud.Size(), 0);
+    for (std::size_t i = 0; i < cloud.Cloud.Size(); ++i)
+    {
+      inPart[i] = part[static_cast<std::size_t>(cloud.Cloud.SourceFace[i])] == target;
+    }
+    if (ReachPartsWithoutBones(graph, cloud.Cloud, cloud.Thinned, cloud.PointComponent,
+          cloud.Neighbours, inPart, options.Coverage, parallelFor) > 0)
+    {
+      CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor, LeafPruning::Keep);
+      LinkToNearestNodes(graph, surface, parallelFor, result);
+      partBones = LinkParts(surface, result.FaceBoneId, options.OwnBoneShare);
+    }
+  }
+}
+
+/// A face moved to its part's bone links to that bone's nearest node: a scan of the bone's
+/// nodes in index order (ties to the lower index, as the tree's search), far cheaper than
+/// a tree search whose predicate rejects all but a few dozen nodes.
+void MoveFacesToPartBones(const SkeletonGraph& graph, const SurfaceFaces& surface,
+  const std::vector<std::int64_t>& partBone, const ParallelFor& parallelFor, SkeletonResult& result)
+{
+  std::vector<std::vector<std::int64_t>> boneNodes(graph.BoneLength.size());
+  for (std::size_t n = 0; n < graph.NodeBone.size(); ++n)
+  {
+    boneNodes[static_cast<std::size_t>(graph.NodeBone[n])].push_back(static_cast<std::int64_t>(n));
+  }
+  const PointMatrix& projectedCentres = surface.ProjectedCentres;
+  parallelFor(surface.Size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f)
+    {
+      const std::int64_t bone = partBone[f];
+      if (bone == result.FaceBoneId[f])
+      {
+        continue;
+      }
+      const auto row = static_cast<Eigen::Index>(f);
+      double best = std::numeric_limits<double>::infinity();
+      result.FaceNodeId[f] = -1;
+      for (const std::int64_t n : boneNodes[static_cast<std::size_t>(bone)])
+      {
+        const double dx = graph.NodePositions(n, 0) - projectedCentres(row, 0);
+        const double dy = graph.NodePositions(n, 1) - projectedCentres(row, 1);
+        const double dz = graph.NodePositions(n, 2) - projectedCentres(row, 2);
+        const double squared = dx * dx + dy * dy + dz * dz;
+        if (squared < best)
+        {
+          best = squared;
+          result.FaceNodeId[f] = n;
+        }
+      }
+      result.FaceBoneId[f] = bone;
+    }
+  });
+}
+
+/// The surface link: nearest node of the same component to each projected face centre; with
+/// part labels, every part then takes one bone (LinkPartsToBones), after the parts without a
+/// bone of their own got a branch (ReachPartsWithoutOwnBones).
+void LinkSurfaceToSkeleton(SkeletonGraph& graph, const CloudView& cloud,
+  const SurfaceFaces& surface, const SkeletonOptions& options, const ParallelFor& parallelFor,
+  SkeletonResult& result)
+{
+  LinkToNearestNodes(graph, surface, parallelFor, result);
+  if (surface.Parts.empty())
+  {
+    return;
+  }
+  PartBones partBones = LinkParts(surface, result.FaceBoneId, options.OwnBoneShare);
+  ReachPartsWithoutOwnBones(graph, cloud, surface, options, parallelFor, result, partBones);
+  MoveFacesToPartBones(graph, surface, partBones.FaceBone, parallelFor, result);
+}
+
+/// The skeleton and the cloud into the result (the surface link is already there).
+void MoveIntoResult(SkeletonGraph& graph, const ProjectedCloud& cloud, const ThinnedCloud& thinned,
+  SkeletonResult& result)
+{
   result.NodePositions = std::move(graph.NodePositions);
   result.NodeRadius = std::move(graph.NodeRadius);
   result.NodeConfidence = std::move(graph.NodeConfidence);
@@ -416,6 +498,77 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   result.CloudRadius = cloud.Radius;
   result.CloudConfidence = thinned.Confidence;
   result.CloudSourceFace = cloud.SourceFace;
+}
+
+} // namespace
+
+SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
+  const std::vector<double>& faceSdf, PointsView faceNormals,
+  const std::vector<std::int64_t>& faceComponents, const SkeletonOptions& options,
+  const ParallelFor& parallelFor, const ProgressCallback& progress,
+  const std::vector<std::int64_t>& faceParts)
+{
+  ValidateSkeletonOptions(options);
+  ValidateSkeletonInput(points, triangles, faceSdf, faceNormals, faceComponents);
+  if (!faceParts.empty() && faceParts.size() != static_cast<std::size_t>(triangles.rows()))
+  {
+    throw SkeletonError("skeleton: face part labels must be empty or one per triangle");
+  }
+  SkeletonResult result;
+  if (triangles.rows() == 0)
+  {
+    return result;
+  }
+  const std::vector<std::int64_t> faceComponent = faceComponents.empty()
+    ? LabelFaceComponents(triangles, static_cast<std::size_t>(points.rows()))
+    : DenseLabels(faceComponents);
+
+  const ProjectedCloud cloud =
+    SampleProjectedCloud(points, triangles, faceSdf, faceNormals, options.Sampling);
+  if (progress && !progress(0.05))
+  {
+    return AbortedResult();
+  }
+  const std::vector<std::int64_t> pointComponent = PointComponents(cloud, faceComponent);
+
+  const ThinnedCloud thinned =
+    ThinProjectedCloud(cloud, options.Thinning, parallelFor, SubProgress(progress, 0.05, 0.65));
+  if (thinned.Aborted)
+  {
+    return AbortedResult();
+  }
+
+  // Growth, connection and coverage move only through the volume.
+  const EmbreeRayCaster volume(points, triangles, VolumeOptions());
+  const std::vector<PolySegment> segments =
+    GrowPolySegments(cloud, thinned, pointComponent, options.Segments, &volume);
+  if (progress && !progress(0.7))
+  {
+    return AbortedResult();
+  }
+
+  bool aborted = false;
+  CloudNeighborGraph neighbours;
+  SkeletonGraph graph = ConnectThroughVolume(cloud, thinned, segments, pointComponent, options,
+    parallelFor, SubProgress(progress, 0.7, 0.9), aborted, volume, neighbours);
+  if (aborted)
+  {
+    return AbortedResult();
+  }
+  ExtendLeavesAndCleanJunctions(graph, volume, options);
+  const CloudView cloudView{ cloud, thinned, pointComponent, neighbours };
+  ReachUncoveredPartsAndCleanJunctions(graph, cloudView, options, parallelFor);
+  if (progress && !progress(0.92))
+  {
+    return AbortedResult();
+  }
+
+  const ProjectedFaces projected = ProjectFaceCentres(points, triangles, faceSdf, faceNormals, parallelFor);
+  const SurfaceFaces surface{ faceComponent, faceParts, projected.Centres, projected.Area };
+  AddFallbackNodes(graph, surface, faceSdf);
+  LinkSurfaceToSkeleton(graph, cloudView, surface, options, parallelFor, result);
+
+  MoveIntoResult(graph, cloud, thinned, result);
   if (progress && !progress(1.0))
   {
     return AbortedResult();

@@ -101,7 +101,7 @@ TEST(GaussianMixture, IsDeterministicAndRestartsDoNotHurt)
   EXPECT_EQ(a.Weights, b.Weights);
   // Without screening every seeding runs to the end; seeding 0 is the same in both runs.
   GaussianMixtureOptions full;
-  full.ScreeningIterations = full.MaxIterations;
+  full.ScreeningIterations = full.MaximumIterations;
   GaussianMixtureOptions single = full;
   single.Restarts = 1;
   EXPECT_GE(FitGaussianMixture(values, 4, full).LogLikelihood,

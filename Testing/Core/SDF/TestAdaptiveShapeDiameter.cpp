@@ -5,6 +5,7 @@
 #include "ArticulatedFigure.h"
 #include "RayCasting/EmbreeRayCaster.h"
 #include "TestShapes.h"
+#include "SDF/SDF.h"
 #include "SDF/ShapeDiameter.h"
 
 #include <gtest/gtest.h>

@@ -6,6 +6,7 @@
 #include "RayCasting/ConeSampling.h"
 #include "RayCasting/EmbreeRayCaster.h"
 #include "TestShapes.h"
+#include "SDF/SDF.h"
 #include "SDF/ShapeDiameter.h"
 
 #include <Eigen/Geometry>
@@ -284,7 +285,7 @@ TEST(ShapeDiameter, OtherRayCountsAndConeAngles)
   {
     ShapeDiameterOptions options;
     options.NumberOfRays = rays;
-    options.ConeAngleDegrees = angle;
+    options.ConeAngle = angle;
     const ShapeDiameterResult result = FaceSDF(mesh, options);
     const double expected = ExpectedSphereSDF(radius, MakeConePattern(rays, angle));
     EXPECT_NEAR(Mean(result.Values), expected, 0.03 * expected) << rays << " rays, " << angle;
@@ -477,7 +478,7 @@ TEST(ShapeDiameter, FacesBuriedInAnotherPartAreLeftForFilling)
   const auto faces = static_cast<std::size_t>(sphere.Triangles.rows());
   const double expected = ExpectedSphereSDF(1.0, MakeConePattern(30, 120));
   ShapeDiameterOptions paper;
-  paper.IgnoreBuriedOrigins = false;
+  paper.IgnoreBuriedFaces = false;
   const ShapeDiameterResult own = FaceSDF(both, paper);
   const ShapeDiameterResult result = FaceSDF(both);
   std::vector<double> buriedOwn;
@@ -551,7 +552,7 @@ TEST(ShapeDiameter, AnArmPushedIntoTheTorsoKeepsItsDiameter)
   const shapediameter::testing::ArticulatedFigure pushed = figure.Pose(lowered);
   const auto filledSDF = [](const shapediameter::testing::ArticulatedFigure& mesh, bool ignoreBuried) {
     ShapeDiameterOptions options;
-    options.IgnoreBuriedOrigins = ignoreBuried;
+    options.IgnoreBuriedFaces = ignoreBuried;
     ShapeDiameterResult result = ComputeFaceShapeDiameter(mesh.Points, mesh.Triangles, options, SerialFor);
     std::vector<std::int64_t> offsets, indices;
     testshapes::EdgeAdjacency(mesh.Triangles, offsets, indices);
@@ -573,7 +574,7 @@ TEST(ShapeDiameter, AnArmPushedIntoTheTorsoKeepsItsDiameter)
         collapsed += values[f] < 0.5 * restValues[f] ? 1 : 0;
       }
     }
-    std::printf("IgnoreBuriedOrigins %d: %zu of %zu arm faces below half their rest SDF\n",
+    std::printf("IgnoreBuriedFaces %d: %zu of %zu arm faces below half their rest SDF\n",
       static_cast<int>(ignoreBuried), collapsed, arm);
     collapsedWith[ignoreBuried ? 1 : 0] = collapsed;
   }
@@ -706,9 +707,9 @@ TEST(ShapeDiameter, EmptyMeshesAndBadOptions)
     return FaceSDF(mesh, options);
   };
   EXPECT_THROW(withOptions([](ShapeDiameterOptions& o) { o.NumberOfRays = 0; }), ShapeDiameterError);
-  EXPECT_THROW(withOptions([](ShapeDiameterOptions& o) { o.ConeAngleDegrees = 180; }),
+  EXPECT_THROW(withOptions([](ShapeDiameterOptions& o) { o.ConeAngle = 180; }),
     ShapeDiameterError);
-  EXPECT_THROW(withOptions([](ShapeDiameterOptions& o) { o.ConeAngleDegrees = -1; }),
+  EXPECT_THROW(withOptions([](ShapeDiameterOptions& o) { o.ConeAngle = -1; }),
     ShapeDiameterError);
   EXPECT_THROW(withOptions([](ShapeDiameterOptions& o) { o.VertexOriginOffset = -1; }),
     ShapeDiameterError);

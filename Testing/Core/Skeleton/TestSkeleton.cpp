@@ -7,6 +7,7 @@
 #include "ArticulatedFigure.h"
 #include "Smoothing/BilateralSmoothing.h"
 #include "Mesh/FaceGraph.h"
+#include "SDF/SDF.h"
 #include "SDF/ShapeDiameter.h"
 #include "Skeleton/Skeleton.h"
 #include "Skeleton/SkeletonTestSupport.h"
