@@ -3,9 +3,8 @@
 // Private to the module: not installed, not wrapped.
 #pragma once
 
+#include "Errors.h" // a body throws shapediameter::Error on bad input
 #include "Parallel.h"
-
-#include <stdexcept>
 
 class vtkInformationVector;
 class vtkPolyData;
@@ -24,14 +23,6 @@ struct SurfaceRequest
   vtkInformationVector* OutputVector;
   /// The core's parallel loop with the filter's NumberOfThreads.
   ParallelFor Parallel;
-};
-
-/// Bad input found by a filter's body: reported as "Cannot <task>: <reason>." (the period
-/// added), then the pass-through.
-class SurfaceInputError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
 };
 
 } // namespace shapediameter::adapter

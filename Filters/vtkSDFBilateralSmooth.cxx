@@ -49,7 +49,7 @@ bool vtkSDFBilateralSmooth::ExecuteSurface(const shapediameter::adapter::Surface
   const std::string reason = adapter::ReadCellScalars(this, input, vtkShapeDiameterFilter::SDF_ARRAY_NAME, values, arrayName);
   if (!reason.empty())
   {
-    throw adapter::SurfaceInputError(reason);
+    throw shapediameter::Error(reason + "."); // reported as "Cannot <task>: <reason>."
   }
 
   std::vector<std::int64_t> offsets, connectivity;

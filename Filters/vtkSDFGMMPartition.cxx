@@ -169,7 +169,7 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
   }
   if (!reason.empty())
   {
-    throw adapter::SurfaceInputError(reason);
+    throw shapediameter::Error(reason + "."); // reported as "Cannot <task>: <reason>."
   }
 
   std::vector<std::int64_t> offsets, connectivity;

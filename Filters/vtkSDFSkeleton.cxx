@@ -174,7 +174,7 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   }
   if (!reason.empty())
   {
-    throw adapter::SurfaceInputError(reason);
+    throw shapediameter::Error(reason + "."); // reported as "Cannot <task>: <reason>."
   }
 
   ApplyFlips(surface.Triangles, OrientOutward(surface.Points, surface.Triangles).Flip);

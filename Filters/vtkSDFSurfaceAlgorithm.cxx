@@ -62,12 +62,8 @@ int vtkSDFSurfaceAlgorithm::RequestData(
       return 1;
     }
   }
-  catch (const adapter::SurfaceInputError& error)
-  {
-    vtkErrorMacro("Cannot " << this->Task << ": " << error.what() << ".");
-    this->PassThrough(input, outputVector);
-    return 1;
-  }
+  // Bad input found by a filter's body and by the core alike (shapediameter::Error, Errors.h);
+  // what() is the reason as the user reads it after "Cannot <task>: ".
   catch (const std::exception& error)
   {
     vtkErrorMacro("Cannot " << this->Task << ": " << error.what());

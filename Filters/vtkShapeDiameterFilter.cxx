@@ -81,7 +81,7 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
   const std::string reason = adapter::Triangulate(input, surface);
   if (!reason.empty())
   {
-    throw adapter::SurfaceInputError(reason);
+    throw shapediameter::Error(reason + "."); // reported as "Cannot <task>: <reason>."
   }
 
   // Progress and abort between the serial steps before the ray loop as well: at 832k faces

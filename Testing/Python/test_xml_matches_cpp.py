@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The server-manager XML mirrors the C++ classes: every documented default and range of a
-property equals the class's own default and clamp range (via the Python-wrapped classes)."""
+property equals the class's own default and clamp range (via the Python-wrapped classes): the
+XML min/max equal Get<X>MinValue()/Get<X>MaxValue() and setting beyond them clamps there."""
 import os
 import sys
 import xml.etree.ElementTree as ElementTree
@@ -40,6 +41,17 @@ for proxy in ElementTree.parse(xml).getroot().iter("SourceProxy"):
             if domain.get(bound) is None:
                 continue
             limit = cast(float(domain.get(bound)))
+            # The clamp's own ends (vtkSetClampMacro's Get<X>MinValue / Get<X>MaxValue), which
+            # Testing/Filters/TestParameterRanges.cxx compares with the core's Range constants.
+            range_getter = "%s%sValue" % (getter, "Min" if bound == "min" else "Max")
+            if not hasattr(instance, range_getter):
+                failures.append("%s.%s: XML %s %r but C++ has no %s (not clamped)"
+                                % (proxy.get("name"), name, bound, limit, range_getter))
+            else:
+                end = getattr(instance, range_getter)()
+                if abs(end - limit) > 1e-12 * max(1.0, abs(limit)):
+                    failures.append("%s.%s: XML %s %r, C++ %s() %r"
+                                    % (proxy.get("name"), name, bound, limit, range_getter, end))
             getattr(instance, command)(cast(probe(limit)))
             clamped = getattr(instance, getter)()
             if abs(clamped - limit) > 1e-12 * max(1.0, abs(limit)):

@@ -609,7 +609,7 @@ void OFFReader::ReadFaceColor(std::size_t f, const Token* values, std::size_t co
 
 OFFParseError::OFFParseError(
   std::int64_t line, const std::string& reason, const std::string& source)
-  : std::runtime_error(LineMessage(line, reason, source))
+  : Error(LineMessage(line, reason, source))
   , LineNumber(line > 0 ? line : 0)
   , ReasonText(reason)
 {

@@ -51,6 +51,8 @@
 //   file size.
 #pragma once
 
+#include "Errors.h"
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -63,7 +65,10 @@ namespace shapediameter
 
 /// Malformed, truncated, unsupported or unreadable OFF input.
 /// what() is "[source: ]line N: reason" ("[source: ]reason" when no line applies).
-class OFFParseError : public std::runtime_error
+/// The one subclass of Error (Errors.h): it carries the line and the bare reason apart from the
+/// message, which callers use (the reader points at the line, ParseOFFFile prefixes the path
+/// while keeping the line, the fuzz tests check the line); catching Error catches it too.
+class OFFParseError : public Error
 {
 public:
   /// line: 1-based line of the input, or 0 when the error is not tied to a line.

@@ -58,36 +58,36 @@ void ValidateInput(const PointsView& points, const std::vector<std::int64_t>& of
   {
     if (!connectivity.empty())
     {
-      throw FaceGraphError("face connectivity given without face offsets");
+      throw Error("face connectivity given without face offsets");
     }
     return;
   }
   if (offsets.front() != 0)
   {
-    throw FaceGraphError("face offsets must start at 0");
+    throw Error("face offsets must start at 0");
   }
   for (std::size_t f = 1; f < offsets.size(); ++f)
   {
     if (offsets[f] < offsets[f - 1])
     {
-      throw FaceGraphError("face offsets decrease at face " + std::to_string(f - 1));
+      throw Error("face offsets decrease at face " + std::to_string(f - 1));
     }
   }
   if (offsets.back() != static_cast<std::int64_t>(connectivity.size()))
   {
-    throw FaceGraphError("last face offset differs from the connectivity size");
+    throw Error("last face offset differs from the connectivity size");
   }
   const std::int64_t pointCount = points.rows();
   for (std::int64_t index : connectivity)
   {
     if (index < 0 || index >= pointCount)
     {
-      throw FaceGraphError("point index " + std::to_string(index) + " out of range [0, " +
+      throw Error("point index " + std::to_string(index) + " out of range [0, " +
         std::to_string(pointCount) + ")");
     }
     if (!points.row(index).allFinite())
     {
-      throw FaceGraphError("non-finite coordinates at point " + std::to_string(index));
+      throw Error("non-finite coordinates at point " + std::to_string(index));
     }
   }
 }
@@ -489,7 +489,7 @@ void CopyMirrorGeometry(const ParallelFor& parallelFor, FaceGraph& graph)
   });
   if (mirrorMissing)
   {
-    throw FaceGraphError("internal error: the adjacency is not symmetric");
+    throw Error("internal error: the adjacency is not symmetric");
   }
 }
 

@@ -44,7 +44,7 @@
 //   - Isolated faces and several components: faces simply have no / disjoint neighbours.
 //   Neighbors of each face are sorted by face index (deterministic, split-independent).
 //
-// Bad input (throws FaceGraphError): malformed offsets, point index out of range,
+// Bad input (throws Error): malformed offsets, point index out of range,
 // non-finite coordinates of a referenced point.
 //
 // Cost: O(H log d) with H the number of polygon sides and d the vertex valence (half-edges
@@ -55,6 +55,7 @@
 // same output; measurements: docs/performance.md).
 #pragma once
 
+#include "Errors.h"
 #include "Mesh/MeshTypes.h"
 #include "Parallel.h"
 
@@ -65,12 +66,6 @@
 
 namespace shapediameter
 {
-
-class FaceGraphError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
 
 struct FaceGraph
 {

@@ -19,7 +19,7 @@ void CheckTriangleIndices(Eigen::Index pointCount, const TrianglesView& triangle
     {
       if (triangles(t, corner) < 0 || triangles(t, corner) >= pointCount)
       {
-        throw MeshGeometryError("mesh geometry: triangle " + std::to_string(t) + " uses point " +
+        throw Error("mesh geometry: triangle " + std::to_string(t) + " uses point " +
           std::to_string(triangles(t, corner)) + " of " + std::to_string(pointCount));
       }
     }
@@ -32,12 +32,12 @@ void CheckCells(const std::vector<std::int64_t>& cellFirstTriangle, Eigen::Index
   if (cellFirstTriangle.empty() || cellFirstTriangle.front() != 0 || cellFirstTriangle.back() != triangleCount ||
     !std::is_sorted(cellFirstTriangle.begin(), cellFirstTriangle.end()))
   {
-    throw MeshGeometryError("mesh geometry: the cells' first triangles must run from 0 to " +
+    throw Error("mesh geometry: the cells' first triangles must run from 0 to " +
       std::to_string(triangleCount) + ", non-decreasing");
   }
   if (valueCount != static_cast<std::size_t>(triangleCount))
   {
-    throw MeshGeometryError("mesh geometry: " + std::to_string(valueCount) + " values for " +
+    throw Error("mesh geometry: " + std::to_string(valueCount) + " values for " +
       std::to_string(triangleCount) + " triangles");
   }
 }

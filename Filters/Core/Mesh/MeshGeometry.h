@@ -28,12 +28,13 @@
 //   - A cell without triangles (a VTK vertex or line): mean 0, sum 0. A cell of one triangle
 //     takes its value exactly. A cell of several triangles whose areas sum to 0: the plain
 //     mean.
-// Bad input (throws MeshGeometryError): a triangle index outside [0, n), a malformed
+// Bad input (throws Error): a triangle index outside [0, n), a malformed
 // cellFirstTriangle, per-triangle values of another size than m.
 //
 // Cost: O(m) each (the adjacency sorts each vertex's list). Serial: a small fraction of the SDF.
 #pragma once
 
+#include "Errors.h"
 #include "Mesh/MeshTypes.h"
 
 #include <cstdint>
@@ -42,12 +43,6 @@
 
 namespace shapediameter
 {
-
-class MeshGeometryError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
 
 /// Sum of the adjacent triangles' area vectors per vertex (n x 3; see the header comment).
 PointMatrix AreaWeightedVertexNormals(PointsView points, TrianglesView triangles);

@@ -24,14 +24,14 @@ void ValidateLabels(const PartitionEnergy& energy, const std::vector<int>& label
 {
   if (labels.size() != energy.FaceCount)
   {
-    throw PartitionEnergyError("alpha expansion: " + std::to_string(labels.size()) +
+    throw Error("alpha expansion: " + std::to_string(labels.size()) +
       " labels for " + std::to_string(energy.FaceCount) + " faces");
   }
   for (std::size_t f = 0; f < labels.size(); ++f)
   {
     if (labels[f] < 0 || labels[f] >= energy.LabelCount)
     {
-      throw PartitionEnergyError("alpha expansion: label out of range at face " + std::to_string(f));
+      throw Error("alpha expansion: label out of range at face " + std::to_string(f));
     }
   }
 }
@@ -45,13 +45,13 @@ void ValidateEnergyForCut(const PartitionEnergy& energy)
     energy.PairFirst.size() != energy.PairWeight.size() ||
     energy.PairSecond.size() != energy.PairWeight.size())
   {
-    throw PartitionEnergyError("alpha expansion: the energy has inconsistent sizes");
+    throw Error("alpha expansion: the energy has inconsistent sizes");
   }
   for (double cost : energy.DataCosts)
   {
     if (!std::isfinite(cost))
     {
-      throw PartitionEnergyError("alpha expansion: a data cost is NaN or infinite");
+      throw Error("alpha expansion: a data cost is NaN or infinite");
     }
   }
   const auto n = static_cast<std::int64_t>(energy.FaceCount);
@@ -60,11 +60,11 @@ void ValidateEnergyForCut(const PartitionEnergy& energy)
     const std::int64_t a = energy.PairFirst[p], b = energy.PairSecond[p];
     if (a < 0 || b < 0 || a >= n || b >= n || a == b)
     {
-      throw PartitionEnergyError("alpha expansion: pair " + std::to_string(p) + " has invalid faces");
+      throw Error("alpha expansion: pair " + std::to_string(p) + " has invalid faces");
     }
     if (!InRange(energy.PairWeight[p], 0.0, std::numeric_limits<double>::max()))
     {
-      throw PartitionEnergyError("alpha expansion: pair weight " + std::to_string(p) + " is negative, NaN or infinite");
+      throw Error("alpha expansion: pair weight " + std::to_string(p) + " is negative, NaN or infinite");
     }
   }
 }
@@ -195,11 +195,11 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
 {
   if (options.MaxCycles < 1 || options.MaxCycles > 1000000)
   {
-    throw PartitionEnergyError("alpha expansion: MaxCycles must be in [1, 1e6]");
+    throw Error("alpha expansion: MaxCycles must be in [1, 1e6]");
   }
   if (!InRange(options.RelativeTolerance, 0.0, 1.0))
   {
-    throw PartitionEnergyError("alpha expansion: RelativeTolerance must be in [0, 1]");
+    throw Error("alpha expansion: RelativeTolerance must be in [0, 1]");
   }
   ValidateEnergyForCut(energy);
   ValidateLabels(energy, initialLabels);
@@ -283,7 +283,7 @@ std::vector<int> OptimalExpansionMove(const PartitionEnergy& energy, const std::
   ValidateLabels(energy, labels);
   if (alpha < 0 || alpha >= energy.LabelCount)
   {
-    throw PartitionEnergyError("alpha expansion: alpha out of range");
+    throw Error("alpha expansion: alpha out of range");
   }
   if (energy.FaceCount == 0)
   {

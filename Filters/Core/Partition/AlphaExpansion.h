@@ -37,7 +37,7 @@
 //
 // Degenerate cases
 //   FaceCount 0: empty result, Energy 0, Converged. k = 1: all zeros. Initial labels of the
-//   wrong size or out of range: PartitionEnergyError.
+//   wrong size or out of range: Error.
 #pragma once
 
 #include "Parallel.h"
@@ -83,7 +83,7 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
   const std::vector<int>& initialLabels, const AlphaExpansionOptions& options = {},
   const ProgressCallback& progress = nullptr);
 
-/// Throws PartitionEnergyError unless the energy's sizes, pair indices, data costs and weights
+/// Throws Error unless the energy's sizes, pair indices, data costs and weights
 /// are consistent (finite, weights >= 0).
 void ValidateEnergyForCut(const PartitionEnergy& energy);
 

@@ -15,28 +15,30 @@ void CheckInput(ValuesView values, ValuesView weights, const DensityModesOptions
 {
   if (values.size() == 0)
   {
-    throw DensityModesError("no values");
+    throw Error("no values");
   }
   if (weights.size() != values.size())
   {
-    throw DensityModesError("values and weights differ in length");
+    throw Error("values and weights differ in length");
   }
   for (Eigen::Index i = 0; i < values.size(); ++i)
   {
     if (!std::isfinite(values[i]))
     {
-      throw DensityModesError("non-finite value at index " + std::to_string(i));
+      throw Error("non-finite value at index " + std::to_string(i));
     }
     if (!std::isfinite(weights[i]) || weights[i] < 0)
     {
-      throw DensityModesError("negative or non-finite weight at index " + std::to_string(i));
+      throw Error("negative or non-finite weight at index " + std::to_string(i));
     }
   }
+  // Wider than the user-facing ModeBandwidthRange etc. (checked by ValidatePartitionOptions):
+  // the fine level widens the bandwidth of a part up to 1 (PartRefinement.cpp).
   if (!(options.Bandwidth > 0 && options.Bandwidth <= 1) || !(options.MinimumProminence >= 0) ||
     !(options.MinimumValleyDepth >= 0 && options.MinimumValleyDepth <= 1) ||
     options.MaximumModes < 1 || options.BinCount < 2 || options.GridSize < 3 || !(options.MinSigmaRelative > 0))
   {
-    throw DensityModesError("invalid density-mode options");
+    throw Error("invalid density-mode options");
   }
 }
 

@@ -43,7 +43,7 @@
 //   BinCount 2048, GridSize 1201; MinSigmaRelative 1e-3.
 //
 // Degenerate cases: constant values -> one component (sigma = the floor relative to
-// max(|value|, 1)); zero total weight -> every value weighs 1. Throws DensityModesError on
+// max(|value|, 1)); zero total weight -> every value weighs 1. Throws Error on
 // empty input, sizes that differ, non-finite values or a negative or non-finite weight.
 //
 // Why the valley depth: with the prominence relative to the highest peak alone, weak modes of
@@ -56,6 +56,7 @@
 // fewer clusters (camel.off: 3, hand.off: 2 at the defaults).
 #pragma once
 
+#include "Errors.h"
 #include "Partition/GaussianMixture.h"
 
 #include <stdexcept>
@@ -65,17 +66,20 @@
 namespace shapediameter
 {
 
-class DensityModesError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
+// The user-facing ranges of the options vtkSDFGMMPartition exposes (ModeBandwidth,
+// ModeProminence, ModeValleyDepth; the filter's clamps and the XML repeat them), checked by
+// ValidatePartitionOptions on PartitionOptions::Modes. FitDensityModes itself keeps the wider
+// ranges of the table above ((0, 1], [0, inf), [0, 1]): the fine level (PartRefinement.cpp)
+// widens a part's bandwidth up to 1.
+inline constexpr Range<double> ModeBandwidthRange{ 0.001, 0.5 };
+inline constexpr Range<double> ModeProminenceRange{ 0.0, 1.0 };
+inline constexpr Range<double> ModeValleyDepthRange{ 0.0, 1.0 };
 
 struct DensityModesOptions
 {
-  double Bandwidth = 0.02;
-  double MinimumProminence = 0.01;
-  double MinimumValleyDepth = 0.1;
+  double Bandwidth = 0.02;          ///< (0, 1]; as a partition option ModeBandwidthRange [0.001, 0.5]
+  double MinimumProminence = 0.01;  ///< [0, inf); as a partition option ModeProminenceRange [0, 1]
+  double MinimumValleyDepth = 0.1;  ///< [0, 1] = ModeValleyDepthRange
   int MaximumModes = 5;
   int BinCount = 2048;
   int GridSize = 1201;

@@ -48,29 +48,23 @@ double UniformUnit(std::mt19937_64& generator)
 
 void ValidateOptions(const GaussianMixtureOptions& options)
 {
-  if (options.Restarts < 1 || options.Restarts > 1000)
-  {
-    throw GaussianMixtureError("GMM: Restarts must be in [1, 1000]");
-  }
-  if (options.MaximumIterations < 1 || options.MaximumIterations > 1000000)
-  {
-    throw GaussianMixtureError("GMM: MaximumIterations must be in [1, 1e6]");
-  }
+  CheckRange(options.Restarts, RestartsRange, "GMM: Restarts");
+  CheckRange(options.MaximumIterations, MaximumIterationsRange, "GMM: MaximumIterations");
   if (!InRange(options.Tolerance, 0.0, 1.0))
   {
-    throw GaussianMixtureError("GMM: Tolerance must be in [0, 1]");
+    throw Error("GMM: Tolerance must be in [0, 1]");
   }
   if (options.ScreeningIterations < 1 || options.ScreeningIterations > 1000000)
   {
-    throw GaussianMixtureError("GMM: ScreeningIterations must be in [1, 1e6]");
+    throw Error("GMM: ScreeningIterations must be in [1, 1e6]");
   }
   if (options.BinCount < 0 || options.BinCount > 10000000)
   {
-    throw GaussianMixtureError("GMM: BinCount must be in [0, 1e7]");
+    throw Error("GMM: BinCount must be in [0, 1e7]");
   }
   if (!InRange(options.MinSigmaRelative, 1e-12, 1.0))
   {
-    throw GaussianMixtureError("GMM: MinSigmaRelative must be in [1e-12, 1]");
+    throw Error("GMM: MinSigmaRelative must be in [1e-12, 1]");
   }
 }
 
@@ -78,7 +72,7 @@ void MinMaxChecked(ValuesView values, double& minValue, double& maxValue)
 {
   if (values.size() == 0)
   {
-    throw GaussianMixtureError("GMM: no values to fit");
+    throw Error("GMM: no values to fit");
   }
   minValue = std::numeric_limits<double>::infinity();
   maxValue = -std::numeric_limits<double>::infinity();
@@ -87,7 +81,7 @@ void MinMaxChecked(ValuesView values, double& minValue, double& maxValue)
     const double v = values[i];
     if (!std::isfinite(v))
     {
-      throw GaussianMixtureError("GMM: value " + std::to_string(i) + " is NaN or infinite");
+      throw Error("GMM: value " + std::to_string(i) + " is NaN or infinite");
     }
     minValue = std::min(minValue, v);
     maxValue = std::max(maxValue, v);
@@ -346,14 +340,14 @@ GaussianMixtureModel FitGaussianMixture(
   ValidateOptions(options);
   if (componentCount < 1)
   {
-    throw GaussianMixtureError("GMM: the number of components must be at least 1");
+    throw Error("GMM: the number of components must be at least 1");
   }
   double minValue = 0.0, maxValue = 0.0;
   MinMaxChecked(values, minValue, maxValue);
   const double range = maxValue - minValue;
   if (!std::isfinite(range))
   {
-    throw GaussianMixtureError("GMM: the values span more than the double range");
+    throw Error("GMM: the values span more than the double range");
   }
   if (range <= 0.0)
   {
@@ -429,7 +423,7 @@ GaussianMixtureBicResult FitGaussianMixtureBic(
 {
   if (minComponents < 1 || minComponents > maxComponents || maxComponents > 64)
   {
-    throw GaussianMixtureError("GMM: the BIC range must satisfy 1 <= min <= max <= 64");
+    throw Error("GMM: the BIC range must satisfy 1 <= min <= max <= 64");
   }
   GaussianMixtureBicResult result;
   for (int k = minComponents; k <= maxComponents; ++k)
@@ -458,7 +452,7 @@ PosteriorMatrix ComputePosteriors(
   const std::size_t k = model.Means.size();
   if (k == 0 || model.Sigmas.size() != k || model.Weights.size() != k)
   {
-    throw GaussianMixtureError("GMM: the model has no components or inconsistent sizes");
+    throw Error("GMM: the model has no components or inconsistent sizes");
   }
   std::vector<double> logPrefix(k), inverseSigma(k);
   for (std::size_t m = 0; m < k; ++m)
@@ -466,7 +460,7 @@ PosteriorMatrix ComputePosteriors(
     if (!std::isfinite(model.Means[m]) || !std::isfinite(model.Sigmas[m]) || model.Sigmas[m] <= 0.0 ||
       !std::isfinite(model.Weights[m]) || model.Weights[m] <= 0.0)
     {
-      throw GaussianMixtureError("GMM: component " + std::to_string(m) +
+      throw Error("GMM: component " + std::to_string(m) +
         " needs a finite mean, a positive finite sigma and a positive finite weight");
     }
     logPrefix[m] = std::log(model.Weights[m]) - std::log(model.Sigmas[m]);
@@ -476,7 +470,7 @@ PosteriorMatrix ComputePosteriors(
   {
     if (!std::isfinite(values[i]))
     {
-      throw GaussianMixtureError("GMM: value " + std::to_string(i) + " is NaN or infinite");
+      throw Error("GMM: value " + std::to_string(i) + " is NaN or infinite");
     }
   }
   const auto n = static_cast<std::size_t>(values.size());

@@ -35,8 +35,8 @@
 //     parameters with a log-sum-exp: every row sums to 1 (to rounding) and is finite.
 //
 // Parameters (GaussianMixtureOptions; the paper gives none of these)
-//   Restarts        5       [1, 1000]   k-means++ seedings; the most likely is kept.
-//   MaximumIterations 500   [1, 1e6]    EM iterations of the kept seeding, screening included.
+//   Restarts        5       [1, 100]    k-means++ seedings; the most likely is kept.
+//   MaximumIterations 500   [1, 1e5]    EM iterations of the kept seeding, screening included.
 //   ScreeningIterations 20  [1, 1e6]    EM iterations given to every seeding before choosing.
 //   Tolerance       1e-8    [0, 1]      stop when the log-likelihood per value gains less.
 //   BinCount        512     [0, 1e7]    histogram bins; 0 = exact EM on distinct values.
@@ -49,7 +49,7 @@
 //   the (binned) log-likelihood above; lowest wins, the smaller k on ties.
 //
 // Degenerate cases
-//   - empty data, NaN or Inf values, k < 1: GaussianMixtureError.
+//   - empty data, NaN or Inf values, k < 1: Error.
 //   - constant data: one component (mean = the value, sigma = the floor, weight 1), whatever k.
 //   - k larger than the number of distinct values (occupied bins when binned): k is reduced to
 //     that number; the model's ComponentCount() is the k actually used.
@@ -62,6 +62,7 @@
 //   EM needs some initialisation and guard, the paper does not say which.
 #pragma once
 
+#include "Errors.h"
 #include "Parallel.h"
 
 #include <Eigen/Core>
@@ -74,25 +75,20 @@
 namespace shapediameter
 {
 
-/// Thrown on input the mixture fit cannot process (empty, non-finite, k < 1).
-class GaussianMixtureError : public std::runtime_error
-{
-public:
-  explicit GaussianMixtureError(const std::string& reason)
-    : std::runtime_error(reason)
-  {
-  }
-};
-
 /// Read-only view of the values (bind a std::vector or a VTK array through Eigen::Map).
 using ValuesView = Eigen::Ref<const Eigen::VectorXd>;
 /// n x k posterior probabilities, one row per value, component order of the model.
 using PosteriorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
+/// Restarts (vtkSDFGMMPartition::Restarts and the XML repeat it). Was [1, 1000] in the core.
+inline constexpr Range<int> RestartsRange{ 1, 100 };
+/// MaximumIterations (vtkSDFGMMPartition::MaximumIterations and the XML). Was [1, 1e6].
+inline constexpr Range<int> MaximumIterationsRange{ 1, 100000 };
+
 struct GaussianMixtureOptions
 {
-  int Restarts = 5;
-  int MaximumIterations = 500;
+  int Restarts = 5;           ///< RestartsRange [1, 100]
+  int MaximumIterations = 500; ///< MaximumIterationsRange [1, 1e5]
   int ScreeningIterations = 20;
   double Tolerance = 1e-8;
   int BinCount = 512;
@@ -118,7 +114,7 @@ struct GaussianMixtureModel
 };
 
 /// Fits `componentCount` Gaussians (fewer if the data has fewer distinct values, see header).
-/// Throws GaussianMixtureError on empty or non-finite data or componentCount < 1.
+/// Throws Error on empty or non-finite data or componentCount < 1.
 GaussianMixtureModel FitGaussianMixture(
   ValuesView values, int componentCount, const GaussianMixtureOptions& options = {});
 
@@ -130,13 +126,13 @@ struct GaussianMixtureBicResult
 };
 
 /// Fits k = minComponents..maxComponents and keeps the lowest BIC (the smallest k on ties).
-/// Throws GaussianMixtureError on bad data or 1 > minComponents or minComponents > maxComponents.
+/// Throws Error on bad data or 1 > minComponents or minComponents > maxComponents.
 GaussianMixtureBicResult FitGaussianMixtureBic(ValuesView values, int minComponents = 2,
   int maxComponents = 8, const GaussianMixtureOptions& options = {});
 
 /// Posterior probability of each component for each value (n x k, rows sum to 1, finite).
 /// Per-value work only: bit-identical whatever the ParallelFor split.
-/// Throws GaussianMixtureError on non-finite values or an empty/invalid model.
+/// Throws Error on non-finite values or an empty/invalid model.
 PosteriorMatrix ComputePosteriors(
   const GaussianMixtureModel& model, ValuesView values, const ParallelFor& parallelFor = SerialFor);
 

@@ -330,7 +330,7 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   if (multilevel.DirectBelowFaces < 16 || multilevel.ClusterSize < 2 || multilevel.ClusterSize > 1024 ||
     multilevel.BandRings < 1 || multilevel.BandRings > 64 || multilevel.LostRegionFaces < 1)
   {
-    throw PartitionEnergyError("multilevel cut: options out of range");
+    throw Error("multilevel cut: options out of range");
   }
   if (energy.FaceCount <= multilevel.DirectBelowFaces || energy.LabelCount < 2)
   {

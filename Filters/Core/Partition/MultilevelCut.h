@@ -80,7 +80,7 @@ struct MultilevelOptions
   std::size_t LostRegionFaces = 1024;
 };
 
-/// See the header. Throws PartitionEnergyError on an inconsistent energy or bad options.
+/// See the header. Throws Error on an inconsistent energy or bad options.
 AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel = {},
   const AlphaExpansionOptions& options = {}, const ProgressCallback& progress = nullptr,
   const ParallelFor& parallelFor = SerialFor);

@@ -139,13 +139,10 @@ PartLabels CutPart(const DualGraphView& graph, ValuesView values, const std::vec
 
 void ValidatePartRefinementOptions(const PartRefinementOptions& options)
 {
-  if (!(options.MinimumAreaShare >= 0.0 && options.MinimumAreaShare <= 1.0))
-  {
-    throw PartitionEnergyError("part refinement: MinimumAreaShare must be in [0, 1]");
-  }
+  CheckRange(options.MinimumAreaShare, RefinementMinimumAreaRange, "part refinement: MinimumAreaShare");
   if (options.Modes.MaximumModes < 1)
   {
-    throw PartitionEnergyError("part refinement: at least one mode per part");
+    throw Error("part refinement: at least one mode per part");
   }
 }
 

@@ -66,10 +66,13 @@
 namespace shapediameter
 {
 
+/// MinimumAreaShare (vtkSDFGMMPartition::RefinementMinimumArea and the XML repeat the range).
+inline constexpr Range<double> RefinementMinimumAreaRange{ 0.0, 1.0 };
+
 struct PartRefinementOptions
 {
   bool Enabled = false;
-  double MinimumAreaShare = 0.02;
+  double MinimumAreaShare = 0.02; ///< RefinementMinimumAreaRange [0, 1]
   DensityModesOptions Modes = [] {
     DensityModesOptions modes;
     modes.MaximumModes = 3;
@@ -92,7 +95,7 @@ struct PartRefinementResult
   bool Aborted = false;
 };
 
-/// Throws PartitionError-like PartitionEnergyError on options outside their ranges.
+/// Throws Error on options outside their ranges.
 void ValidatePartRefinementOptions(const PartRefinementOptions& options);
 
 /// See the header comment.

@@ -57,26 +57,13 @@ PartRefinementOptions RefinementOptions(const PartitionOptions& options)
 
 void ValidatePartitionOptions(const PartitionOptions& options)
 {
-  if (options.NumberOfClusters < 0)
-  {
-    throw PartitionError("partition: NumberOfClusters must be >= 0");
-  }
-  if (options.MaximumClusters < 1)
-  {
-    throw PartitionError("partition: MaximumClusters must be >= 1");
-  }
-  if (options.HistogramBins < 1)
-  {
-    throw PartitionError("partition: HistogramBins must be >= 1");
-  }
-  try
-  {
-    ValidatePartRefinementOptions(options.Refinement);
-  }
-  catch (const std::exception& error)
-  {
-    throw PartitionError(error.what());
-  }
+  CheckRange(options.NumberOfClusters, NumberOfClustersRange, "partition: NumberOfClusters");
+  CheckRange(options.MaximumClusters, MaximumClustersRange, "partition: MaximumClusters");
+  CheckRange(options.HistogramBins, HistogramBinsRange, "partition: HistogramBins");
+  CheckRange(options.Modes.Bandwidth, ModeBandwidthRange, "partition: Modes.Bandwidth");
+  CheckRange(options.Modes.MinimumProminence, ModeProminenceRange, "partition: Modes.MinimumProminence");
+  CheckRange(options.Modes.MinimumValleyDepth, ModeValleyDepthRange, "partition: Modes.MinimumValleyDepth");
+  ValidatePartRefinementOptions(options.Refinement);
 }
 
 PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptions& options,
@@ -86,11 +73,11 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
   const std::size_t faceCount = input.FaceOffsets.empty() ? 0 : input.FaceOffsets.size() - 1;
   if (faceCount == 0)
   {
-    throw PartitionError("partition: no faces");
+    throw Error("partition: no faces");
   }
   if (static_cast<std::size_t>(input.FaceValues.size()) != faceCount)
   {
-    throw PartitionError("partition: " + std::to_string(input.FaceValues.size()) + " values for " +
+    throw Error("partition: " + std::to_string(input.FaceValues.size()) + " values for " +
       std::to_string(faceCount) + " faces");
   }
   PartitionResult result;
@@ -185,7 +172,7 @@ PartitionHistogram MixtureHistogram(const GaussianMixtureModel& model, ValuesVie
   if (values.size() == 0 || bins < 1 || model.ComponentCount() == 0 ||
     model.Sigmas.size() != model.Means.size() || model.Weights.size() != model.Means.size())
   {
-    throw PartitionError("histogram: needs values, bins >= 1 and a model with components");
+    throw Error("histogram: needs values, bins >= 1 and a model with components");
   }
   const double sigmaMax = *std::max_element(model.Sigmas.begin(), model.Sigmas.end());
   const double low = values.minCoeff() - 4.0 * sigmaMax;

@@ -44,10 +44,9 @@
 //   The VTK adapter (vtkSDFGMMPartition) exposes the ones a user needs, with the same defaults.
 //
 // Degenerate input and errors
-//   No faces, values of another size than the face count, k < 0, MaximumClusters < 1 or
-//   HistogramBins < 1 -> PartitionError. Every step throws its own typed error on what it
-//   cannot process (FaceGraphError, GaussianMixtureError, DensityModesError,
-//   PartitionEnergyError), all std::runtime_error with a one-line reason. The dual graph is
+//   No faces, values of another size than the face count, an option outside its range (k
+//   outside [0, 16], MaximumClusters outside [2, 16], HistogramBins outside [4, 4096]) -> Error. Every step throws Error (Errors.h) on what it cannot
+//   process, with a one-line reason naming the step. The dual graph is
 //   validated once (ValidateDualGraph, before the energy) and not again by the segments.
 //   Constant values give one cluster; the cut may leave a cluster without faces.
 //
@@ -60,6 +59,7 @@
 //   time (MultilevelCut.h).
 #pragma once
 
+#include "Errors.h"
 #include "Partition/AlphaExpansion.h"
 #include "Partition/DensityModes.h"
 #include "Mesh/FaceGraph.h"
@@ -79,13 +79,6 @@
 namespace shapediameter
 {
 
-/// Thrown on input the partition cannot process as a whole (see the header comment).
-class PartitionError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
-
 /// Where the mixture of the clusters comes from (the family model, when given, overrides both).
 enum class PartitionClusterModel
 {
@@ -100,10 +93,10 @@ struct PartitionOptions
 {
   /// How the clusters are found; default DensityModes.
   PartitionClusterModel ClusterModel = PartitionClusterModel::DensityModes;
-  /// k, default 5, [0, inf): with DensityModes the most clusters; with EM exactly k, and 0 =
+  /// k, default 5, NumberOfClustersRange [0, 16]: with DensityModes the most clusters; with EM exactly k, and 0 =
   /// automatic (lowest BIC in [2, MaximumClusters]).
   int NumberOfClusters = 5;
-  /// Default 8, [1, inf) ([2, inf) for the BIC search): the most clusters when k = 0.
+  /// Default 8, MaximumClustersRange [2, 16]: the most clusters when k = 0.
   int MaximumClusters = 8;
   /// The EM fit (Restarts, MaximumIterations, Seed, ...; GaussianMixture.h).
   GaussianMixtureOptions Mixture;
@@ -120,9 +113,24 @@ struct PartitionOptions
   /// The fine level (PartRefinement.h): Enabled, MinimumAreaShare, the modes inside a part.
   /// Its Energy, Multilevel and AlphaExpansion are not read: the partition's own are used.
   PartRefinementOptions Refinement;
-  /// Bins of the histogram (MixtureHistogram), default 64, [1, inf).
+  /// Bins of the histogram (MixtureHistogram), default 64, HistogramBinsRange [4, 4096].
   int HistogramBins = 64;
 };
+
+// The ranges of the options vtkSDFGMMPartition exposes, checked by ValidatePartitionOptions and
+// by the steps' validators; the filter's vtkSetClampMacro and Plugin/ShapeDiameter.xml repeat
+// these numbers (Testing/Filters/TestParameterRanges.cxx). Where the core was wider before, the
+// filter's range won: NumberOfClusters was [0, inf), MaximumClusters [1, inf), HistogramBins
+// [1, inf). The others: RestartsRange, MaximumIterationsRange (GaussianMixture.h), LambdaRange,
+// EpsilonRange, ConvexityFactorRange (PartitionEnergy.h), ModeBandwidthRange,
+// ModeProminenceRange, ModeValleyDepthRange (DensityModes.h), RefinementMinimumAreaRange
+// (PartRefinement.h).
+/// NumberOfClusters, k: 0 = automatic.
+inline constexpr Range<int> NumberOfClustersRange{ 0, 16 };
+/// MaximumClusters: the BIC search starts at 2.
+inline constexpr Range<int> MaximumClustersRange{ 2, 16 };
+/// HistogramBins.
+inline constexpr Range<int> HistogramBinsRange{ 4, 4096 };
 
 /// What is partitioned; see the header comment.
 struct PartitionInput
@@ -197,7 +205,7 @@ struct PartitionResult
   bool Aborted = false;
 };
 
-/// Throws PartitionError if an option of the partition itself is outside its documented range
+/// Throws Error if an option of the partition itself is outside its documented range
 /// (the steps check their own options when they run).
 void ValidatePartitionOptions(const PartitionOptions& options);
 
@@ -211,7 +219,7 @@ PartitionResult PartitionBySDF(PointsView points, TrianglesView triangles, Value
   const ProgressCallback& progress = {});
 
 /// The histogram of `values` in `bins` bins and the densities of `model` over them (see
-/// PartitionHistogram). Throws PartitionError on empty values, bins < 1 or an empty model.
+/// PartitionHistogram). Throws Error on empty values, bins < 1 or an empty model.
 PartitionHistogram MixtureHistogram(const GaussianMixtureModel& model, ValuesView values, int bins);
 
 } // namespace shapediameter

@@ -23,22 +23,10 @@ bool InRange(double value, double low, double high)
 
 void ValidateOptions(const PartitionEnergyOptions& options)
 {
-  if (!InRange(options.Lambda, 0.0, 1e3))
-  {
-    throw PartitionEnergyError("partition energy: Lambda must be in [0, 1e3]");
-  }
-  if (!InRange(options.Epsilon, 1e-300, 1.0))
-  {
-    throw PartitionEnergyError("partition energy: Epsilon must be in [1e-300, 1]");
-  }
-  if (!InRange(options.ConvexityFactor, 0.0, 1.0))
-  {
-    throw PartitionEnergyError("partition energy: ConvexityFactor must be in [0, 1]");
-  }
-  if (!InRange(options.MinAngleRatio, 1e-300, 1.0))
-  {
-    throw PartitionEnergyError("partition energy: MinAngleRatio must be in [1e-300, 1]");
-  }
+  CheckRange(options.Lambda, LambdaRange, "partition energy: Lambda");
+  CheckRange(options.Epsilon, EpsilonRange, "partition energy: Epsilon");
+  CheckRange(options.ConvexityFactor, ConvexityFactorRange, "partition energy: ConvexityFactor");
+  CheckRange(options.MinAngleRatio, MinAngleRatioRange, "partition energy: MinAngleRatio");
 }
 
 /// Number of CSR entries; an empty graph may come without any array.
@@ -56,24 +44,24 @@ void ValidateTopology(const DualGraphView& graph, const ParallelFor& parallelFor
   }
   if (graph.Offsets == nullptr)
   {
-    throw PartitionEnergyError("dual graph: offsets are missing");
+    throw Error("dual graph: offsets are missing");
   }
   if (graph.Offsets[0] != 0)
   {
-    throw PartitionEnergyError("dual graph: offsets must start at 0");
+    throw Error("dual graph: offsets must start at 0");
   }
   const std::size_t n = graph.FaceCount;
   for (std::size_t f = 0; f < n; ++f)
   {
     if (graph.Offsets[f + 1] < graph.Offsets[f])
     {
-      throw PartitionEnergyError("dual graph: offsets decrease at face " + std::to_string(f));
+      throw Error("dual graph: offsets decrease at face " + std::to_string(f));
     }
   }
   const std::size_t entryCount = EntryCount(graph);
   if (entryCount > 0 && graph.Neighbors == nullptr)
   {
-    throw PartitionEnergyError("dual graph: neighbour indices are missing");
+    throw Error("dual graph: neighbour indices are missing");
   }
   // The neighbour lists, checked in parallel; the error is the lowest failing face's, so it
   // does not depend on the thread split (and nothing is thrown on a worker thread).
@@ -116,7 +104,7 @@ void ValidateTopology(const DualGraphView& graph, const ParallelFor& parallelFor
   });
   if (firstBad.load() < n)
   {
-    throw PartitionEnergyError(problemOf(firstBad.load()));
+    throw Error(problemOf(firstBad.load()));
   }
 }
 
@@ -187,7 +175,7 @@ double PartitionEnergy::Evaluate(const std::vector<int>& labels) const
 {
   if (labels.size() != FaceCount)
   {
-    throw PartitionEnergyError("partition energy: " + std::to_string(labels.size()) +
+    throw Error("partition energy: " + std::to_string(labels.size()) +
       " labels for " + std::to_string(FaceCount) + " faces");
   }
   double data = 0.0;
@@ -195,7 +183,7 @@ double PartitionEnergy::Evaluate(const std::vector<int>& labels) const
   {
     if (labels[f] < 0 || labels[f] >= LabelCount)
     {
-      throw PartitionEnergyError("partition energy: label out of range at face " + std::to_string(f));
+      throw Error("partition energy: label out of range at face " + std::to_string(f));
     }
     data += DataCost(f, labels[f]);
   }
@@ -224,13 +212,13 @@ void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry, const P
   {
     if (graph.FaceArea == nullptr)
     {
-      throw PartitionEnergyError("dual graph: face areas are missing (needed for geometric weights)");
+      throw Error("dual graph: face areas are missing (needed for geometric weights)");
     }
     for (std::size_t f = 0; f < graph.FaceCount; ++f)
     {
       if (!InRange(graph.FaceArea[f], 0.0, std::numeric_limits<double>::max()))
       {
-        throw PartitionEnergyError("dual graph: area of face " + std::to_string(f) + " is negative, NaN or infinite");
+        throw Error("dual graph: area of face " + std::to_string(f) + " is negative, NaN or infinite");
       }
     }
   }
@@ -241,21 +229,21 @@ void ValidateDualGraph(const DualGraphView& graph, bool requireGeometry, const P
   }
   if (graph.NormalAngle == nullptr || graph.Concave == nullptr)
   {
-    throw PartitionEnergyError("dual graph: normal angles or concave flags are missing");
+    throw Error("dual graph: normal angles or concave flags are missing");
   }
   if (requireGeometry && graph.EdgeLength == nullptr)
   {
-    throw PartitionEnergyError("dual graph: edge lengths are missing (needed for geometric weights)");
+    throw Error("dual graph: edge lengths are missing (needed for geometric weights)");
   }
   for (std::size_t e = 0; e < entryCount; ++e)
   {
     if (!std::isfinite(graph.NormalAngle[e]))
     {
-      throw PartitionEnergyError("dual graph: normal angle " + std::to_string(e) + " is NaN or infinite");
+      throw Error("dual graph: normal angle " + std::to_string(e) + " is NaN or infinite");
     }
     if (requireGeometry && !InRange(graph.EdgeLength[e], 0.0, std::numeric_limits<double>::max()))
     {
-      throw PartitionEnergyError("dual graph: edge length " + std::to_string(e) + " is negative, NaN or infinite");
+      throw Error("dual graph: edge length " + std::to_string(e) + " is negative, NaN or infinite");
     }
   }
 }
@@ -269,7 +257,7 @@ PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> po
   const std::size_t n = graph.FaceCount;
   if (static_cast<std::size_t>(posteriors.rows()) != n || posteriors.cols() < 1)
   {
-    throw PartitionEnergyError("partition energy: posteriors must be FaceCount x k with k >= 1");
+    throw Error("partition energy: posteriors must be FaceCount x k with k >= 1");
   }
   if (!posteriors.allFinite())
   {
@@ -277,7 +265,7 @@ PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> po
     {
       if (!posteriors.row(static_cast<Eigen::Index>(f)).allFinite())
       {
-        throw PartitionEnergyError("partition energy: posterior of face " + std::to_string(f) + " is NaN or infinite");
+        throw Error("partition energy: posterior of face " + std::to_string(f) + " is NaN or infinite");
       }
     }
   }
@@ -373,14 +361,14 @@ std::vector<int> HierarchyLevel(const std::vector<int>& clusters, int level)
 {
   if (level < 1)
   {
-    throw PartitionEnergyError("hierarchy: level must be at least 1");
+    throw Error("hierarchy: level must be at least 1");
   }
   std::vector<int> result(clusters.size());
   for (std::size_t f = 0; f < clusters.size(); ++f)
   {
     if (clusters[f] < 0)
     {
-      throw PartitionEnergyError("hierarchy: negative cluster at face " + std::to_string(f));
+      throw Error("hierarchy: negative cluster at face " + std::to_string(f));
     }
     result[f] = std::min(clusters[f], level);
   }
@@ -400,13 +388,13 @@ ConnectedSegments FindConnectedSegmentsOnValidGraph(const DualGraphView& graph, 
   const std::size_t n = graph.FaceCount;
   if (labels.size() != n || faceAreas.size() != n)
   {
-    throw PartitionEnergyError("segments: labels and face areas need one value per face");
+    throw Error("segments: labels and face areas need one value per face");
   }
   for (std::size_t f = 0; f < n; ++f)
   {
     if (!InRange(faceAreas[f], 0.0, std::numeric_limits<double>::max()))
     {
-      throw PartitionEnergyError("segments: area of face " + std::to_string(f) + " is negative, NaN or infinite");
+      throw Error("segments: area of face " + std::to_string(f) + " is negative, NaN or infinite");
     }
   }
   // Flood fill in face order: components are discovered in order of their lowest face.

@@ -48,7 +48,7 @@
 //                                         length (1 when that is 0 too). Zero-area faces have
 //                                         no data cost: their neighbours decide their label.
 //
-// Degenerate cases and errors (PartitionEnergyError, one-line reason)
+// Degenerate cases and errors (Error, one-line reason)
 //   - posteriors: must be FaceCount x k, k >= 1, finite; values are clamped to [0, 1].
 //   - graph: null arrays, offsets not starting at 0 or decreasing, neighbour out of range,
 //     a face listed as its own neighbour, asymmetric adjacency, NaN/Inf angle; with geometric
@@ -64,6 +64,7 @@
 //   mesh resolution (above).
 #pragma once
 
+#include "Errors.h"
 #include "Mesh/FaceGraph.h"
 #include "Partition/GaussianMixture.h"
 
@@ -74,15 +75,6 @@
 
 namespace shapediameter
 {
-
-class PartitionEnergyError : public std::runtime_error
-{
-public:
-  explicit PartitionEnergyError(const std::string& reason)
-    : std::runtime_error(reason)
-  {
-  }
-};
 
 /// Face adjacency (dual graph) in CSR form; see the header for the conventions.
 struct DualGraphView
@@ -100,12 +92,21 @@ struct DualGraphView
 /// The view of a FaceGraph (which must outlive it), with every array set.
 DualGraphView MakeDualGraphView(const FaceGraph& graph);
 
+/// Lambda, the paper's λ (vtkSDFGMMPartition::Lambda and the XML repeat the range).
+inline constexpr Range<double> LambdaRange{ 0.0, 1000.0 };
+/// Epsilon, the paper's ε (vtkSDFGMMPartition::Epsilon).
+inline constexpr Range<double> EpsilonRange{ 1e-300, 1.0 };
+/// ConvexityFactor (vtkSDFGMMPartition::ConvexityFactor).
+inline constexpr Range<double> ConvexityFactorRange{ 0.0, 1.0 };
+/// MinAngleRatio (not a filter property).
+inline constexpr Range<double> MinAngleRatioRange{ 1e-300, 1.0 };
+
 struct PartitionEnergyOptions
 {
-  double Lambda = 0.03;
-  double Epsilon = 1e-8;
-  double ConvexityFactor = 0.08;
-  double MinAngleRatio = 1e-5;
+  double Lambda = 0.03;          ///< LambdaRange [0, 1000]
+  double Epsilon = 1e-8;         ///< EpsilonRange [1e-300, 1]
+  double ConvexityFactor = 0.08; ///< ConvexityFactorRange [0, 1]
+  double MinAngleRatio = 1e-5;   ///< MinAngleRatioRange [1e-300, 1]
   bool GeometricWeights = true;
 };
 
@@ -126,7 +127,7 @@ struct PartitionEnergy
   {
     return DataCosts[face * static_cast<std::size_t>(LabelCount) + static_cast<std::size_t>(label)];
   }
-  /// E(labels). Throws PartitionEnergyError on a wrong size or a label outside [0, LabelCount).
+  /// E(labels). Throws Error on a wrong size or a label outside [0, LabelCount).
   double Evaluate(const std::vector<int>& labels) const;
 };
 
@@ -134,7 +135,7 @@ struct PartitionEnergy
 /// counts as flat (the most expensive cut).
 double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOptions& options = {});
 
-/// Throws PartitionEnergyError when the graph breaks a rule of the header.
+/// Throws Error when the graph breaks a rule of the header.
 /// requireGeometry: edge lengths and face areas must be present and finite >= 0. The
 /// neighbour lists are checked through parallelFor; the error names the lowest failing face
 /// whatever the thread split.

@@ -15,7 +15,7 @@ namespace shapediameter
 class BruteForceRayCaster final : public RayCaster
 {
 public:
-  /// Copies the mesh. Throws RayCasterError on a non-finite coordinate or a vertex index out
+  /// Copies the mesh. Throws Error on a non-finite coordinate or a vertex index out
   /// of range.
   BruteForceRayCaster(const PointsView& points, const TrianglesView& triangles);
 

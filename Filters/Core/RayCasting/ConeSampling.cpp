@@ -15,14 +15,11 @@ constexpr double kPi = 3.14159265358979323846;
 
 ConePattern MakeConePattern(int numberOfRays, double coneAngleDegrees)
 {
-  if (numberOfRays < 1 || numberOfRays > kMaxConeRays)
-  {
-    throw ConeSamplingError("cone sampling: the number of rays must be in [1, " +
-      std::to_string(kMaxConeRays) + "], got " + std::to_string(numberOfRays));
-  }
+  CheckRange(numberOfRays, NumberOfRaysRange, "cone sampling: the number of rays");
+  // Open at both ends (Range has an inclusive High), so not CheckRange.
   if (!(coneAngleDegrees > 0 && coneAngleDegrees < 180))
   {
-    throw ConeSamplingError(
+    throw Error(
       "cone sampling: the cone angle must be in (0, 180) degrees, got " +
       std::to_string(coneAngleDegrees));
   }

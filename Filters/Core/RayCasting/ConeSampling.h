@@ -30,20 +30,17 @@
 //   Y = A x X, so (X, Y, A) is right-handed.
 #pragma once
 
+#include "Errors.h"
 #include <stdexcept>
 #include <vector>
 
 namespace shapediameter
 {
 
-class ConeSamplingError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
-
 /// Valid ranges, checked by MakeConePattern.
 constexpr int kMaxConeRays = 4096;
+/// N, rays per cone: vtkShapeDiameterFilter::NumberOfRays and the XML use the same [1, 4096].
+inline constexpr Range<int> NumberOfRaysRange{ 1, kMaxConeRays };
 
 struct ConePattern
 {
@@ -59,8 +56,8 @@ struct ConePattern
   int GetNumberOfRays() const { return static_cast<int>(this->AnglesToAxis.size()); }
 };
 
-/// numberOfRays in [1, kMaxConeRays]; coneAngleDegrees (full opening angle) in (0, 180).
-/// Throws ConeSamplingError otherwise.
+/// numberOfRays in NumberOfRaysRange; coneAngleDegrees (full opening angle) in (0, 180).
+/// Throws Error otherwise.
 ConePattern MakeConePattern(int numberOfRays, double coneAngleDegrees);
 
 /// Right-handed orthonormal frame around the unit axis: firstAxis is `preferredFirstAxis`

@@ -142,7 +142,7 @@ EmbreeRayCaster::EmbreeRayCaster(
   if (points.rows() >= static_cast<Eigen::Index>(RTC_INVALID_GEOMETRY_ID) ||
     triangles.rows() >= static_cast<Eigen::Index>(RTC_INVALID_GEOMETRY_ID))
   {
-    throw RayCasterError("Embree ray caster: more than 2^32 - 1 points or triangles");
+    throw Error("Embree ray caster: more than 2^32 - 1 points or triangles");
   }
   if (triangles.rows() == 0)
   {
@@ -186,11 +186,11 @@ EmbreeRayCaster::EmbreeRayCaster(
   impl.Device = rtcNewDevice(nullptr);
   if (!impl.Device)
   {
-    throw RayCasterError("Embree ray caster: rtcNewDevice failed: " + DeviceErrorText(nullptr));
+    throw Error("Embree ray caster: rtcNewDevice failed: " + DeviceErrorText(nullptr));
   }
   if (!rtcGetDeviceProperty(impl.Device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
   {
-    throw RayCasterError("Embree ray caster: this Embree was built without filter functions");
+    throw Error("Embree ray caster: this Embree was built without filter functions");
   }
   impl.Scene = rtcNewScene(impl.Device);
   rtcSetSceneFlags(impl.Scene, options.Robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
@@ -213,7 +213,7 @@ EmbreeRayCaster::EmbreeRayCaster(
   rtcCommitScene(impl.Scene);
   if (rtcGetDeviceError(impl.Device) != RTC_ERROR_NONE)
   {
-    throw RayCasterError("Embree ray caster: building the BVH failed: " +
+    throw Error("Embree ray caster: building the BVH failed: " +
       DeviceErrorText(impl.Device));
   }
 }

@@ -55,7 +55,7 @@ struct EmbreeRayCasterOptions
 class EmbreeRayCaster final : public RayCaster
 {
 public:
-  /// Copies the mesh and builds the BVH. Throws RayCasterError on a non-finite coordinate, a
+  /// Copies the mesh and builds the BVH. Throws Error on a non-finite coordinate, a
   /// vertex index out of range, more than 2^32 - 1 points, or an Embree failure.
   EmbreeRayCaster(const PointsView& points, const TrianglesView& triangles,
     const EmbreeRayCasterOptions& options = EmbreeRayCasterOptions());

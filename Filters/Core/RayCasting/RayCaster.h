@@ -39,6 +39,7 @@
 // construction and safe to call from several threads at once.
 #pragma once
 
+#include "Errors.h"
 #include "Mesh/MeshTypes.h"
 
 #include <cmath>
@@ -51,13 +52,6 @@
 
 namespace shapediameter
 {
-
-/// Bad mesh given to a ray caster (non-finite coordinate, index out of range, ...).
-class RayCasterError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
 
 /// Which hit along a ray counts (see the header comment and ShapeDiameter.h).
 enum class HitRule
@@ -186,13 +180,13 @@ struct TrianglePlane
 };
 
 /// Checks the mesh (finite coordinates, indices in range) and returns the triangle planes
-/// and the bounding-box diagonal. Throws RayCasterError.
+/// and the bounding-box diagonal. Throws Error.
 inline std::vector<TrianglePlane> CheckMeshAndComputePlanes(const PointsView& points,
   const TrianglesView& triangles, double& boundingBoxDiagonal)
 {
   if (!points.allFinite())
   {
-    throw RayCasterError("ray caster: the mesh has a non-finite point coordinate");
+    throw Error("ray caster: the mesh has a non-finite point coordinate");
   }
   const auto pointCount = static_cast<std::int64_t>(points.rows());
   boundingBoxDiagonal = 0;
@@ -208,7 +202,7 @@ inline std::vector<TrianglePlane> CheckMeshAndComputePlanes(const PointsView& po
       const std::int64_t index = triangles(t, c);
       if (index < 0 || index >= pointCount)
       {
-        throw RayCasterError("ray caster: triangle " + std::to_string(t) +
+        throw Error("ray caster: triangle " + std::to_string(t) +
           " has a vertex index out of range: " + std::to_string(index));
       }
     }

@@ -48,21 +48,21 @@ void CheckNeighbors(const RayOrigins& origins, std::size_t n)
   }
   if (offsets.size() != n + 1)
   {
-    throw ShapeDiameterError("adaptive shape diameter: the origins need a neighbour graph "
+    throw Error("adaptive shape diameter: the origins need a neighbour graph "
                              "(NeighborOffsets with " + std::to_string(n + 1) + " entries, got " +
       std::to_string(offsets.size()) + ")");
   }
   if (offsets.front() != 0 || offsets.back() != static_cast<std::int64_t>(indices.size()) ||
     !std::is_sorted(offsets.begin(), offsets.end()))
   {
-    throw ShapeDiameterError("adaptive shape diameter: NeighborOffsets is not a valid CSR "
+    throw Error("adaptive shape diameter: NeighborOffsets is not a valid CSR "
                              "offset array (0, non-decreasing, ends at the neighbour count)");
   }
   for (const std::int64_t j : indices)
   {
     if (j < 0 || j >= static_cast<std::int64_t>(n))
     {
-      throw ShapeDiameterError(
+      throw Error(
         "adaptive shape diameter: neighbour index out of range: " + std::to_string(j));
     }
   }

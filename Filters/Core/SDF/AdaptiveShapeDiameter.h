@@ -91,7 +91,7 @@ namespace shapediameter
 {
 
 /// ComputeShapeDiameter (SDF.h) with options.Mode == Adaptive lands here. Throws
-/// ShapeDiameterError on bad options or sizes, as the Exact mode does (CheckShapeDiameterOptions,
+/// Error on bad options or sizes, as the Exact mode does (CheckShapeDiameterOptions,
 /// CheckRayOrigins), and when the origins have no (or an inconsistent) neighbour graph.
 ShapeDiameterResult ComputeAdaptiveShapeDiameter(const RayCaster& caster,
   const RayOrigins& origins, const ShapeDiameterOptions& options, const ParallelFor& parallelFor,

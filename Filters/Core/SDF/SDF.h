@@ -6,7 +6,7 @@
 // the rest is interpolated). What is computed, the parameters and the degenerate cases are
 // documented there; this file only chooses. Both modes check the options the same way
 // (CheckShapeDiameterOptions: the ranges of either mode whatever Mode), so bad options throw
-// the same ShapeDiameterError in both.
+// the same Error in both.
 #pragma once
 
 #include "SDF/ShapeDiameter.h"
@@ -14,7 +14,7 @@
 namespace shapediameter
 {
 
-/// The SDF of every origin, by options.Mode. Throws ShapeDiameterError on bad options or
+/// The SDF of every origin, by options.Mode. Throws Error on bad options or
 /// inconsistent sizes (and, in Adaptive mode, a missing or inconsistent neighbour graph).
 ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigins& origins,
   const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
@@ -22,7 +22,7 @@ ShapeDiameterResult ComputeShapeDiameter(const RayCaster& caster, const RayOrigi
 
 /// Convenience for the default per-face SDF: builds an EmbreeRayCaster over the mesh and
 /// MakeFaceOrigins (plus the triangle adjacency in Adaptive mode), then ComputeShapeDiameter.
-/// Throws RayCasterError / ShapeDiameterError (bad options before the BVH is built).
+/// Throws Error (bad options before the BVH is built, or a bad mesh).
 ShapeDiameterResult ComputeFaceShapeDiameter(const PointsView& points,
   const TrianglesView& triangles, const ShapeDiameterOptions& options,
   const ParallelFor& parallelFor, const ProgressCallback& progress = ProgressCallback());

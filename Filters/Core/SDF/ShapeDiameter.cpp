@@ -131,29 +131,18 @@ double Median(std::vector<double> samples)
 
 void CheckShapeDiameterOptions(const ShapeDiameterOptions& options)
 {
-  if (!(options.VertexOriginOffset >= 0 && options.VertexOriginOffset <= 1e-2))
-  {
-    throw ShapeDiameterError("shape diameter: VertexOriginOffset must be in [0, 0.01], got " +
-      std::to_string(options.VertexOriginOffset));
-  }
+  CheckRange(options.ConeAngle, ConeAngleRange, "shape diameter: ConeAngle");
+  CheckRange(options.VertexOriginOffset, VertexOriginOffsetRange, "shape diameter: VertexOriginOffset");
   if (options.OriginsPerChunk < 1)
   {
-    throw ShapeDiameterError("shape diameter: OriginsPerChunk must be >= 1");
+    throw Error("shape diameter: OriginsPerChunk must be >= 1");
   }
   if (options.Mode != ShapeDiameterMode::Exact && options.Mode != ShapeDiameterMode::Adaptive)
   {
-    throw ShapeDiameterError("shape diameter: unknown Mode");
+    throw Error("shape diameter: unknown Mode");
   }
-  if (!(options.Tolerance > 0 && options.Tolerance <= 1))
-  {
-    throw ShapeDiameterError("shape diameter: Tolerance must be in (0, 1], got " +
-      std::to_string(options.Tolerance));
-  }
-  if (!(options.SpacingFraction > 0 && options.SpacingFraction <= 8))
-  {
-    throw ShapeDiameterError("shape diameter: SpacingFraction must be in (0, 8], got " +
-      std::to_string(options.SpacingFraction));
-  }
+  CheckRange(options.Tolerance, ToleranceRange, "shape diameter: Tolerance");
+  CheckRange(options.SpacingFraction, SpacingFractionRange, "shape diameter: SpacingFraction");
 }
 
 void CheckRayOrigins(const RayOrigins& origins)
@@ -161,21 +150,21 @@ void CheckRayOrigins(const RayOrigins& origins)
   const auto n = origins.Points.rows();
   if (origins.Normals.rows() != n)
   {
-    throw ShapeDiameterError("shape diameter: " + std::to_string(n) + " origins but " +
+    throw Error("shape diameter: " + std::to_string(n) + " origins but " +
       std::to_string(origins.Normals.rows()) + " normals");
   }
   if (origins.FirstAxes.rows() != 0 && origins.FirstAxes.rows() != n)
   {
-    throw ShapeDiameterError("shape diameter: FirstAxes must have 0 or one row per origin");
+    throw Error("shape diameter: FirstAxes must have 0 or one row per origin");
   }
   if (!origins.SourceTriangles.empty() &&
     origins.SourceTriangles.size() != static_cast<std::size_t>(n))
   {
-    throw ShapeDiameterError("shape diameter: SourceTriangles must be empty or one per origin");
+    throw Error("shape diameter: SourceTriangles must be empty or one per origin");
   }
   if (!origins.Skip.empty() && origins.Skip.size() != static_cast<std::size_t>(n))
   {
-    throw ShapeDiameterError("shape diameter: Skip must be empty or one per origin");
+    throw Error("shape diameter: Skip must be empty or one per origin");
   }
 }
 
@@ -184,7 +173,7 @@ double RobustWeightedMean(
 {
   if (lengths.size() != weights.size())
   {
-    throw ShapeDiameterError("shape diameter: as many weights as lengths are needed");
+    throw Error("shape diameter: as many weights as lengths are needed");
   }
   std::vector<double> scratch(lengths.size());
   return RobustWeightedMeanOf(
@@ -207,7 +196,7 @@ RayOrigins MakeFaceOrigins(const PointsView& points, const TrianglesView& triang
     {
       if (triangles(t, c) < 0 || triangles(t, c) >= pointCount)
       {
-        throw ShapeDiameterError("shape diameter: triangle " + std::to_string(t) +
+        throw Error("shape diameter: triangle " + std::to_string(t) +
           " has a vertex index out of range: " + std::to_string(triangles(t, c)));
       }
     }
@@ -237,7 +226,7 @@ RayOrigins MakeVertexOrigins(const PointsView& points, const PointsView& normals
 {
   if (points.rows() != normals.rows())
   {
-    throw ShapeDiameterError("shape diameter: " + std::to_string(points.rows()) + " points but " +
+    throw Error("shape diameter: " + std::to_string(points.rows()) + " points but " +
       std::to_string(normals.rows()) + " normals");
   }
   RayOrigins origins;
@@ -269,15 +258,7 @@ bool CastShapeDiameterCones(const RayCaster& caster, const RayOrigins& origins,
   const ShapeDiameterOptions& options, const std::vector<std::size_t>* subset,
   ShapeDiameterResult& result, const ParallelFor& parallelFor, const ProgressCallback& progress)
 {
-  ConePattern pattern;
-  try
-  {
-    pattern = MakeConePattern(options.NumberOfRays, options.ConeAngle);
-  }
-  catch (const ConeSamplingError& error)
-  {
-    throw ShapeDiameterError(error.what());
-  }
+  const ConePattern pattern = MakeConePattern(options.NumberOfRays, options.ConeAngle);
 
   const std::size_t originCount = subset ? subset->size() : static_cast<std::size_t>(origins.Points.rows());
   if (originCount == 0)
@@ -381,14 +362,7 @@ ShapeDiameterResult ComputeExactShapeDiameter(const RayCaster& caster, const Ray
   CheckShapeDiameterOptions(options);
   CheckRayOrigins(origins);
   // Pattern errors before any work, also for an empty input.
-  try
-  {
-    MakeConePattern(options.NumberOfRays, options.ConeAngle);
-  }
-  catch (const ConeSamplingError& error)
-  {
-    throw ShapeDiameterError(error.what());
-  }
+  MakeConePattern(options.NumberOfRays, options.ConeAngle);
 
   const auto originCount = static_cast<std::size_t>(origins.Points.rows());
   ShapeDiameterResult result;
@@ -405,11 +379,11 @@ FillFromNeighborsSummary FillFromNeighbors(std::vector<double>& values,
   const std::size_t n = values.size();
   if (validRays.size() != n)
   {
-    throw ShapeDiameterError("fill from neighbours: values and validRays differ in size");
+    throw Error("fill from neighbours: values and validRays differ in size");
   }
   if (adjacencyOffsets.size() != n + 1 && !(n == 0 && adjacencyOffsets.empty()))
   {
-    throw ShapeDiameterError("fill from neighbours: adjacencyOffsets must have " +
+    throw Error("fill from neighbours: adjacencyOffsets must have " +
       std::to_string(n + 1) + " entries, got " + std::to_string(adjacencyOffsets.size()));
   }
   if (n > 0)
@@ -418,14 +392,14 @@ FillFromNeighborsSummary FillFromNeighbors(std::vector<double>& values,
       adjacencyOffsets.back() != static_cast<std::int64_t>(adjacencyIndices.size()) ||
       !std::is_sorted(adjacencyOffsets.begin(), adjacencyOffsets.end()))
     {
-      throw ShapeDiameterError("fill from neighbours: adjacencyOffsets is not a valid CSR "
+      throw Error("fill from neighbours: adjacencyOffsets is not a valid CSR "
                                "offset array (0, non-decreasing, ends at the index count)");
     }
     for (const std::int64_t neighbour : adjacencyIndices)
     {
       if (neighbour < 0 || neighbour >= static_cast<std::int64_t>(n))
       {
-        throw ShapeDiameterError("fill from neighbours: neighbour index out of range: " +
+        throw Error("fill from neighbours: neighbour index out of range: " +
           std::to_string(neighbour));
       }
     }

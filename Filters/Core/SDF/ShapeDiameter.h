@@ -27,7 +27,8 @@
 //
 // Parameters (ShapeDiameterOptions)
 //   NumberOfRays      default 30 (paper), range [1, 4096].
-//   ConeAngle  default 120 (paper, full opening angle), range (0, 180).
+//   ConeAngle  default 120 (paper, full opening angle), range [1, 179] (the filter's; the
+//                     cone sampling alone accepts (0, 180)).
 //   VertexOriginOffset default 1e-6, range [0, 1e-2], RELATIVE TO THE MESH BOUNDING-BOX
 //                     DIAGONAL: origins without a source triangle (vertices) ignore hits
 //                     closer than this (Embree's tnear), because a vertex lies on all its
@@ -39,7 +40,7 @@
 //                     a subset whose spacing follows the local SDF and interpolates the
 //                     rest over the surface (AdaptiveShapeDiameter.h); it needs the origins'
 //                     neighbours (RayOrigins::NeighborOffsets / Neighbors).
-//   Tolerance         default 0.15, range (0, 1]: Adaptive only, relative SDF difference
+//   Tolerance         default 0.15, range [0.001, 1]: Adaptive only, relative SDF difference
 //                     between neighbouring cast origins above which more origins are cast.
 //   SpacingFraction   default 0.5, range (0, 8]: Adaptive only, spacing of the cast
 //                     origins as a fraction of the local SDF.
@@ -107,8 +108,10 @@
 // unprocessed origins keep value 0 / ValidRays 0.
 #pragma once
 
+#include "Errors.h"
 #include "Mesh/MeshTypes.h"
 #include "Parallel.h"
+#include "RayCasting/ConeSampling.h"
 #include "RayCasting/RayCaster.h"
 
 #include <cstdint>
@@ -117,13 +120,6 @@
 
 namespace shapediameter
 {
-
-/// Bad options or inconsistent input sizes.
-class ShapeDiameterError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
 
 /// How ComputeShapeDiameter (SDF.h) evaluates the origins.
 enum class ShapeDiameterMode
@@ -134,8 +130,8 @@ enum class ShapeDiameterMode
 
 struct ShapeDiameterOptions
 {
-  int NumberOfRays = 30;            ///< rays per cone (paper: 30)
-  double ConeAngle = 120.0;  ///< full opening angle (paper: 120 degrees)
+  int NumberOfRays = 30;            ///< rays per cone (paper: 30), NumberOfRaysRange [1, 4096]
+  double ConeAngle = 120.0;  ///< full opening angle (paper: 120 degrees), ConeAngleRange [1, 179]
   double VertexOriginOffset = 1e-6; ///< tnear for origins without a source triangle, x bbox diagonal
   /// Which hit a ray measures (RayCaster.h; step 2 above). Default FirstHitLeaving: the
   /// normalised SDF changes less between poses than with SkipSameFacing (docs/sdf.md).
@@ -143,14 +139,28 @@ struct ShapeDiameterOptions
   std::size_t OriginsPerChunk = 256;
   ShapeDiameterMode Mode = ShapeDiameterMode::Exact;
   /// Adaptive: relative SDF difference between neighbouring cast origins that triggers
-  /// refinement, (0, 1].
+  /// refinement, ToleranceRange [0.001, 1].
   double Tolerance = 0.15;
-  /// Adaptive: spacing of cast origins as a fraction of the local SDF, (0, 8].
+  /// Adaptive: spacing of cast origins as a fraction of the local SDF, SpacingFractionRange (0, 8].
   double SpacingFraction = 0.5;
   /// An origin buried inside another part of a self-intersecting mesh gets no value
   /// (ValidRays 0, left for FillFromNeighbors); see "Buried origins" above. Default on.
   bool IgnoreBuriedFaces = true;
 };
+
+// The ranges of the user-facing options, checked by CheckShapeDiameterOptions (whatever Mode);
+// vtkShapeDiameterFilter's vtkSetClampMacro and Plugin/ShapeDiameter.xml repeat these numbers
+// (Testing/Filters/TestParameterRanges.cxx). NumberOfRays: NumberOfRaysRange (ConeSampling.h).
+/// ConeAngle, degrees. MakeConePattern alone accepts any cone, (0, 180) (its tests use 179.9);
+/// the options keep [1, 179], the filter's range. Was (0, 180) for the options before.
+inline constexpr Range<double> ConeAngleRange{ 1.0, 179.0 };
+/// Tolerance (Adaptive). Was (0, 1] in the core before; the filter has always clamped to
+/// [0.001, 1] (below that every origin refines: the exact mode, slower).
+inline constexpr Range<double> ToleranceRange{ 0.001, 1.0 };
+/// SpacingFraction (Adaptive; not a filter property), (0, 8].
+inline constexpr Range<double> SpacingFractionRange{ 0.0, 8.0, true };
+/// VertexOriginOffset (not a filter property), x bbox diagonal.
+inline constexpr Range<double> VertexOriginOffsetRange{ 0.0, 1e-2 };
 
 /// Where the cones start. All matrices have one row per origin (n rows), except FirstAxes and
 /// the vectors, which may be empty.
@@ -176,12 +186,12 @@ struct RayOrigins
 
 /// One origin per triangle: centroid, unit right-hand-rule normal, first edge (v1 - v0) as
 /// FirstAxes, source triangle = its own index. Triangles with zero area or a non-finite
-/// normal are marked in Skip. Throws ShapeDiameterError on a vertex index out of range.
+/// normal are marked in Skip. Throws Error on a vertex index out of range.
 RayOrigins MakeFaceOrigins(const PointsView& points, const TrianglesView& triangles);
 
 /// One origin per point with the caller's normals (n x 3, e.g. area-weighted vertex
 /// normals), no source triangle, frame from the normal only. Points whose normal is zero or
-/// not finite are marked in Skip. Throws ShapeDiameterError if the row counts differ.
+/// not finite are marked in Skip. Throws Error if the row counts differ.
 RayOrigins MakeVertexOrigins(const PointsView& points, const PointsView& normals);
 
 struct ShapeDiameterResult
@@ -199,16 +209,16 @@ struct ShapeDiameterResult
 /// a ray along its outward normal meets is one the ray leaves (see "Buried origins" above).
 bool IsBuried(const RayCaster& caster, const RayOrigin& origin);
 
-/// The checks both modes make before any work. Throws ShapeDiameterError on an option out of
+/// The checks both modes make before any work. Throws Error on an option out of
 /// its range (those of either mode, whatever options.Mode) or an unknown Mode.
 void CheckShapeDiameterOptions(const ShapeDiameterOptions& options);
 
-/// Throws ShapeDiameterError when the origins' arrays do not have one row / entry per origin
+/// Throws Error when the origins' arrays do not have one row / entry per origin
 /// (or none, where allowed). The neighbour graph is checked by the Adaptive mode only.
 void CheckRayOrigins(const RayOrigins& origins);
 
 /// The Exact mode: every origin casts its cone, whatever options.Mode (ComputeShapeDiameter,
-/// SDF.h, chooses the mode). Throws ShapeDiameterError on bad options or inconsistent sizes.
+/// SDF.h, chooses the mode). Throws Error on bad options or inconsistent sizes.
 ShapeDiameterResult ComputeExactShapeDiameter(const RayCaster& caster, const RayOrigins& origins,
   const ShapeDiameterOptions& options, const ParallelFor& parallelFor,
   const ProgressCallback& progress = ProgressCallback());
@@ -243,7 +253,7 @@ struct FillFromNeighborsSummary
 /// valid value, an isolated face) get the fallback: the median of all valid values in the
 /// whole input (mean of the two middle ones for an even count), or 0 if there is none.
 /// validRays is not modified (0 still marks a filled value). Self-loops and duplicate
-/// neighbours are allowed. Throws ShapeDiameterError on inconsistent sizes or an index out of
+/// neighbours are allowed. Throws Error on inconsistent sizes or an index out of
 /// range.
 FillFromNeighborsSummary FillFromNeighbors(std::vector<double>& values,
   const std::vector<int>& validRays, const std::vector<std::int64_t>& adjacencyOffsets,

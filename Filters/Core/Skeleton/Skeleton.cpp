@@ -29,7 +29,7 @@ void ValidateSkeletonOptions(const SkeletonOptions& options)
   ValidateCoverageOptions(options.Coverage);
   if (!(options.OwnBoneShare >= 0.0 && options.OwnBoneShare <= 1.0))
   {
-    throw SkeletonError("skeleton: OwnBoneShare must lie in [0, 1]");
+    throw Error("skeleton: OwnBoneShare must lie in [0, 1]");
   }
 }
 
@@ -512,7 +512,7 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   ValidateSkeletonInput(points, triangles, faceSdf, faceNormals, faceComponents);
   if (!faceParts.empty() && faceParts.size() != static_cast<std::size_t>(triangles.rows()))
   {
-    throw SkeletonError("skeleton: face part labels must be empty or one per triangle");
+    throw Error("skeleton: face part labels must be empty or one per triangle");
   }
   SkeletonResult result;
   if (triangles.rows() == 0)

@@ -89,7 +89,7 @@
 // radius SDF/2, so the result does not depend on the mesh's scale.
 //
 // Degenerate input
-//   No triangles -> empty result (not an error). Invalid input -> SkeletonError (see
+//   No triangles -> empty result (not an error). Invalid input -> Error (see
 //   ValidateSkeletonInput). A component whose cloud has no curve-like part (sphere, cube) gets
 //   a single-node skeleton at the point of P nearest to its mean; a component without samples
 //   (tiny area, or only degenerate faces) gets a single node at the projected centre of its
@@ -180,7 +180,7 @@ struct SkeletonResult
   bool Aborted = false;
 };
 
-/// Throws SkeletonError if any option is outside its documented range.
+/// Throws Error if any option is outside its documented range.
 void ValidateSkeletonOptions(const SkeletonOptions& options);
 
 /// The SDF-guided skeleton of section 5. See the header comment for inputs and guarantees.

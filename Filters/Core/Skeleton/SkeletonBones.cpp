@@ -279,7 +279,7 @@ struct EdgeGraph
   bool IsBreak(std::int64_t v) const { return Adjacency[v].size() != 2; }
 };
 
-/// Throws SkeletonError on a polyline node index out of range.
+/// Throws Error on a polyline node index out of range.
 EdgeGraph CollectEdges(const SkeletonGraph& graph)
 {
   const auto nodeCount = static_cast<std::size_t>(graph.NodePositions.rows());
@@ -292,7 +292,7 @@ EdgeGraph CollectEdges(const SkeletonGraph& graph)
     {
       if (polyline[i] < 0 || static_cast<std::size_t>(polyline[i]) >= nodeCount)
       {
-        throw SkeletonError("skeleton: polyline node index out of range");
+        throw Error("skeleton: polyline node index out of range");
       }
       edgeGraph.InPolyline[polyline[i]] = 1;
       if (i > 0 && polyline[i - 1] != polyline[i])
@@ -582,7 +582,7 @@ void AssignBranchBones(SkeletonGraph& graph)
 {
   if (graph.IsConnection.size() != graph.Polylines.size())
   {
-    throw SkeletonError("skeleton: IsConnection must have one entry per polyline");
+    throw Error("skeleton: IsConnection must have one entry per polyline");
   }
   const EdgeGraph edgeGraph = CollectEdges(graph);
   Branches branches = WalkBranches(edgeGraph, graph.NodePositions);

@@ -107,7 +107,7 @@ void CleanGraphJunctions(SkeletonGraph& graph, double factor, LeafPruning leaves
 ///   - a node in no polyline (not produced by the steps) gets a single-node polyline, and an
 ///     empty polyline is dropped.
 /// Idempotent: applying it twice gives the same graph. Polyline node indices must lie in
-/// [0, NodePositions.rows()) (throws SkeletonError otherwise).
+/// [0, NodePositions.rows()) (throws Error otherwise).
 void AssignBranchBones(SkeletonGraph& graph);
 
 } // namespace shapediameter

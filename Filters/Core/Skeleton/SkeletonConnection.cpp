@@ -19,19 +19,19 @@ void ValidateConnectionOptions(const SkeletonConnectionOptions& options)
 {
   if (options.NumberOfNeighbors < 1 || options.NumberOfNeighbors > 64)
   {
-    throw SkeletonError("skeleton: NumberOfNeighbors must be in [1, 64]");
+    throw Error("skeleton: NumberOfNeighbors must be in [1, 64]");
   }
   if (!(options.SeedRadiusFactor >= 0.0 && options.SeedRadiusFactor <= 10.0))
   {
-    throw SkeletonError("skeleton: SeedRadiusFactor must be in [0, 10]");
+    throw Error("skeleton: SeedRadiusFactor must be in [0, 10]");
   }
   if (!(options.SpacingFactor >= 0.0 && options.SpacingFactor <= 10.0))
   {
-    throw SkeletonError("skeleton: connection SpacingFactor must be in [0, 10]");
+    throw Error("skeleton: connection SpacingFactor must be in [0, 10]");
   }
   if (!(options.MinimumBranchFactor >= 0.0 && options.MinimumBranchFactor <= 10.0))
   {
-    throw SkeletonError("skeleton: MinimumBranchFactor must be in [0, 10]");
+    throw Error("skeleton: MinimumBranchFactor must be in [0, 10]");
   }
 }
 

@@ -99,7 +99,7 @@ struct SkeletonConnectionOptions
   double MinimumBranchFactor = 1.0;
 };
 
-/// Throws SkeletonError if an option is outside its documented range.
+/// Throws Error if an option is outside its documented range.
 void ValidateConnectionOptions(const SkeletonConnectionOptions& options);
 
 /// The neighbour graph on P of stage 1, in compressed rows: the neighbours of point i are

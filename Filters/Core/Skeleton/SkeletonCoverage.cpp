@@ -16,19 +16,19 @@ void ValidateCoverageOptions(const SkeletonCoverageOptions& options)
 {
   if (!(options.UncoveredFactor >= 0.0 && options.UncoveredFactor <= 1e6))
   {
-    throw SkeletonError("skeleton: UncoveredFactor must be in [0, 1e6]");
+    throw Error("skeleton: UncoveredFactor must be in [0, 1e6]");
   }
   if (!(options.MinimumShare >= 0.0 && options.MinimumShare <= 1.0))
   {
-    throw SkeletonError("skeleton: coverage MinimumShare must be in [0, 1]");
+    throw Error("skeleton: coverage MinimumShare must be in [0, 1]");
   }
   if (!(options.PartMinimumShare >= 0.0 && options.PartMinimumShare <= 1.0))
   {
-    throw SkeletonError("skeleton: coverage PartMinimumShare must be in [0, 1]");
+    throw Error("skeleton: coverage PartMinimumShare must be in [0, 1]");
   }
   if (!(options.PartUncoveredFactor >= 0.0 && options.PartUncoveredFactor <= 1e6))
   {
-    throw SkeletonError("skeleton: coverage PartUncoveredFactor must be in [0, 1e6]");
+    throw Error("skeleton: coverage PartUncoveredFactor must be in [0, 1e6]");
   }
 }
 
@@ -151,14 +151,14 @@ void NearestNodes(const SkeletonGraph& graph, const ProjectedCloud& cloud,
   });
 }
 
-/// Throws SkeletonError unless the neighbour graph has one row per point of P.
+/// Throws Error unless the neighbour graph has one row per point of P.
 void CheckNeighbourGraph(const CloudNeighborGraph& neighbours, std::size_t n)
 {
   if (neighbours.Offsets.size() != n + 1 || neighbours.Targets.size() != neighbours.Offsets[n]
     || neighbours.Weights.size() != neighbours.Offsets[n]
     || neighbours.IsBridge.size() != neighbours.Offsets[n])
   {
-    throw SkeletonError("skeleton: the neighbour graph does not match the projected cloud");
+    throw Error("skeleton: the neighbour graph does not match the projected cloud");
   }
 }
 
@@ -276,7 +276,7 @@ std::size_t ReachPartsWithoutBones(SkeletonGraph& graph, const ProjectedCloud& c
   }
   if (inPart.size() != n)
   {
-    throw SkeletonError("skeleton: the part flags do not match the projected cloud");
+    throw Error("skeleton: the part flags do not match the projected cloud");
   }
   CheckNeighbourGraph(neighbours, n);
   std::vector<std::int64_t> nearestNode;

@@ -81,14 +81,14 @@ struct SkeletonCoverageOptions
   double PartUncoveredFactor = 2.0;
 };
 
-/// Throws SkeletonError if an option is outside its documented range.
+/// Throws Error if an option is outside its documented range.
 void ValidateCoverageOptions(const SkeletonCoverageOptions& options);
 
 /// Step 5: adds a branch into every large group of uncovered points (see the header comment)
 /// and assigns the bones again when it added any. pointComponent: surface component of each
 /// point of P, or empty for one component. neighbours: the neighbour graph of P that the
 /// connection step used (ConnectPolySegments' neighboursOut, or BuildCloudNeighborGraph);
-/// throws SkeletonError if it does not have one row per point of P. Returns the number of
+/// throws Error if it does not have one row per point of P. Returns the number of
 /// branches added.
 std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& cloud,
   const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,

@@ -15,7 +15,7 @@ void ValidateLeafExtensionOptions(const SkeletonLeafExtensionOptions& options)
 {
   if (!(options.MaximumExitAngle >= 0.0 && options.MaximumExitAngle <= 90.0))
   {
-    throw SkeletonError("skeleton: MaximumExitAngle must be in [0, 90] degrees");
+    throw Error("skeleton: MaximumExitAngle must be in [0, 90] degrees");
   }
 }
 

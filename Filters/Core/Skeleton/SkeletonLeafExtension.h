@@ -51,7 +51,7 @@ struct SkeletonLeafExtensionOptions
   double MaximumExitAngle = 40.0;
 };
 
-/// Throws SkeletonError if an option is outside its documented range.
+/// Throws Error if an option is outside its documented range.
 void ValidateLeafExtensionOptions(const SkeletonLeafExtensionOptions& options);
 
 /// Step 4b: appends to `graph` one node and one two-node polyline (IsConnection 0) per

@@ -111,32 +111,32 @@ void ValidateSkeletonInput(PointsView points, TrianglesView triangles,
   const auto faces = static_cast<std::size_t>(triangles.rows());
   if (faceSdf.size() != faces)
   {
-    throw SkeletonError("skeleton: SDF has " + std::to_string(faceSdf.size()) +
+    throw Error("skeleton: SDF has " + std::to_string(faceSdf.size()) +
       " values for " + std::to_string(faces) + " triangles");
   }
   if (faceNormals.rows() != 0 && static_cast<std::size_t>(faceNormals.rows()) != faces)
   {
-    throw SkeletonError("skeleton: face normals must have 0 or one row per triangle");
+    throw Error("skeleton: face normals must have 0 or one row per triangle");
   }
   if (!faceComponents.empty() && faceComponents.size() != faces)
   {
-    throw SkeletonError("skeleton: face component labels must be empty or one per triangle");
+    throw Error("skeleton: face component labels must be empty or one per triangle");
   }
   // The bound keeps squared distances and second moments finite in double precision.
   constexpr double largest = 1e150;
   if (!points.allFinite() || (points.size() > 0 && points.cwiseAbs().maxCoeff() > largest))
   {
-    throw SkeletonError("skeleton: point coordinates must be finite with magnitude <= 1e150");
+    throw Error("skeleton: point coordinates must be finite with magnitude <= 1e150");
   }
   if (faces > 0 && (triangles.minCoeff() < 0 || triangles.maxCoeff() >= points.rows()))
   {
-    throw SkeletonError("skeleton: triangle vertex index out of range");
+    throw Error("skeleton: triangle vertex index out of range");
   }
   for (const double value : faceSdf)
   {
     if (!std::isfinite(value) || value < 0.0 || value > largest)
     {
-      throw SkeletonError("skeleton: SDF values must be finite, >= 0 and <= 1e150");
+      throw Error("skeleton: SDF values must be finite, >= 0 and <= 1e150");
     }
   }
 }
@@ -145,7 +145,7 @@ void ValidateSamplingOptions(const SkeletonSamplingOptions& options)
 {
   if (options.NumberOfSamples < 1 || options.NumberOfSamples > 10000000)
   {
-    throw SkeletonError("skeleton: NumberOfSamples must be in [1, 1e7]");
+    throw Error("skeleton: NumberOfSamples must be in [1, 1e7]");
   }
 }
 

@@ -33,9 +33,10 @@
 //   Empty mesh or zero total area -> empty cloud. Faces of zero area are never sampled. A face
 //   whose supplied normal is missing, zero or non-finite uses the normal of its triangle.
 //   Invalid input (indices out of range, non-finite coordinates, SDF of the wrong size,
-//   negative or non-finite SDF) throws SkeletonError; see ValidateSkeletonInput.
+//   negative or non-finite SDF) throws Error; see ValidateSkeletonInput.
 #pragma once
 
+#include "Errors.h"
 #include "Mesh/MeshTypes.h"
 
 #include <cstddef>
@@ -45,13 +46,6 @@
 
 namespace shapediameter
 {
-
-/// Thrown by the skeleton core for input it cannot process; what() is a one-line reason.
-class SkeletonError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
 
 struct SkeletonSamplingOptions
 {
@@ -81,7 +75,7 @@ PointMatrix ComputeFaceNormals(PointsView points, TrianglesView triangles);
 /// vertex. Labels are 0.. in order of each component's first face.
 std::vector<std::int64_t> LabelFaceComponents(TrianglesView triangles, std::size_t numberOfPoints);
 
-/// Throws SkeletonError unless: indices lie in [0, points), coordinates are finite with
+/// Throws Error unless: indices lie in [0, points), coordinates are finite with
 /// magnitude <= 1e150, sdf has one finite value in [0, 1e150] per face, faceNormals has 0 or
 /// one row per face (bad rows fall back to the triangle normal), faceComponents is empty or
 /// has one label per face.
@@ -89,7 +83,7 @@ void ValidateSkeletonInput(PointsView points, TrianglesView triangles,
   const std::vector<double>& faceSdf, PointsView faceNormals,
   const std::vector<std::int64_t>& faceComponents);
 
-/// Throws SkeletonError if an option is outside its documented range.
+/// Throws Error if an option is outside its documented range.
 void ValidateSamplingOptions(const SkeletonSamplingOptions& options);
 
 /// Step 1: samples the surface and pushes each sample inward by half its face's SDF.

@@ -16,15 +16,15 @@ void ValidateSegmentOptions(const SkeletonSegmentOptions& options)
 {
   if (!(options.StepFactor > 0.0 && options.StepFactor <= 10.0))
   {
-    throw SkeletonError("skeleton: StepFactor must be in (0, 10]");
+    throw Error("skeleton: StepFactor must be in (0, 10]");
   }
   if (!(options.AngularToleranceDegrees > 0.0 && options.AngularToleranceDegrees < 90.0))
   {
-    throw SkeletonError("skeleton: AngularToleranceDegrees must be in (0, 90)");
+    throw Error("skeleton: AngularToleranceDegrees must be in (0, 90)");
   }
   if (options.MinimumNodes < 1 || options.MinimumNodes > 1000)
   {
-    throw SkeletonError("skeleton: MinimumNodes must be in [1, 1000]");
+    throw Error("skeleton: MinimumNodes must be in [1, 1000]");
   }
 }
 

@@ -64,7 +64,7 @@ struct SkeletonSegmentOptions
 /// positions), ordered along the curve.
 using PolySegment = std::vector<std::int64_t>;
 
-/// Throws SkeletonError if an option is outside its documented range.
+/// Throws Error if an option is outside its documented range.
 void ValidateSegmentOptions(const SkeletonSegmentOptions& options);
 
 /// Step 3: grows poly-segments through T, most confident seeds first.

@@ -26,27 +26,27 @@ void ValidateThinningOptions(const SkeletonThinningOptions& options)
 {
   if (options.NumberOfIterations < 1 || options.NumberOfIterations > 100)
   {
-    throw SkeletonError("skeleton: NumberOfIterations must be in [1, 100]");
+    throw Error("skeleton: NumberOfIterations must be in [1, 100]");
   }
   if (!(options.NeighborhoodScale > 0.0 && options.NeighborhoodScale <= 10.0))
   {
-    throw SkeletonError("skeleton: NeighborhoodScale must be in (0, 10]");
+    throw Error("skeleton: NeighborhoodScale must be in (0, 10]");
   }
   if (!(options.ConfidenceThreshold >= 0.0 && options.ConfidenceThreshold <= 1.0))
   {
-    throw SkeletonError("skeleton: ConfidenceThreshold must be in [0, 1]");
+    throw Error("skeleton: ConfidenceThreshold must be in [0, 1]");
   }
   if (!(options.MinimumConfidentShare >= 0.0 && options.MinimumConfidentShare <= 1.0))
   {
-    throw SkeletonError("skeleton: MinimumConfidentShare must be in [0, 1]");
+    throw Error("skeleton: MinimumConfidentShare must be in [0, 1]");
   }
   if (!(options.SpacingFactor >= 0.0 && options.SpacingFactor <= 10.0))
   {
-    throw SkeletonError("skeleton: thinning SpacingFactor must be in [0, 10]");
+    throw Error("skeleton: thinning SpacingFactor must be in [0, 10]");
   }
   if (options.MinimumNeighbors < 2 || options.MinimumNeighbors > 1000)
   {
-    throw SkeletonError("skeleton: MinimumNeighbors must be in [2, 1000]");
+    throw Error("skeleton: MinimumNeighbors must be in [2, 1000]");
   }
 }
 

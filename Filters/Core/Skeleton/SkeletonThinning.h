@@ -107,7 +107,7 @@ struct ThinnedCloud
   bool Aborted = false;
 };
 
-/// Throws SkeletonError if an option is outside its documented range.
+/// Throws Error if an option is outside its documented range.
 void ValidateThinningOptions(const SkeletonThinningOptions& options);
 
 /// Step 2: MLS projection, confidence and epsilon-thinning of P.

@@ -19,19 +19,19 @@ void ValidateOptions(const BilateralSmoothingOptions& options)
 {
   if (options.NumberOfIterations < 0 || options.NumberOfIterations > 1000)
   {
-    throw BilateralSmoothingError("NumberOfIterations must be in [0, 1000]");
+    throw Error("NumberOfIterations must be in [0, 1000]");
   }
   if (!(options.SpatialSigma > 0.0) || !std::isfinite(options.SpatialSigma))
   {
-    throw BilateralSmoothingError("SpatialSigma must be positive and finite");
+    throw Error("SpatialSigma must be positive and finite");
   }
   if (!(options.NeighborhoodRadius >= 0.0) || !std::isfinite(options.NeighborhoodRadius))
   {
-    throw BilateralSmoothingError("NeighborhoodRadius must be non-negative and finite");
+    throw Error("NeighborhoodRadius must be non-negative and finite");
   }
   if (!(options.RangeThreshold >= 0.0) || !std::isfinite(options.RangeThreshold))
   {
-    throw BilateralSmoothingError("RangeThreshold must be non-negative and finite");
+    throw Error("RangeThreshold must be non-negative and finite");
   }
 }
 
@@ -70,7 +70,7 @@ BilateralSmoothingResult SmoothBilateral(const FaceGraph& graph, const std::vect
   const std::size_t faceCount = graph.FaceCount();
   if (values.size() != faceCount)
   {
-    throw BilateralSmoothingError("got " + std::to_string(values.size()) + " values for " +
+    throw Error("got " + std::to_string(values.size()) + " values for " +
       std::to_string(faceCount) + " faces");
   }
   double minimum = faceCount > 0 ? values[0] : 0.0;
@@ -79,7 +79,7 @@ BilateralSmoothingResult SmoothBilateral(const FaceGraph& graph, const std::vect
   {
     if (!std::isfinite(values[f]))
     {
-      throw BilateralSmoothingError("non-finite value at face " + std::to_string(f));
+      throw Error("non-finite value at face " + std::to_string(f));
     }
     minimum = std::min(minimum, values[f]);
     maximum = std::max(maximum, values[f]);
@@ -87,7 +87,7 @@ BilateralSmoothingResult SmoothBilateral(const FaceGraph& graph, const std::vect
   // Every difference f^i(x) - f(y) then stays finite (f^i(x) stays within [min, max]).
   if (!std::isfinite(maximum - minimum))
   {
-    throw BilateralSmoothingError("the value range overflows");
+    throw Error("the value range overflows");
   }
 
   BilateralSmoothingResult result;

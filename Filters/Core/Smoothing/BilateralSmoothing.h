@@ -46,7 +46,7 @@
 //   - Non-manifold edges: all faces around such an edge are neighbours (FaceGraph).
 //   - A constant field (or a mesh whose mean edge length is 0) is returned unchanged.
 //   - Empty input: empty output.
-// Bad input (throws BilateralSmoothingError): values.size() != face count, a non-finite
+// Bad input (throws Error): values.size() != face count, a non-finite
 // value, an option outside its range, max - min overflowing a double.
 //
 // Progress and abort: with a callback, the faces are processed in 20 blocks (each one
@@ -67,6 +67,7 @@
 //     per face here (as the paper's partitioning uses it), so neighbourhoods are of faces.
 #pragma once
 
+#include "Errors.h"
 #include "Mesh/FaceGraph.h"
 #include "Parallel.h"
 
@@ -76,12 +77,6 @@
 
 namespace shapediameter
 {
-
-class BilateralSmoothingError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
 
 struct BilateralSmoothingOptions
 {

@@ -15,7 +15,7 @@ std::pair<double, double> NormalizationRange(const std::vector<double>& values, 
     if (!std::isfinite(options.RangeMinimum) || !std::isfinite(options.RangeMaximum) ||
       !(options.RangeMaximum > options.RangeMinimum))
     {
-      throw NormalizationError("the given range must be finite with its maximum above its minimum");
+      throw Error("the given range must be finite with its maximum above its minimum");
     }
     return { options.RangeMinimum, options.RangeMaximum };
   }
@@ -32,13 +32,13 @@ std::vector<double> NormalizeLogarithmic(const std::vector<double>& values, cons
   const double alpha = options.Alpha;
   if (!(alpha > 0.0) || !std::isfinite(alpha))
   {
-    throw NormalizationError("alpha must be positive and finite");
+    throw Error("alpha must be positive and finite");
   }
   for (std::size_t i = 0; i < values.size(); ++i)
   {
     if (!std::isfinite(values[i]))
     {
-      throw NormalizationError("non-finite value at index " + std::to_string(i));
+      throw Error("non-finite value at index " + std::to_string(i));
     }
   }
   const auto [minimum, maximum] = NormalizationRange(values, options);

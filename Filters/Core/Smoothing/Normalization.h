@@ -18,23 +18,18 @@
 //
 // Degenerate cases: empty input -> empty output; a constant field (max == min) -> 0
 // everywhere. Outputs are clamped to [0, 1] against rounding, never NaN.
-// Bad input (throws NormalizationError): a non-finite value, alpha outside its range, a
+// Bad input (throws Error): a non-finite value, alpha outside its range, a
 // given range that is not finite or whose maximum is not above its minimum.
 // No deviation from the paper (the given range is an extension for families).
 #pragma once
 
+#include "Errors.h"
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
 namespace shapediameter
 {
-
-class NormalizationError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
 
 struct NormalizationOptions
 {

@@ -33,7 +33,7 @@ SmoothAndNormalizeResult SmoothAndNormalize(const SmoothAndNormalizeInput& input
   const std::size_t faceCount = input.FaceOffsets.empty() ? 0 : input.FaceOffsets.size() - 1;
   if (input.NormalizedFirst > input.NormalizedLast || input.NormalizedLast > faceCount)
   {
-    throw SmoothAndNormalizeError("smooth and normalize: normalized faces [" +
+    throw Error("smooth and normalize: normalized faces [" +
       std::to_string(input.NormalizedFirst) + ", " + std::to_string(input.NormalizedLast) + ") of " +
       std::to_string(faceCount) + " faces");
   }

@@ -37,11 +37,11 @@
 //                   given range [RangeMinimum, RangeMaximum] for a family of meshes.
 //
 // Errors
-//   NormalizedFirst > NormalizedLast or NormalizedLast > face count -> SmoothAndNormalizeError.
-//   Every step throws its own typed error on what it cannot process (FaceGraphError,
-//   BilateralSmoothingError: values of another size than the face count, a non-finite value,
-//   an option out of range; NormalizationError: Alpha or a given range out of range), all
-//   std::runtime_error with a one-line reason. No faces: empty result, not an error.
+//   NormalizedFirst > NormalizedLast or NormalizedLast > face count -> Error.
+//   The steps throw Error (Errors.h) with a one-line reason on what they cannot process
+//   (smoothing: values of another size than the face count, a non-finite value, an option out
+//   of range; normalisation: Alpha or a given range out of range). No faces: empty result, not
+//   an error.
 //
 // Threading and determinism
 //   parallelFor runs the face graph and the smoothing; the result is bit-identical for any
@@ -50,6 +50,7 @@
 //   aborts: the result is then empty with Aborted = true.
 #pragma once
 
+#include "Errors.h"
 #include "Smoothing/BilateralSmoothing.h"
 #include "Mesh/FaceGraph.h"
 #include "Mesh/MeshTypes.h"
@@ -64,13 +65,6 @@
 
 namespace shapediameter
 {
-
-/// Thrown on a normalised face range that does not fit the faces.
-class SmoothAndNormalizeError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
 
 struct SmoothAndNormalizeOptions
 {

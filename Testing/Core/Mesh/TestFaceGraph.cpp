@@ -366,20 +366,20 @@ TEST(FaceGraph, BadInputThrows)
 {
   const PointMatrix points = UnitCubePoints();
   EXPECT_THROW(BuildFaceGraph(points, std::vector<std::int64_t>{ 0, 3 }, std::vector<std::int64_t>{ 0, 1, 8 }),
-    FaceGraphError);
+    Error);
   EXPECT_THROW(BuildFaceGraph(points, std::vector<std::int64_t>{ 0, 3 }, std::vector<std::int64_t>{ 0, -1, 2 }),
-    FaceGraphError);
+    Error);
   EXPECT_THROW(BuildFaceGraph(points, std::vector<std::int64_t>{ 1, 3 }, std::vector<std::int64_t>{ 0, 1, 2 }),
-    FaceGraphError);
+    Error);
   EXPECT_THROW(BuildFaceGraph(points, std::vector<std::int64_t>{ 0, 2, 1 }, std::vector<std::int64_t>{ 0, 1 }),
-    FaceGraphError);
+    Error);
   EXPECT_THROW(BuildFaceGraph(points, std::vector<std::int64_t>{ 0, 2 }, std::vector<std::int64_t>{ 0, 1, 2 }),
-    FaceGraphError);
-  EXPECT_THROW(BuildFaceGraph(points, std::vector<std::int64_t>{}, std::vector<std::int64_t>{ 0 }), FaceGraphError);
+    Error);
+  EXPECT_THROW(BuildFaceGraph(points, std::vector<std::int64_t>{}, std::vector<std::int64_t>{ 0 }), Error);
   PointMatrix withNaN = points;
   withNaN(2, 1) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(BuildFaceGraph(withNaN, std::vector<std::int64_t>{ 0, 3 }, std::vector<std::int64_t>{ 0, 1, 2 }),
-    FaceGraphError);
+    Error);
   // A NaN point no face uses is harmless.
   EXPECT_NO_THROW(BuildFaceGraph(withNaN, std::vector<std::int64_t>{ 0, 3 }, std::vector<std::int64_t>{ 0, 1, 3 }));
 }
@@ -545,5 +545,5 @@ TEST(FaceGraph, SharedGraphIsReusedForIdenticalInputWhileItIsHeld)
   // Bad input throws what BuildFaceGraph throws and registers nothing.
   Polygons broken = grid;
   broken.Points(0, 0) = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(SharedFaceGraph(broken.Points, broken.Offsets, broken.Connectivity), FaceGraphError);
+  EXPECT_THROW(SharedFaceGraph(broken.Points, broken.Offsets, broken.Connectivity), Error);
 }

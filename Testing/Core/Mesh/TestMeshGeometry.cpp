@@ -122,14 +122,14 @@ TEST(MeshGeometry, CellMeansAreAreaWeighted)
 TEST(MeshGeometry, BadInputThrows)
 {
   const TestMesh tetrahedron = Tetrahedron();
-  EXPECT_THROW(AreaWeightedVertexNormals(tetrahedron.Points.topRows(3), tetrahedron.Triangles), MeshGeometryError);
-  EXPECT_THROW(BuildPointAdjacency(3, tetrahedron.Triangles), MeshGeometryError);
+  EXPECT_THROW(AreaWeightedVertexNormals(tetrahedron.Points.topRows(3), tetrahedron.Triangles), Error);
+  EXPECT_THROW(BuildPointAdjacency(3, tetrahedron.Triangles), Error);
   const std::vector<double> values(4, 1.0);
-  EXPECT_THROW(AreaWeightedCellMeans(tetrahedron.Points, tetrahedron.Triangles, { 0, 2, 3 }, values), MeshGeometryError);
-  EXPECT_THROW(AreaWeightedCellMeans(tetrahedron.Points, tetrahedron.Triangles, { 0, 3, 2, 4 }, values), MeshGeometryError);
-  EXPECT_THROW(AreaWeightedCellMeans(tetrahedron.Points, tetrahedron.Triangles, { 0, 4 }, { 1.0 }), MeshGeometryError);
-  EXPECT_THROW(CellSums({ 1, 2 }, { 1, 1 }), MeshGeometryError);
-  EXPECT_THROW(CellSums({}, {}), MeshGeometryError);
+  EXPECT_THROW(AreaWeightedCellMeans(tetrahedron.Points, tetrahedron.Triangles, { 0, 2, 3 }, values), Error);
+  EXPECT_THROW(AreaWeightedCellMeans(tetrahedron.Points, tetrahedron.Triangles, { 0, 3, 2, 4 }, values), Error);
+  EXPECT_THROW(AreaWeightedCellMeans(tetrahedron.Points, tetrahedron.Triangles, { 0, 4 }, { 1.0 }), Error);
+  EXPECT_THROW(CellSums({ 1, 2 }, { 1, 1 }), Error);
+  EXPECT_THROW(CellSums({}, {}), Error);
 }
 
 } // namespace

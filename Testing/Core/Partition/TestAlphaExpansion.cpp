@@ -180,8 +180,8 @@ TEST(PartitionEnergy, BuildAndEvaluateHandComputedCase)
   const PartitionEnergy unweighted = BuildPartitionEnergy(posteriors, graph.View(), options);
   EXPECT_NEAR(unweighted.PairWeight[0], 0.5 * std::log(2.0), 1e-12);
 
-  EXPECT_THROW(energy.Evaluate({ 0, 0 }), PartitionEnergyError);
-  EXPECT_THROW(energy.Evaluate({ 0, 2, 0 }), PartitionEnergyError);
+  EXPECT_THROW(energy.Evaluate({ 0, 0 }), Error);
+  EXPECT_THROW(energy.Evaluate({ 0, 2, 0 }), Error);
 }
 
 TEST(PartitionEnergy, TheSameForAnyThreadSplit)
@@ -226,7 +226,7 @@ TEST(PartitionEnergy, TheSameForAnyThreadSplit)
     {
       BuildPartitionEnergy(posteriors, broken.View(), {}, parallelFor);
     }
-    catch (const PartitionEnergyError& error)
+    catch (const Error& error)
     {
       return std::string(error.what());
     }
@@ -239,7 +239,7 @@ TEST(PartitionEnergy, TheSameForAnyThreadSplit)
   const std::vector<int> labels(500, 0);
   EXPECT_EQ(FindConnectedSegments(graph.View(), labels, graph.area, ThreadedFor(3)).SegmentCount(),
     FindConnectedSegments(graph.View(), labels, graph.area).SegmentCount());
-  EXPECT_THROW(FindConnectedSegments(broken.View(), labels, broken.area, ThreadedFor(3)), PartitionEnergyError);
+  EXPECT_THROW(FindConnectedSegments(broken.View(), labels, broken.area, ThreadedFor(3)), Error);
   PosteriorMatrix withNaN = posteriors;
   withNaN(321, 1) = std::nan("");
   try
@@ -247,7 +247,7 @@ TEST(PartitionEnergy, TheSameForAnyThreadSplit)
     BuildPartitionEnergy(withNaN, graph.View(), {}, ThreadedFor(3));
     ADD_FAILURE() << "a NaN posterior must throw";
   }
-  catch (const PartitionEnergyError& error)
+  catch (const Error& error)
   {
     EXPECT_NE(std::string(error.what()).find("face 321"), std::string::npos) << error.what();
   }
@@ -262,44 +262,44 @@ TEST(PartitionEnergy, BadGraphsAndPosteriorsThrow)
 
   TestGraph asymmetric = good;
   asymmetric.neighbours = { 1, 1 }; // face 1 lists itself instead of 0
-  EXPECT_THROW(BuildPartitionEnergy(posteriors, asymmetric.View()), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, asymmetric.View()), Error);
   TestGraph outOfRange = good;
   outOfRange.neighbours = { 5, 0 };
-  EXPECT_THROW(BuildPartitionEnergy(posteriors, outOfRange.View()), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, outOfRange.View()), Error);
   TestGraph nanAngle = good;
   nanAngle.angle[0] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(BuildPartitionEnergy(posteriors, nanAngle.View()), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, nanAngle.View()), Error);
   TestGraph negativeLength = good;
   negativeLength.length[1] = -1.0;
-  EXPECT_THROW(BuildPartitionEnergy(posteriors, negativeLength.View()), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, negativeLength.View()), Error);
   TestGraph negativeArea = good;
   negativeArea.area[0] = -1.0;
-  EXPECT_THROW(BuildPartitionEnergy(posteriors, negativeArea.View()), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, negativeArea.View()), Error);
   TestGraph nanArea = good;
   nanArea.area[1] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(BuildPartitionEnergy(posteriors, nanArea.View()), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, nanArea.View()), Error);
   DualGraphView noAreas = good.View();
   noAreas.FaceArea = nullptr;
-  EXPECT_THROW(BuildPartitionEnergy(posteriors, noAreas), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, noAreas), Error);
   DualGraphView noLengths = good.View();
   noLengths.EdgeLength = nullptr;
-  EXPECT_THROW(BuildPartitionEnergy(posteriors, noLengths), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, noLengths), Error);
   PartitionEnergyOptions unweighted;
   unweighted.GeometricWeights = false;
   EXPECT_NO_THROW(BuildPartitionEnergy(posteriors, noLengths, unweighted));
   TestGraph decreasing = good;
   decreasing.offsets = { 0, 2, 1 };
-  EXPECT_THROW(BuildPartitionEnergy(posteriors, decreasing.View()), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, decreasing.View()), Error);
 
   PosteriorMatrix wrongRows(3, 2);
   wrongRows.setConstant(0.5);
-  EXPECT_THROW(BuildPartitionEnergy(wrongRows, good.View()), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(wrongRows, good.View()), Error);
   PosteriorMatrix withNaN = posteriors;
   withNaN(1, 0) = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(BuildPartitionEnergy(withNaN, good.View()), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(withNaN, good.View()), Error);
   PartitionEnergyOptions badLambda;
   badLambda.Lambda = -1.0;
-  EXPECT_THROW(BuildPartitionEnergy(posteriors, good.View(), badLambda), PartitionEnergyError);
+  EXPECT_THROW(BuildPartitionEnergy(posteriors, good.View(), badLambda), Error);
 }
 
 TEST(AlphaExpansion, SingleMoveIsTheOptimalExpansion)
@@ -515,14 +515,14 @@ TEST(AlphaExpansion, DegenerateInputsAndAbort)
   EXPECT_EQ(MinimizeByAlphaExpansion(isolated).Labels, MostProbableLabels(isolated));
 
   const PartitionEnergy energy = RandomEnergy(generator, 8, 3);
-  EXPECT_THROW(MinimizeByAlphaExpansion(energy, std::vector<int>(7, 0)), PartitionEnergyError);
-  EXPECT_THROW(MinimizeByAlphaExpansion(energy, std::vector<int>(8, 3)), PartitionEnergyError);
-  EXPECT_THROW(OptimalExpansionMove(energy, std::vector<int>(8, 0), 3), PartitionEnergyError);
+  EXPECT_THROW(MinimizeByAlphaExpansion(energy, std::vector<int>(7, 0)), Error);
+  EXPECT_THROW(MinimizeByAlphaExpansion(energy, std::vector<int>(8, 3)), Error);
+  EXPECT_THROW(OptimalExpansionMove(energy, std::vector<int>(8, 0), 3), Error);
   PartitionEnergy badWeight = energy;
   if (!badWeight.PairWeight.empty())
   {
     badWeight.PairWeight[0] = std::numeric_limits<double>::quiet_NaN();
-    EXPECT_THROW(MinimizeByAlphaExpansion(badWeight), PartitionEnergyError);
+    EXPECT_THROW(MinimizeByAlphaExpansion(badWeight), Error);
   }
 
   int calls = 0;
@@ -539,8 +539,8 @@ TEST(PartitionEnergy, HierarchyLevels)
   EXPECT_EQ(HierarchyLevel(clusters, 1), std::vector<int>({ 0, 1, 1, 1, 1, 0 }));
   EXPECT_EQ(HierarchyLevel(clusters, 2), std::vector<int>({ 0, 1, 2, 2, 2, 0 }));
   EXPECT_EQ(HierarchyLevel(clusters, 3), clusters);
-  EXPECT_THROW(HierarchyLevel(clusters, 0), PartitionEnergyError);
-  EXPECT_THROW(HierarchyLevel({ -1 }, 1), PartitionEnergyError);
+  EXPECT_THROW(HierarchyLevel(clusters, 0), Error);
+  EXPECT_THROW(HierarchyLevel({ -1 }, 1), Error);
 }
 
 TEST(PartitionEnergy, ConnectedSegmentsAreNumberedByArea)
@@ -558,10 +558,10 @@ TEST(PartitionEnergy, ConnectedSegmentsAreNumberedByArea)
   EXPECT_EQ(segments.Area, std::vector<double>({ 6, 2, 2, 0.5, 0.5 }));
   EXPECT_EQ(segments.Label, std::vector<int>({ 1, 0, 0, 0, 2 }));
 
-  EXPECT_THROW(FindConnectedSegments(graph.View(), { 0, 0 }, areas), PartitionEnergyError);
+  EXPECT_THROW(FindConnectedSegments(graph.View(), { 0, 0 }, areas), Error);
   std::vector<double> badAreas = areas;
   badAreas[3] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(FindConnectedSegments(graph.View(), labels, badAreas), PartitionEnergyError);
+  EXPECT_THROW(FindConnectedSegments(graph.View(), labels, badAreas), Error);
 }
 
 } // namespace

@@ -15,7 +15,7 @@
 namespace
 {
 
-using shapediameter::DensityModesError;
+using shapediameter::Error;
 using shapediameter::DensityModesOptions;
 using shapediameter::FitDensityModes;
 
@@ -167,22 +167,22 @@ TEST(DensityModes, DegenerateAndBadInput)
   const std::vector<double> twoZeros(two.size(), 0.0);
   EXPECT_EQ(FitDensityModes(View(two), View(twoZeros)).Model.ComponentCount(), 2);
   const std::vector<double> empty;
-  EXPECT_THROW(FitDensityModes(View(empty), View(empty)), DensityModesError);
-  EXPECT_THROW(FitDensityModes(View(constant), View(std::vector<double>(9, 1.0))), DensityModesError);
+  EXPECT_THROW(FitDensityModes(View(empty), View(empty)), Error);
+  EXPECT_THROW(FitDensityModes(View(constant), View(std::vector<double>(9, 1.0))), Error);
   std::vector<double> withNan = constant;
   withNan[3] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(FitDensityModes(View(withNan), View(ones)), DensityModesError);
+  EXPECT_THROW(FitDensityModes(View(withNan), View(ones)), Error);
   std::vector<double> negative = ones;
   negative[0] = -1.0;
-  EXPECT_THROW(FitDensityModes(View(constant), View(negative)), DensityModesError);
+  EXPECT_THROW(FitDensityModes(View(constant), View(negative)), Error);
   DensityModesOptions bad;
   bad.Bandwidth = 0.0;
-  EXPECT_THROW(FitDensityModes(View(two), View(std::vector<double>(two.size(), 1.0)), bad), DensityModesError);
+  EXPECT_THROW(FitDensityModes(View(two), View(std::vector<double>(two.size(), 1.0)), bad), Error);
   for (const double depth : { -0.1, 1.5, std::numeric_limits<double>::quiet_NaN() })
   {
     DensityModesOptions badDepth;
     badDepth.MinimumValleyDepth = depth;
-    EXPECT_THROW(FitDensityModes(View(two), View(std::vector<double>(two.size(), 1.0)), badDepth), DensityModesError)
+    EXPECT_THROW(FitDensityModes(View(two), View(std::vector<double>(two.size(), 1.0)), badDepth), Error)
       << depth;
   }
 }

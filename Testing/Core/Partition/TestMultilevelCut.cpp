@@ -20,7 +20,7 @@ using shapediameter::MinimizeByAlphaExpansion;
 using shapediameter::MinimizeMultilevel;
 using shapediameter::MultilevelOptions;
 using shapediameter::PartitionEnergy;
-using shapediameter::PartitionEnergyError;
+using shapediameter::Error;
 
 /// side x side grid, 4-neighbour pairs; three vertical bands with wavy borders as the truth,
 /// posteriors 0.6 for the true label with 30 % of the faces flipped to a random label, and a
@@ -127,13 +127,13 @@ TEST(MultilevelCut, SmallProblemsAreThePlainAlphaExpansion)
   EXPECT_EQ(MinimizeMultilevel(isolated, coarsen).Labels, MinimizeByAlphaExpansion(isolated).Labels);
   MultilevelOptions bad;
   bad.ClusterSize = 1;
-  EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
+  EXPECT_THROW(MinimizeMultilevel(energy, bad), Error);
   bad = MultilevelOptions();
   bad.BandRings = 0;
-  EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
+  EXPECT_THROW(MinimizeMultilevel(energy, bad), Error);
   bad = MultilevelOptions();
   bad.LostRegionFaces = 0;
-  EXPECT_THROW(MinimizeMultilevel(energy, bad), PartitionEnergyError);
+  EXPECT_THROW(MinimizeMultilevel(energy, bad), Error);
 }
 
 TEST(MultilevelCut, BandComponentsGiveTheSameCutOnAnyNumberOfThreads)

@@ -165,10 +165,10 @@ TEST(PartRefinement, BadOptionsThrow)
 {
   PartRefinementOptions options;
   options.MinimumAreaShare = -0.1;
-  EXPECT_THROW(ValidatePartRefinementOptions(options), PartitionEnergyError);
+  EXPECT_THROW(ValidatePartRefinementOptions(options), Error);
   options = {};
   options.Modes.MaximumModes = 0;
-  EXPECT_THROW(ValidatePartRefinementOptions(options), PartitionEnergyError);
+  EXPECT_THROW(ValidatePartRefinementOptions(options), Error);
 }
 
 } // namespace

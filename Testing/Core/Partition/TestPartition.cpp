@@ -158,8 +158,8 @@ TEST(Partition, HistogramCountsEveryValueAndEachCurveIntegratesToItsWeight)
     }
     EXPECT_EQ(histogram.Mixture[b], sum);
   }
-  EXPECT_THROW(MixtureHistogram(result.Model, shape.Values, 0), PartitionError);
-  EXPECT_THROW(MixtureHistogram(GaussianMixtureModel(), shape.Values, 8), PartitionError);
+  EXPECT_THROW(MixtureHistogram(result.Model, shape.Values, 0), Error);
+  EXPECT_THROW(MixtureHistogram(GaussianMixtureModel(), shape.Values, 8), Error);
 }
 
 TEST(Partition, ProgressRisesToOneAndFalseAborts)
@@ -191,15 +191,15 @@ TEST(Partition, BadInputThrows)
 {
   const TwoLevelCapsule shape;
   const Eigen::VectorXd tooFew = shape.Values.head(shape.Values.size() - 1);
-  EXPECT_THROW(PartitionBySDF(shape.Mesh.Points, shape.Mesh.Triangles, tooFew), PartitionError);
-  EXPECT_THROW(PartitionBySDF(shape.Mesh.Points, TriangleMatrix(0, 3), Eigen::VectorXd()), PartitionError);
+  EXPECT_THROW(PartitionBySDF(shape.Mesh.Points, shape.Mesh.Triangles, tooFew), Error);
+  EXPECT_THROW(PartitionBySDF(shape.Mesh.Points, TriangleMatrix(0, 3), Eigen::VectorXd()), Error);
   PartitionOptions options;
   options.HistogramBins = 0;
-  EXPECT_THROW(ValidatePartitionOptions(options), PartitionError);
-  EXPECT_THROW(PartitionBySDF(shape.Mesh.Points, shape.Mesh.Triangles, shape.Values, options), PartitionError);
+  EXPECT_THROW(ValidatePartitionOptions(options), Error);
+  EXPECT_THROW(PartitionBySDF(shape.Mesh.Points, shape.Mesh.Triangles, shape.Values, options), Error);
   options = PartitionOptions();
   options.NumberOfClusters = -1;
-  EXPECT_THROW(PartitionBySDF(shape.Mesh.Points, shape.Mesh.Triangles, shape.Values, options), PartitionError);
+  EXPECT_THROW(PartitionBySDF(shape.Mesh.Points, shape.Mesh.Triangles, shape.Values, options), Error);
   Eigen::VectorXd notFinite = shape.Values;
   notFinite[3] = std::nan("");
   EXPECT_THROW(PartitionBySDF(shape.Mesh.Points, shape.Mesh.Triangles, notFinite), std::runtime_error);

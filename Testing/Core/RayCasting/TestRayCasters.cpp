@@ -194,12 +194,12 @@ TEST_P(RayCasterContract, RejectsBadMeshes)
 {
   TestMesh mesh = StackedTriangles();
   mesh.Triangles(2, 1) = 9;
-  EXPECT_THROW(MakeCaster(GetParam(), mesh), RayCasterError);
+  EXPECT_THROW(MakeCaster(GetParam(), mesh), Error);
   mesh.Triangles(2, 1) = -1;
-  EXPECT_THROW(MakeCaster(GetParam(), mesh), RayCasterError);
+  EXPECT_THROW(MakeCaster(GetParam(), mesh), Error);
   mesh = StackedTriangles();
   mesh.Points(4, 2) = std::numeric_limits<double>::infinity();
-  EXPECT_THROW(MakeCaster(GetParam(), mesh), RayCasterError);
+  EXPECT_THROW(MakeCaster(GetParam(), mesh), Error);
 }
 
 TEST_P(RayCasterContract, CastConeMatchesSingleRays)

@@ -293,17 +293,17 @@ TEST(AdaptiveShapeDiameter, BadInputIsRejected)
   const EmbreeRayCaster caster(sphere.Points, sphere.Triangles);
   RayOrigins origins = MakeFaceOrigins(sphere.Points, sphere.Triangles);
   // No neighbour graph.
-  EXPECT_THROW(ComputeShapeDiameter(caster, origins, AdaptiveOptions(), SerialFor), ShapeDiameterError);
+  EXPECT_THROW(ComputeShapeDiameter(caster, origins, AdaptiveOptions(), SerialFor), Error);
   testshapes::EdgeAdjacency(sphere.Triangles, origins.NeighborOffsets, origins.Neighbors);
   origins.Neighbors[0] = static_cast<std::int64_t>(sphere.Triangles.rows()); // out of range
-  EXPECT_THROW(ComputeShapeDiameter(caster, origins, AdaptiveOptions(), SerialFor), ShapeDiameterError);
+  EXPECT_THROW(ComputeShapeDiameter(caster, origins, AdaptiveOptions(), SerialFor), Error);
   origins.Neighbors[0] = 1;
   ShapeDiameterOptions options = AdaptiveOptions();
   options.Tolerance = 0;
-  EXPECT_THROW(ComputeShapeDiameter(caster, origins, options, SerialFor), ShapeDiameterError);
+  EXPECT_THROW(ComputeShapeDiameter(caster, origins, options, SerialFor), Error);
   options = AdaptiveOptions();
   options.NumberOfRays = 0;
-  EXPECT_THROW(ComputeShapeDiameter(caster, origins, options, SerialFor), ShapeDiameterError);
+  EXPECT_THROW(ComputeShapeDiameter(caster, origins, options, SerialFor), Error);
   // Skipped origins keep 0 / 0 as in the Exact mode.
   origins.Skip.assign(static_cast<std::size_t>(sphere.Triangles.rows()), 0);
   origins.Skip[3] = 1;

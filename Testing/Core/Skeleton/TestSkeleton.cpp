@@ -228,39 +228,39 @@ TEST(Skeleton, InvalidInputThrows)
   const TestMesh capsule = MakeCapsule(1.0, 2.0, 16, 4, 8);
   TriangleMatrix badIndex = capsule.Triangles;
   badIndex(3, 1) = capsule.Points.rows();
-  EXPECT_THROW(ComputeSkeleton(capsule.Points, badIndex, capsule.Sdf), SkeletonError);
+  EXPECT_THROW(ComputeSkeleton(capsule.Points, badIndex, capsule.Sdf), Error);
   badIndex(3, 1) = -1;
-  EXPECT_THROW(ComputeSkeleton(capsule.Points, badIndex, capsule.Sdf), SkeletonError);
+  EXPECT_THROW(ComputeSkeleton(capsule.Points, badIndex, capsule.Sdf), Error);
   PointMatrix nanPoints = capsule.Points;
   nanPoints(2, 0) = std::nan("");
-  EXPECT_THROW(ComputeSkeleton(nanPoints, capsule.Triangles, capsule.Sdf), SkeletonError);
+  EXPECT_THROW(ComputeSkeleton(nanPoints, capsule.Triangles, capsule.Sdf), Error);
   std::vector<double> sdf = capsule.Sdf;
   sdf[5] = std::numeric_limits<double>::infinity();
-  EXPECT_THROW(ComputeSkeleton(capsule.Points, capsule.Triangles, sdf), SkeletonError);
+  EXPECT_THROW(ComputeSkeleton(capsule.Points, capsule.Triangles, sdf), Error);
   sdf[5] = -1.0;
-  EXPECT_THROW(ComputeSkeleton(capsule.Points, capsule.Triangles, sdf), SkeletonError);
+  EXPECT_THROW(ComputeSkeleton(capsule.Points, capsule.Triangles, sdf), Error);
   sdf.pop_back();
-  EXPECT_THROW(ComputeSkeleton(capsule.Points, capsule.Triangles, sdf), SkeletonError);
+  EXPECT_THROW(ComputeSkeleton(capsule.Points, capsule.Triangles, sdf), Error);
   EXPECT_THROW(ComputeSkeleton(capsule.Points, capsule.Triangles, capsule.Sdf, PointMatrix(3, 3),
                  {}, {}, SerialFor),
-    SkeletonError);
+    Error);
   EXPECT_THROW(ComputeSkeleton(capsule.Points, capsule.Triangles, capsule.Sdf, PointMatrix(),
                  { 1, 2 }, {}, SerialFor),
-    SkeletonError);
+    Error);
   SkeletonOptions options;
   options.Sampling.NumberOfSamples = 0;
-  EXPECT_THROW(RunSkeleton(capsule, options), SkeletonError);
+  EXPECT_THROW(RunSkeleton(capsule, options), Error);
   options = {};
   options.Segments.AngularToleranceDegrees = 90.0;
-  EXPECT_THROW(RunSkeleton(capsule, options), SkeletonError);
+  EXPECT_THROW(RunSkeleton(capsule, options), Error);
   options = {};
   options.Connection.NumberOfNeighbors = 0;
-  EXPECT_THROW(RunSkeleton(capsule, options), SkeletonError);
+  EXPECT_THROW(RunSkeleton(capsule, options), Error);
   for (const double share : { -0.1, 1.5, std::nan("") })
   {
     options = {};
     options.OwnBoneShare = share;
-    EXPECT_THROW(RunSkeleton(capsule, options), SkeletonError) << share;
+    EXPECT_THROW(RunSkeleton(capsule, options), Error) << share;
   }
 }
 

@@ -109,9 +109,9 @@ TEST(SkeletonBones, LoopsRepeatsAndBadIndices)
   EXPECT_TRUE(empty.BoneLength.empty() && empty.Polylines.empty() && empty.NodeBone.empty());
 
   SkeletonGraph bad = MakeGraph({ { 0, 0, 0 } }, { { 0, 1 } }, { 0 });
-  EXPECT_THROW(AssignBranchBones(bad), SkeletonError);
+  EXPECT_THROW(AssignBranchBones(bad), Error);
   bad = MakeGraph({ { 0, 0, 0 } }, { { 0 } }, {});
-  EXPECT_THROW(AssignBranchBones(bad), SkeletonError);
+  EXPECT_THROW(AssignBranchBones(bad), Error);
 }
 
 TEST(SkeletonBones, JunctionCleaning)

@@ -197,23 +197,23 @@ TEST(SkeletonCoverage, APartWithoutABoneGetsABranchWhenItsTipIsFarFromTheSkeleto
   // Flags of another cloud are refused.
   EXPECT_THROW(ReachPartsWithoutBones(near.Graph, near.Cloud, near.Thinned, {}, neighbours,
                  std::vector<char>(n - 1, 0), {}, SerialFor),
-    SkeletonError);
+    Error);
 }
 
 TEST(SkeletonCoverage, OptionsOutsideTheirRangeThrow)
 {
   SkeletonCoverageOptions options;
   options.UncoveredFactor = -1.0;
-  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  EXPECT_THROW(ValidateCoverageOptions(options), Error);
   options = {};
   options.MinimumShare = 1.5;
-  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  EXPECT_THROW(ValidateCoverageOptions(options), Error);
   options = {};
   options.PartMinimumShare = -0.1;
-  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  EXPECT_THROW(ValidateCoverageOptions(options), Error);
   options = {};
   options.PartUncoveredFactor = -1.0;
-  EXPECT_THROW(ValidateCoverageOptions(options), SkeletonError);
+  EXPECT_THROW(ValidateCoverageOptions(options), Error);
   EXPECT_NO_THROW(ValidateCoverageOptions({}));
 }
 
@@ -238,5 +238,5 @@ TEST(SkeletonCoverage, UsesTheConnectionsNeighbourGraph)
   LCloud other = MakeL(10);
   EXPECT_THROW(ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, {},
                  BuildCloudNeighborGraph(other.Cloud, {}, 8, SerialFor), {}, SerialFor),
-    SkeletonError);
+    Error);
 }

@@ -114,7 +114,7 @@ TEST(SkeletonLeafExtension, ZeroAngleIsOffAndOptionsAreChecked)
   {
     SkeletonLeafExtensionOptions options;
     options.MaximumExitAngle = bad;
-    EXPECT_THROW(ExtendLeavesToPartEnds(graph, volume, options), SkeletonError) << bad;
+    EXPECT_THROW(ExtendLeavesToPartEnds(graph, volume, options), Error) << bad;
   }
 }
 

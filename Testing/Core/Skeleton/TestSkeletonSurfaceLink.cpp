@@ -152,7 +152,7 @@ TEST(SkeletonSurfaceLink, LabelsAreTakenPerComponentAndBadLabelsThrow)
   {
     ASSERT_EQ(result.FaceBoneId[static_cast<std::size_t>(f)], f < first.Faces() ? 0 : 1);
   }
-  EXPECT_THROW(Link(both, { 1, 2, 3 }), SkeletonError);
+  EXPECT_THROW(Link(both, { 1, 2, 3 }), Error);
 }
 
 TEST(SkeletonSurfaceLink, APartTakesABoneOfItsOwnBeforeSharingOne)

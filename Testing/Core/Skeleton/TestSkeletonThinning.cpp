@@ -139,7 +139,7 @@ TEST(SkeletonThinning, MinimumConfidentShareLowersTheThresholdButNotBelowJunctio
   }
   SkeletonThinningOptions bad;
   bad.MinimumConfidentShare = 1.5;
-  EXPECT_THROW(ThinProjectedCloud(cloud, bad, SerialFor), SkeletonError);
+  EXPECT_THROW(ThinProjectedCloud(cloud, bad, SerialFor), Error);
 }
 
 TEST(SkeletonThinning, InvalidOptionsThrow)
@@ -147,13 +147,13 @@ TEST(SkeletonThinning, InvalidOptionsThrow)
   ProjectedCloud cloud;
   SkeletonThinningOptions options;
   options.NumberOfIterations = 0;
-  EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), SkeletonError);
+  EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), Error);
   options = {};
   options.ConfidenceThreshold = std::nan("");
-  EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), SkeletonError);
+  EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), Error);
   options = {};
   options.NeighborhoodScale = 0.0;
-  EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), SkeletonError);
+  EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), Error);
 }
 
 } // namespace

@@ -99,18 +99,18 @@ TEST(Normalization, AGivenFamilyRangeReplacesTheOwnMinimumAndMaximum)
   {
     family.RangeMinimum = low;
     family.RangeMaximum = high;
-    EXPECT_THROW(NormalizeLogarithmic(narrow, family), NormalizationError);
+    EXPECT_THROW(NormalizeLogarithmic(narrow, family), Error);
   }
 }
 
 TEST(Normalization, BadInputThrows)
 {
-  EXPECT_THROW(NormalizeLogarithmic({ 1.0, std::numeric_limits<double>::quiet_NaN() }), NormalizationError);
-  EXPECT_THROW(NormalizeLogarithmic({ std::numeric_limits<double>::infinity(), 1.0 }), NormalizationError);
+  EXPECT_THROW(NormalizeLogarithmic({ 1.0, std::numeric_limits<double>::quiet_NaN() }), Error);
+  EXPECT_THROW(NormalizeLogarithmic({ std::numeric_limits<double>::infinity(), 1.0 }), Error);
   NormalizationOptions options;
   for (double alpha : { 0.0, -1.0, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN() })
   {
     options.Alpha = alpha;
-    EXPECT_THROW(NormalizeLogarithmic({ 1.0, 2.0 }, options), NormalizationError);
+    EXPECT_THROW(NormalizeLogarithmic({ 1.0, 2.0 }, options), Error);
   }
 }

@@ -131,19 +131,19 @@ TEST(SmoothAndNormalize, BadInputThrowsTheStepsErrors)
   SmoothAndNormalizeInput input = surface.Input();
   input.NormalizedFirst = 5;
   input.NormalizedLast = 4;
-  EXPECT_THROW(SmoothAndNormalize(input), SmoothAndNormalizeError);
+  EXPECT_THROW(SmoothAndNormalize(input), Error);
   input.NormalizedFirst = 0;
   input.NormalizedLast = surface.Last() + 1;
-  EXPECT_THROW(SmoothAndNormalize(input), SmoothAndNormalizeError);
+  EXPECT_THROW(SmoothAndNormalize(input), Error);
 
   SmoothAndNormalizeOptions options;
   options.Smoothing.SpatialSigma = 0.0;
-  EXPECT_THROW(SmoothAndNormalize(surface.Input(), options), BilateralSmoothingError);
+  EXPECT_THROW(SmoothAndNormalize(surface.Input(), options), Error);
   options = {};
   options.Normalization.Alpha = -1.0;
-  EXPECT_THROW(SmoothAndNormalize(surface.Input(), options), NormalizationError);
+  EXPECT_THROW(SmoothAndNormalize(surface.Input(), options), Error);
   surface.Values.pop_back();
-  EXPECT_THROW(SmoothAndNormalize(surface.Input()), BilateralSmoothingError);
+  EXPECT_THROW(SmoothAndNormalize(surface.Input()), Error);
 }
 
 TEST(SmoothAndNormalize, NoFacesGiveAnEmptyResult)

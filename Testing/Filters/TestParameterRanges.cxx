@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Every clamped parameter of the filters clamps to the range the core checks: the filter's
+// vtkSetClampMacro repeats the core's Range constant as literal numbers (VTK's wrapping needs
+// them, and the public filter headers do not include the core), so this test keeps the two
+// equal. Testing/Python/test_xml_matches_cpp.py does the same for the ParaView XML.
+#include "Partition/Partition.h"
+#include "RayCasting/ConeSampling.h"
+#include "SDF/ShapeDiameter.h"
+#include "vtkSDFGMMPartition.h"
+#include "vtkShapeDiameterFilter.h"
+
+#include "vtkNew.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace
+{
+
+using shapediameter::Range;
+
+#define EXPECT_CLAMP_EQ(filter, Name, range)                                                        \
+  do                                                                                              \
+  {                                                                                               \
+    EXPECT_EQ(filter->Get##Name##MinValue(), (range).Low) << #Name " minimum";                    \
+    EXPECT_EQ(filter->Get##Name##MaxValue(), (range).High) << #Name " maximum";                   \
+  } while (false)
+
+TEST(ParameterRanges, ShapeDiameterFilterClampsToTheCoreRanges)
+{
+  vtkNew<vtkShapeDiameterFilter> filter;
+  EXPECT_CLAMP_EQ(filter, NumberOfRays, shapediameter::NumberOfRaysRange);
+  EXPECT_CLAMP_EQ(filter, ConeAngle, shapediameter::ConeAngleRange);
+  EXPECT_CLAMP_EQ(filter, Tolerance, shapediameter::ToleranceRange);
+  // The enumerations clamp to their first and last value.
+  EXPECT_EQ(filter->GetHitRuleMinValue(), vtkShapeDiameterFilter::FIRST_HIT_LEAVING);
+  EXPECT_EQ(filter->GetHitRuleMaxValue(), vtkShapeDiameterFilter::SKIP_SAME_FACING);
+  EXPECT_EQ(filter->GetModeMinValue(), vtkShapeDiameterFilter::EXACT);
+  EXPECT_EQ(filter->GetModeMaxValue(), vtkShapeDiameterFilter::ADAPTIVE);
+  // Closed ranges in the core, so the clamp's ends are valid core values.
+  EXPECT_FALSE(shapediameter::ConeAngleRange.LowExclusive);
+  EXPECT_FALSE(shapediameter::ToleranceRange.LowExclusive);
+}
+
+TEST(ParameterRanges, GMMPartitionClampsToTheCoreRanges)
+{
+  vtkNew<vtkSDFGMMPartition> filter;
+  EXPECT_CLAMP_EQ(filter, NumberOfClusters, shapediameter::NumberOfClustersRange);
+  EXPECT_CLAMP_EQ(filter, MaximumClusters, shapediameter::MaximumClustersRange);
+  EXPECT_CLAMP_EQ(filter, Lambda, shapediameter::LambdaRange);
+  EXPECT_CLAMP_EQ(filter, Epsilon, shapediameter::EpsilonRange);
+  EXPECT_CLAMP_EQ(filter, ConvexityFactor, shapediameter::ConvexityFactorRange);
+  EXPECT_CLAMP_EQ(filter, Restarts, shapediameter::RestartsRange);
+  EXPECT_CLAMP_EQ(filter, MaximumIterations, shapediameter::MaximumIterationsRange);
+  EXPECT_CLAMP_EQ(filter, HistogramBins, shapediameter::HistogramBinsRange);
+  EXPECT_CLAMP_EQ(filter, ModeBandwidth, shapediameter::ModeBandwidthRange);
+  EXPECT_CLAMP_EQ(filter, ModeProminence, shapediameter::ModeProminenceRange);
+  EXPECT_CLAMP_EQ(filter, ModeValleyDepth, shapediameter::ModeValleyDepthRange);
+  EXPECT_CLAMP_EQ(filter, RefinementMinimumArea, shapediameter::RefinementMinimumAreaRange);
+  EXPECT_EQ(filter->GetClusterModelMinValue(), vtkSDFGMMPartition::EM);
+  EXPECT_EQ(filter->GetClusterModelMaxValue(), vtkSDFGMMPartition::DENSITY_MODES);
+}
+
+/// The ends of every clamp are accepted by the core: a filter at its clamp limits runs.
+TEST(ParameterRanges, TheClampEndsAreValidCoreOptions)
+{
+  for (const bool high : { false, true })
+  {
+    shapediameter::ShapeDiameterOptions sdf;
+    sdf.NumberOfRays = high ? shapediameter::NumberOfRaysRange.High : shapediameter::NumberOfRaysRange.Low;
+    sdf.ConeAngle = high ? shapediameter::ConeAngleRange.High : shapediameter::ConeAngleRange.Low;
+    sdf.Tolerance = high ? shapediameter::ToleranceRange.High : shapediameter::ToleranceRange.Low;
+    EXPECT_NO_THROW(shapediameter::CheckShapeDiameterOptions(sdf)) << high;
+    EXPECT_NO_THROW(shapediameter::MakeConePattern(sdf.NumberOfRays, sdf.ConeAngle)) << high;
+
+    shapediameter::PartitionOptions partition;
+    const auto end = [high](const auto& range) { return high ? range.High : range.Low; };
+    partition.NumberOfClusters = end(shapediameter::NumberOfClustersRange);
+    partition.MaximumClusters = end(shapediameter::MaximumClustersRange);
+    partition.HistogramBins = end(shapediameter::HistogramBinsRange);
+    partition.Mixture.Restarts = end(shapediameter::RestartsRange);
+    partition.Mixture.MaximumIterations = end(shapediameter::MaximumIterationsRange);
+    partition.Modes.Bandwidth = end(shapediameter::ModeBandwidthRange);
+    partition.Modes.MinimumProminence = end(shapediameter::ModeProminenceRange);
+    partition.Modes.MinimumValleyDepth = end(shapediameter::ModeValleyDepthRange);
+    partition.Energy.Lambda = end(shapediameter::LambdaRange);
+    partition.Energy.Epsilon = end(shapediameter::EpsilonRange);
+    partition.Energy.ConvexityFactor = end(shapediameter::ConvexityFactorRange);
+    partition.Refinement.MinimumAreaShare = end(shapediameter::RefinementMinimumAreaRange);
+    EXPECT_NO_THROW(shapediameter::ValidatePartitionOptions(partition)) << high;
+  }
+}
+
+TEST(ParameterRanges, CheckRangeNamesTheValueAndTheRange)
+{
+  try
+  {
+    shapediameter::CheckRange(0.0005, shapediameter::ToleranceRange, "shape diameter: Tolerance");
+    FAIL() << "no error";
+  }
+  catch (const shapediameter::Error& error)
+  {
+    EXPECT_STREQ(error.what(), "shape diameter: Tolerance = 0.0005 is outside [0.001, 1]");
+  }
+  constexpr Range<double> positive{ 0.0, 1.0, true };
+  EXPECT_THROW(shapediameter::CheckRange(0.0, positive, "x"), shapediameter::Error);
+  EXPECT_NO_THROW(shapediameter::CheckRange(1.0, positive, "x"));
+  EXPECT_THROW(shapediameter::CheckRange(std::nan(""), positive, "x"), shapediameter::Error);
+}
+
+} // namespace
