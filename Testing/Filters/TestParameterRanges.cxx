@@ -6,7 +6,12 @@
 #include "Partition/Partition.h"
 #include "RayCasting/ConeSampling.h"
 #include "SDF/ShapeDiameter.h"
+#include "Skeleton/Skeleton.h"
+#include "Smoothing/BilateralSmoothing.h"
+#include "Smoothing/Normalization.h"
+#include "vtkSDFBilateralSmooth.h"
 #include "vtkSDFGMMPartition.h"
+#include "vtkSDFSkeleton.h"
 #include "vtkShapeDiameterFilter.h"
 
 #include "vtkNew.h"
@@ -62,6 +67,32 @@ TEST(ParameterRanges, GMMPartitionClampsToTheCoreRanges)
   EXPECT_EQ(filter->GetClusterModelMaxValue(), vtkSDFGMMPartition::DENSITY_MODES);
 }
 
+TEST(ParameterRanges, BilateralSmoothClampsToTheCoreRanges)
+{
+  vtkNew<vtkSDFBilateralSmooth> filter;
+  EXPECT_CLAMP_EQ(filter, NumberOfIterations, shapediameter::SmoothingIterationsRange);
+  EXPECT_CLAMP_EQ(filter, SpatialSigma, shapediameter::SpatialSigmaRange);
+  EXPECT_CLAMP_EQ(filter, NeighborhoodRadius, shapediameter::NeighborhoodRadiusRange);
+  EXPECT_CLAMP_EQ(filter, RangeThreshold, shapediameter::RangeThresholdRange);
+  EXPECT_CLAMP_EQ(filter, Alpha, shapediameter::AlphaRange);
+  EXPECT_FALSE(shapediameter::SpatialSigmaRange.LowExclusive);
+  EXPECT_FALSE(shapediameter::AlphaRange.LowExclusive);
+}
+
+TEST(ParameterRanges, SkeletonClampsToTheCoreRanges)
+{
+  vtkNew<vtkSDFSkeleton> filter;
+  EXPECT_CLAMP_EQ(filter, NumberOfSamples, shapediameter::NumberOfSamplesRange);
+  EXPECT_CLAMP_EQ(filter, NumberOfIterations, shapediameter::SkeletonIterationsRange);
+  EXPECT_CLAMP_EQ(filter, ConfidenceThreshold, shapediameter::ConfidenceThresholdRange);
+  EXPECT_CLAMP_EQ(filter, MinimumConfidentShare, shapediameter::MinimumConfidentShareRange);
+  EXPECT_CLAMP_EQ(filter, SpacingFactor, shapediameter::ThinningSpacingFactorRange);
+  EXPECT_CLAMP_EQ(filter, MaximumExitAngle, shapediameter::MaximumExitAngleRange);
+  EXPECT_CLAMP_EQ(filter, UncoveredFactor, shapediameter::UncoveredFactorRange);
+  EXPECT_CLAMP_EQ(filter, OwnBoneShare, shapediameter::OwnBoneShareRange);
+  EXPECT_CLAMP_EQ(filter, PartUncoveredFactor, shapediameter::PartUncoveredFactorRange);
+}
+
 /// The ends of every clamp are accepted by the core: a filter at its clamp limits runs.
 TEST(ParameterRanges, TheClampEndsAreValidCoreOptions)
 {
@@ -89,6 +120,33 @@ TEST(ParameterRanges, TheClampEndsAreValidCoreOptions)
     partition.Energy.ConvexityFactor = end(shapediameter::ConvexityFactorRange);
     partition.Refinement.MinimumAreaShare = end(shapediameter::RefinementMinimumAreaRange);
     EXPECT_NO_THROW(shapediameter::ValidatePartitionOptions(partition)) << high;
+
+    // The smoothing's options are checked by SmoothBilateral (no separate validator): an empty
+    // mesh runs the checks and nothing else.
+    shapediameter::BilateralSmoothingOptions smoothing;
+    smoothing.NumberOfIterations = end(shapediameter::SmoothingIterationsRange);
+    smoothing.SpatialSigma = end(shapediameter::SpatialSigmaRange);
+    smoothing.NeighborhoodRadius = end(shapediameter::NeighborhoodRadiusRange);
+    smoothing.RangeThreshold = end(shapediameter::RangeThresholdRange);
+    const shapediameter::FaceGraph empty =
+      shapediameter::BuildFaceGraph(shapediameter::PointMatrix(0, 3), shapediameter::TriangleMatrix(0, 3));
+    EXPECT_NO_THROW(shapediameter::SmoothBilateral(empty, {}, smoothing)) << high;
+    shapediameter::NormalizationOptions normalization;
+    normalization.Alpha = end(shapediameter::AlphaRange);
+    EXPECT_NO_THROW(shapediameter::NormalizeLogarithmic({ 1.0, 2.0 }, normalization)) << high;
+    EXPECT_TRUE(shapediameter::NormalizeLogarithmicAlphaRange.Contains(normalization.Alpha)) << high;
+
+    shapediameter::SkeletonOptions skeleton;
+    skeleton.Sampling.NumberOfSamples = static_cast<std::size_t>(end(shapediameter::NumberOfSamplesRange));
+    skeleton.Thinning.NumberOfIterations = end(shapediameter::SkeletonIterationsRange);
+    skeleton.Thinning.ConfidenceThreshold = end(shapediameter::ConfidenceThresholdRange);
+    skeleton.Thinning.MinimumConfidentShare = end(shapediameter::MinimumConfidentShareRange);
+    skeleton.Thinning.SpacingFactor = end(shapediameter::ThinningSpacingFactorRange);
+    skeleton.LeafExtension.MaximumExitAngle = end(shapediameter::MaximumExitAngleRange);
+    skeleton.Coverage.UncoveredFactor = end(shapediameter::UncoveredFactorRange);
+    skeleton.OwnBoneShare = end(shapediameter::OwnBoneShareRange);
+    skeleton.Coverage.PartUncoveredFactor = end(shapediameter::PartUncoveredFactorRange);
+    EXPECT_NO_THROW(shapediameter::ValidateSkeletonOptions(skeleton)) << high;
   }
 }
 

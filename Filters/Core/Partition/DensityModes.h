@@ -6,10 +6,9 @@
 //   The paper fits k Gaussians to the histogram of the normalised SDF by EM (section 4). With
 //   k above the number of thickness levels a shape really has, EM puts a component boundary
 //   inside a dense part of the histogram, where a small pose-dependent shift of the values
-//   moves a whole limb to another cluster. On the ten elephant poses
-//   (../shared/data/poses/elephant) the EM argmax disagrees between poses for every k tried,
-//   while the area-weighted density of the values has the same four modes in every pose
-//   (measurements: docs/partition.md). Clusters bounded by the density's valleys move
+//   moves a whole limb to another cluster, so the EM argmax can disagree between poses,
+//   while the area-weighted density of the values keeps its modes (measurements:
+//   docs/partition.md). Clusters bounded by the density's valleys move
 //   little when the values shift a little, because few faces lie near a valley.
 //
 // What it computes
@@ -29,9 +28,8 @@
 //      result feeds the same posteriors, graph cut and hierarchy.
 //
 // Parameters (DensityModesOptions; none of them is in the paper)
-//   Bandwidth          0.02   (0, 1]   kernel sigma, relative to the value range. On the
-//                                      elephant poses 0.02 gave the same 4 modes in every pose
-//                                      and the most consistent cut (0.01: 4-5 modes).
+//   Bandwidth          0.02   (0, 1]   kernel sigma, relative to the value range; chosen for
+//                                      the same modes in every pose of a family (docs/partition.md).
 //   MinimumProminence  0.01   [0, 1]   relative to the highest peak: drops bumps of a few faces.
 //   MinimumValleyDepth 0.1    [0, 1]   relative to the mode's own height: a mode must be
 //                                      separated from its higher neighbour by a valley at least

@@ -46,9 +46,9 @@
 // further values only where its own density has valleys, so the count of parts follows the
 // shape and not a global k.
 //
-// Why it is off by default: on the development data it made the benchmark parts barely finer
-// (PSB 1-RI 0.2162 -> 0.2159) while a large part refined in some poses and not in others moved
-// the elephant's SDFCluster Table-2 measure from 5.16 to 9.18 % (docs/partition.md).
+// Why it is off by default: on the development data it made the benchmark parts barely finer,
+// while a large part refined in some poses and not in others made the labels less consistent
+// between poses (measurements: docs/partition.md).
 //
 // Threading and determinism: the parts are independent; parallelFor runs over them and the
 // result is the same for any ParallelFor. Cost: one density fit per large part and one cut on

@@ -27,10 +27,7 @@ void ValidateSkeletonOptions(const SkeletonOptions& options)
   ValidateConnectionOptions(options.Connection);
   ValidateLeafExtensionOptions(options.LeafExtension);
   ValidateCoverageOptions(options.Coverage);
-  if (!(options.OwnBoneShare >= 0.0 && options.OwnBoneShare <= 1.0))
-  {
-    throw Error("skeleton: OwnBoneShare must lie in [0, 1]");
-  }
+  CheckRange(options.OwnBoneShare, OwnBoneShareRange, "skeleton: OwnBoneShare");
 }
 
 namespace

@@ -107,6 +107,7 @@
 //   aborts: the result is then empty with Aborted = true.
 #pragma once
 
+#include "Errors.h"
 #include "Mesh/MeshTypes.h"
 #include "Parallel.h"
 #include "Skeleton/SkeletonConnection.h"
@@ -137,6 +138,10 @@ struct SkeletonOptions
   /// (the part link) for why; the evidence is in docs/skeleton.md.
   double OwnBoneShare = 0.15;
 };
+
+/// OwnBoneShare, checked by ValidateSkeletonOptions; vtkSDFSkeleton's vtkSetClampMacro repeats it
+/// (Testing/Filters/TestParameterRanges.cxx).
+inline constexpr Range<double> OwnBoneShareRange{ 0.0, 1.0 };
 
 struct SkeletonResult
 {

@@ -17,22 +17,10 @@ namespace shapediameter
 
 void ValidateConnectionOptions(const SkeletonConnectionOptions& options)
 {
-  if (options.NumberOfNeighbors < 1 || options.NumberOfNeighbors > 64)
-  {
-    throw Error("skeleton: NumberOfNeighbors must be in [1, 64]");
-  }
-  if (!(options.SeedRadiusFactor >= 0.0 && options.SeedRadiusFactor <= 10.0))
-  {
-    throw Error("skeleton: SeedRadiusFactor must be in [0, 10]");
-  }
-  if (!(options.SpacingFactor >= 0.0 && options.SpacingFactor <= 10.0))
-  {
-    throw Error("skeleton: connection SpacingFactor must be in [0, 10]");
-  }
-  if (!(options.MinimumBranchFactor >= 0.0 && options.MinimumBranchFactor <= 10.0))
-  {
-    throw Error("skeleton: MinimumBranchFactor must be in [0, 10]");
-  }
+  CheckRange(options.NumberOfNeighbors, NumberOfNeighborsRange, "skeleton: NumberOfNeighbors");
+  CheckRange(options.SeedRadiusFactor, SeedRadiusFactorRange, "skeleton: SeedRadiusFactor");
+  CheckRange(options.SpacingFactor, ConnectionSpacingFactorRange, "skeleton: connection SpacingFactor");
+  CheckRange(options.MinimumBranchFactor, MinimumBranchFactorRange, "skeleton: MinimumBranchFactor");
 }
 
 namespace

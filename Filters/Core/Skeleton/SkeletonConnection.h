@@ -69,6 +69,7 @@
 //   The result is a forest with one tree per surface component that has points in P.
 #pragma once
 
+#include "Errors.h"
 #include "Parallel.h"
 #include "RayCasting/RayCaster.h"
 #include "Skeleton/SkeletonBones.h"
@@ -88,16 +89,23 @@ namespace shapediameter
 
 struct SkeletonConnectionOptions
 {
-  /// k of the k-nearest-neighbour graph on P. [1, 64].
+  /// k of the k-nearest-neighbour graph on P. NumberOfNeighborsRange [1, 64].
   int NumberOfNeighbors = 8;
-  /// Growth seeds lie within SeedRadiusFactor * radius of a segment node. [0, 10].
+  /// Growth seeds lie within SeedRadiusFactor * radius of a segment node.
+  /// SeedRadiusFactorRange [0, 10].
   double SeedRadiusFactor = 0.5;
-  /// Node spacing along connecting paths, * radius. [0, 10].
+  /// Node spacing along connecting paths, * radius. ConnectionSpacingFactorRange [0, 10].
   double SpacingFactor = 0.25;
   /// Leaf branches shorter than MinimumBranchFactor * radius at their junction are removed,
-  /// inner branches that short contracted (0 keeps every branch). [0, 10].
+  /// inner branches that short contracted (0 keeps every branch). MinimumBranchFactorRange [0, 10].
   double MinimumBranchFactor = 1.0;
 };
+
+// The ranges, checked by ValidateConnectionOptions (none is a filter property).
+inline constexpr Range<int> NumberOfNeighborsRange{ 1, 64 };
+inline constexpr Range<double> SeedRadiusFactorRange{ 0.0, 10.0 };
+inline constexpr Range<double> ConnectionSpacingFactorRange{ 0.0, 10.0 };
+inline constexpr Range<double> MinimumBranchFactorRange{ 0.0, 10.0 };
 
 /// Throws Error if an option is outside its documented range.
 void ValidateConnectionOptions(const SkeletonConnectionOptions& options);

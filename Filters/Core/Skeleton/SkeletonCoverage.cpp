@@ -14,22 +14,10 @@ namespace shapediameter
 
 void ValidateCoverageOptions(const SkeletonCoverageOptions& options)
 {
-  if (!(options.UncoveredFactor >= 0.0 && options.UncoveredFactor <= 1e6))
-  {
-    throw Error("skeleton: UncoveredFactor must be in [0, 1e6]");
-  }
-  if (!(options.MinimumShare >= 0.0 && options.MinimumShare <= 1.0))
-  {
-    throw Error("skeleton: coverage MinimumShare must be in [0, 1]");
-  }
-  if (!(options.PartMinimumShare >= 0.0 && options.PartMinimumShare <= 1.0))
-  {
-    throw Error("skeleton: coverage PartMinimumShare must be in [0, 1]");
-  }
-  if (!(options.PartUncoveredFactor >= 0.0 && options.PartUncoveredFactor <= 1e6))
-  {
-    throw Error("skeleton: coverage PartUncoveredFactor must be in [0, 1e6]");
-  }
+  CheckRange(options.UncoveredFactor, UncoveredFactorRange, "skeleton: UncoveredFactor");
+  CheckRange(options.MinimumShare, CoverageMinimumShareRange, "skeleton: coverage MinimumShare");
+  CheckRange(options.PartMinimumShare, PartMinimumShareRange, "skeleton: coverage PartMinimumShare");
+  CheckRange(options.PartUncoveredFactor, PartUncoveredFactorRange, "skeleton: coverage PartUncoveredFactor");
 }
 
 namespace

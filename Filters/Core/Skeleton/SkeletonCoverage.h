@@ -53,6 +53,7 @@
 // groups, tips (ties: lowest index) and shortest paths (ties: lowest index) do not either.
 #pragma once
 
+#include "Errors.h"
 #include "Mesh/MeshTypes.h"
 #include "Parallel.h"
 #include "Skeleton/SkeletonBones.h"
@@ -70,16 +71,27 @@ namespace shapediameter
 struct SkeletonCoverageOptions
 {
   /// A projected point farther than this many radii from every node is uncovered; 0 = off.
+  /// UncoveredFactorRange [0, 1e6].
   double UncoveredFactor = 4.0;
   /// A group of uncovered points gets a branch when it holds this share of all points.
+  /// CoverageMinimumShareRange [0, 1].
   double MinimumShare = 0.01;
   /// Step 6 (with part labels): a part without a bone of its own gets a branch when it holds
-  /// this share of all points of P, [0, 1]; 1 = step 6 off in practice.
+  /// this share of all points of P, PartMinimumShareRange [0, 1]; 1 = step 6 off in practice.
   double PartMinimumShare = 0.05;
   /// Step 6: ... and when its point farthest from the skeleton lies more than this many of
-  /// its radii away, [0, 1e6]; 0 = step 6 off.
+  /// its radii away, PartUncoveredFactorRange [0, 1e6]; 0 = step 6 off.
   double PartUncoveredFactor = 2.0;
 };
+
+// The ranges, checked by ValidateCoverageOptions; vtkSDFSkeleton's vtkSetClampMacro repeats those
+// of its properties (UncoveredFactor, PartUncoveredFactor; Testing/Filters/TestParameterRanges.cxx).
+inline constexpr Range<double> UncoveredFactorRange{ 0.0, 1e6 };
+/// Not a filter property.
+inline constexpr Range<double> CoverageMinimumShareRange{ 0.0, 1.0 };
+/// Not a filter property.
+inline constexpr Range<double> PartMinimumShareRange{ 0.0, 1.0 };
+inline constexpr Range<double> PartUncoveredFactorRange{ 0.0, 1e6 };
 
 /// Throws Error if an option is outside its documented range.
 void ValidateCoverageOptions(const SkeletonCoverageOptions& options);

@@ -13,10 +13,7 @@ namespace shapediameter
 
 void ValidateLeafExtensionOptions(const SkeletonLeafExtensionOptions& options)
 {
-  if (!(options.MaximumExitAngle >= 0.0 && options.MaximumExitAngle <= 90.0))
-  {
-    throw Error("skeleton: MaximumExitAngle must be in [0, 90] degrees");
-  }
+  CheckRange(options.MaximumExitAngle, MaximumExitAngleRange, "skeleton: MaximumExitAngle");
 }
 
 namespace

@@ -36,6 +36,7 @@
 // Determinism: serial over the leaves in node order; the rays do not depend on threads.
 #pragma once
 
+#include "Errors.h"
 #include "RayCasting/RayCaster.h"
 #include "Skeleton/SkeletonBones.h"
 
@@ -47,9 +48,13 @@ namespace shapediameter
 struct SkeletonLeafExtensionOptions
 {
   /// Largest angle (degrees) between the branch's direction and the normal of the surface it
-  /// leaves through for the leaf to be extended; 0 = off. [0, 90].
+  /// leaves through for the leaf to be extended; 0 = off. MaximumExitAngleRange [0, 90].
   double MaximumExitAngle = 40.0;
 };
+
+/// MaximumExitAngle, degrees, checked by ValidateLeafExtensionOptions; vtkSDFSkeleton's
+/// vtkSetClampMacro repeats it (Testing/Filters/TestParameterRanges.cxx).
+inline constexpr Range<double> MaximumExitAngleRange{ 0.0, 90.0 };
 
 /// Throws Error if an option is outside its documented range.
 void ValidateLeafExtensionOptions(const SkeletonLeafExtensionOptions& options);

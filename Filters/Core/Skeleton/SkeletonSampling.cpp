@@ -143,10 +143,7 @@ void ValidateSkeletonInput(PointsView points, TrianglesView triangles,
 
 void ValidateSamplingOptions(const SkeletonSamplingOptions& options)
 {
-  if (options.NumberOfSamples < 1 || options.NumberOfSamples > 10000000)
-  {
-    throw Error("skeleton: NumberOfSamples must be in [1, 1e7]");
-  }
+  CheckRange(options.NumberOfSamples, NumberOfSamplesRange, "skeleton: NumberOfSamples");
 }
 
 ProjectedCloud SampleProjectedCloud(PointsView points, TrianglesView triangles,

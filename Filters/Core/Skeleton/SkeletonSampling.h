@@ -13,7 +13,7 @@
 //   the shape diameter function", section 5, second paragraph.
 //
 // Parameters (SkeletonSamplingOptions)
-//   NumberOfSamples  N, default 10000 (the paper: "not more than 10000"), valid [1, 1e7].
+//   NumberOfSamples  N, default 10000 (the paper: "not more than 10000"), valid [1, 1e6] (NumberOfSamplesRange).
 //                    N is not capped by the face count: a coarse mesh (fewer faces than N)
 //                    gets several samples per face, which the MLS step needs for density; a
 //                    fine mesh leaves some faces without a sample (they are linked to the
@@ -49,11 +49,16 @@ namespace shapediameter
 
 struct SkeletonSamplingOptions
 {
-  /// N, the number of surface samples (paper: at most 10000). Valid [1, 1e7].
+  /// N, the number of surface samples (paper: at most 10000). NumberOfSamplesRange [1, 1e6].
   std::size_t NumberOfSamples = 10000;
   /// Seed of the deterministic generator.
   std::uint64_t Seed = 0x5DF5EED;
 };
+
+/// NumberOfSamples, checked by ValidateSamplingOptions; vtkSDFSkeleton's vtkSetClampMacro repeats
+/// it (Testing/Filters/TestParameterRanges.cxx). Was [1, 1e7] in the core before; the filter has
+/// always clamped to [1, 1e6].
+inline constexpr Range<int> NumberOfSamplesRange{ 1, 1000000 };
 
 /// The projected cloud P (paper: "a point cloud P inside the object").
 struct ProjectedCloud

@@ -14,18 +14,13 @@ namespace shapediameter
 
 void ValidateSegmentOptions(const SkeletonSegmentOptions& options)
 {
-  if (!(options.StepFactor > 0.0 && options.StepFactor <= 10.0))
-  {
-    throw Error("skeleton: StepFactor must be in (0, 10]");
-  }
+  CheckRange(options.StepFactor, StepFactorRange, "skeleton: StepFactor");
+  // Open at both ends, which Range cannot state (SkeletonSegments.h).
   if (!(options.AngularToleranceDegrees > 0.0 && options.AngularToleranceDegrees < 90.0))
   {
     throw Error("skeleton: AngularToleranceDegrees must be in (0, 90)");
   }
-  if (options.MinimumNodes < 1 || options.MinimumNodes > 1000)
-  {
-    throw Error("skeleton: MinimumNodes must be in [1, 1000]");
-  }
+  CheckRange(options.MinimumNodes, MinimumNodesRange, "skeleton: MinimumNodes");
 }
 
 namespace

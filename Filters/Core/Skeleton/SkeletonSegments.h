@@ -40,6 +40,7 @@
 //   segment: the skeleton is a tree, its loop stays open by less than one step.
 #pragma once
 
+#include "Errors.h"
 #include "RayCasting/RayCaster.h"
 #include "Skeleton/SkeletonSampling.h"
 #include "Skeleton/SkeletonThinning.h"
@@ -52,13 +53,18 @@ namespace shapediameter
 
 struct SkeletonSegmentOptions
 {
-  /// Reach of a growth step, * radius of the current end. (0, 10].
+  /// Reach of a growth step, * radius of the current end. StepFactorRange (0, 10].
   double StepFactor = 1.0;
-  /// Cone half-angle and largest turn per step, degrees. (0, 90).
+  /// Cone half-angle and largest turn per step, degrees. (0, 90), open at both ends: Range has
+  /// no exclusive upper bound, so ValidateSegmentOptions checks this one by hand.
   double AngularToleranceDegrees = 30.0;
-  /// Segments with fewer nodes are dropped (see header). [1, 1000].
+  /// Segments with fewer nodes are dropped (see header). MinimumNodesRange [1, 1000].
   int MinimumNodes = 3;
 };
+
+// The ranges, checked by ValidateSegmentOptions (none is a filter property).
+inline constexpr Range<double> StepFactorRange{ 0.0, 10.0, true };
+inline constexpr Range<int> MinimumNodesRange{ 1, 1000 };
 
 /// One poly-segment: indices into the cloud of its nodes (points of T, at their MLS
 /// positions), ordered along the curve.

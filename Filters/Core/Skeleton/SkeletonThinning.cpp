@@ -24,30 +24,12 @@ constexpr double kLowestConfidentShareThreshold = 0.6;
 
 void ValidateThinningOptions(const SkeletonThinningOptions& options)
 {
-  if (options.NumberOfIterations < 1 || options.NumberOfIterations > 100)
-  {
-    throw Error("skeleton: NumberOfIterations must be in [1, 100]");
-  }
-  if (!(options.NeighborhoodScale > 0.0 && options.NeighborhoodScale <= 10.0))
-  {
-    throw Error("skeleton: NeighborhoodScale must be in (0, 10]");
-  }
-  if (!(options.ConfidenceThreshold >= 0.0 && options.ConfidenceThreshold <= 1.0))
-  {
-    throw Error("skeleton: ConfidenceThreshold must be in [0, 1]");
-  }
-  if (!(options.MinimumConfidentShare >= 0.0 && options.MinimumConfidentShare <= 1.0))
-  {
-    throw Error("skeleton: MinimumConfidentShare must be in [0, 1]");
-  }
-  if (!(options.SpacingFactor >= 0.0 && options.SpacingFactor <= 10.0))
-  {
-    throw Error("skeleton: thinning SpacingFactor must be in [0, 10]");
-  }
-  if (options.MinimumNeighbors < 2 || options.MinimumNeighbors > 1000)
-  {
-    throw Error("skeleton: MinimumNeighbors must be in [2, 1000]");
-  }
+  CheckRange(options.NumberOfIterations, SkeletonIterationsRange, "skeleton: NumberOfIterations");
+  CheckRange(options.NeighborhoodScale, NeighborhoodScaleRange, "skeleton: NeighborhoodScale");
+  CheckRange(options.ConfidenceThreshold, ConfidenceThresholdRange, "skeleton: ConfidenceThreshold");
+  CheckRange(options.MinimumConfidentShare, MinimumConfidentShareRange, "skeleton: MinimumConfidentShare");
+  CheckRange(options.SpacingFactor, ThinningSpacingFactorRange, "skeleton: thinning SpacingFactor");
+  CheckRange(options.MinimumNeighbors, MinimumNeighborsRange, "skeleton: MinimumNeighbors");
 }
 
 namespace

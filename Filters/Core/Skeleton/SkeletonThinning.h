@@ -61,6 +61,7 @@
 //   and writes its own outputs, so the result is bit-identical for any split.
 #pragma once
 
+#include "Errors.h"
 #include "Mesh/MeshTypes.h"
 #include "Parallel.h"
 #include "Skeleton/SkeletonSampling.h"
@@ -75,21 +76,38 @@ namespace shapediameter
 
 struct SkeletonThinningOptions
 {
-  /// Projection iterations (paper: "2 to 4"). Valid [1, 100].
+  /// Projection iterations (paper: "2 to 4"). SkeletonIterationsRange [1, 100].
   int NumberOfIterations = 3;
-  /// Neighbourhood radius h = NeighborhoodScale * radius(p) (paper: radius(p)). (0, 10].
+  /// Neighbourhood radius h = NeighborhoodScale * radius(p) (paper: radius(p)).
+  /// NeighborhoodScaleRange (0, 10].
   double NeighborhoodScale = 1.0;
-  /// Points of T have confidence >= ConfidenceThreshold (lowered by MinimumConfidentShare). [0, 1].
+  /// Points of T have confidence >= ConfidenceThreshold (lowered by MinimumConfidentShare).
+  /// ConfidenceThresholdRange [0, 1].
   double ConfidenceThreshold = 0.8;
-  /// At least this share of the defined points is eligible for T (see header). [0, 1].
+  /// At least this share of the defined points is eligible for T (see header).
+  /// MinimumConfidentShareRange [0, 1].
   double MinimumConfidentShare = 0.2;
-  /// Minimal spacing epsilon = SpacingFactor * radius(p) between points of T. [0, 10].
+  /// Minimal spacing epsilon = SpacingFactor * radius(p) between points of T.
+  /// ThinningSpacingFactorRange [0, 10].
   double SpacingFactor = 0.25;
-  /// Smallest neighbourhood (point included) with a defined regression line. [2, 1000].
+  /// Smallest neighbourhood (point included) with a defined regression line.
+  /// MinimumNeighborsRange [2, 1000].
   int MinimumNeighbors = 5;
   /// Fit each iteration to the moved cloud instead of the original P (see header). Off.
   bool ContractCloud = false;
 };
+
+// The ranges, checked by ValidateThinningOptions; vtkSDFSkeleton's vtkSetClampMacro repeats those
+// of its properties (NumberOfIterations, ConfidenceThreshold, MinimumConfidentShare,
+// SpacingFactor; Testing/Filters/TestParameterRanges.cxx).
+inline constexpr Range<int> SkeletonIterationsRange{ 1, 100 };
+/// Not a filter property.
+inline constexpr Range<double> NeighborhoodScaleRange{ 0.0, 10.0, true };
+inline constexpr Range<double> ConfidenceThresholdRange{ 0.0, 1.0 };
+inline constexpr Range<double> MinimumConfidentShareRange{ 0.0, 1.0 };
+inline constexpr Range<double> ThinningSpacingFactorRange{ 0.0, 10.0 };
+/// Not a filter property.
+inline constexpr Range<int> MinimumNeighborsRange{ 2, 1000 };
 
 struct ThinnedCloud
 {

@@ -17,22 +17,10 @@ constexpr std::size_t ProgressBlocks = 20;
 
 void ValidateOptions(const BilateralSmoothingOptions& options)
 {
-  if (options.NumberOfIterations < 0 || options.NumberOfIterations > 1000)
-  {
-    throw Error("NumberOfIterations must be in [0, 1000]");
-  }
-  if (!(options.SpatialSigma > 0.0) || !std::isfinite(options.SpatialSigma))
-  {
-    throw Error("SpatialSigma must be positive and finite");
-  }
-  if (!(options.NeighborhoodRadius >= 0.0) || !std::isfinite(options.NeighborhoodRadius))
-  {
-    throw Error("NeighborhoodRadius must be non-negative and finite");
-  }
-  if (!(options.RangeThreshold >= 0.0) || !std::isfinite(options.RangeThreshold))
-  {
-    throw Error("RangeThreshold must be non-negative and finite");
-  }
+  CheckRange(options.NumberOfIterations, SmoothingIterationsRange, "smoothing: NumberOfIterations");
+  CheckRange(options.SpatialSigma, SpatialSigmaRange, "smoothing: SpatialSigma");
+  CheckRange(options.NeighborhoodRadius, NeighborhoodRadiusRange, "smoothing: NeighborhoodRadius");
+  CheckRange(options.RangeThreshold, RangeThresholdRange, "smoothing: RangeThreshold");
 }
 
 // Nearest-rank quantile: the value at index floor(q (n - 1)) of the sorted values.

@@ -24,20 +24,23 @@
 //   the faces within dual distance radius of x, nearest first, at most MaxNeighbors.
 //
 // Parameters (BilateralSmoothingOptions; default, valid range)
-//   NumberOfIterations  i          3,    [0, 1000]; 0 returns the input unchanged.
-//   SpatialSigma        sigma      1.0,  (0, inf) in units of the mesh's mean edge length
+//   NumberOfIterations  i          3,    [0, 100]; 0 returns the input unchanged.
+//   SpatialSigma        sigma      1.0,  [0.01, 100] in units of the mesh's mean edge length
 //                                  (FaceGraph::MeanEdgeLength): the smoothing acts on the
 //                                  noise scale of the face-wise SDF, on any mesh scale.
-//   NeighborhoodRadius             2.0,  [0, inf) in units of sigma (Gaussian cut at 2 sigma,
+//   NeighborhoodRadius             2.0,  [0, 10] in units of sigma (Gaussian cut at 2 sigma,
 //                                  weight e^-2 = 0.14 at the rim); a few tens of faces on a
 //                                  regular mesh, capped by MaxNeighbors.
 //   MaxNeighbors                   24,   [0, inf): the cost cap on meshes whose triangles are
 //                                  far smaller than the mean (nearest kept).
-//   RangeThreshold      t          0.1,  [0, inf) as a fraction of the input's robust spread
+//   RangeThreshold      t          0.1,  [0, 10] as a fraction of the input's robust spread
 //                                  Q(0.98) - Q(0.02) (Q: quantile of the face values, nearest
 //                                  rank; max - min when that spread is 0). Differences larger
 //                                  than t are edges of the field and are kept sharp. A t
 //                                  above max - min is capped there (the same result).
+//   The ranges are the Range constants below the options, the filter's (vtkSDFBilateralSmooth)
+//   clamps; before they were the core's own, wider ones: NumberOfIterations [0, 1000],
+//   SpatialSigma (0, inf), NeighborhoodRadius and RangeThreshold [0, inf).
 //
 // Degenerate cases, all defined
 //   - Faces without neighbours (isolated faces, zero radius) keep their value.
@@ -80,17 +83,31 @@ namespace shapediameter
 
 struct BilateralSmoothingOptions
 {
-  /// Number of iterations of the update (paper: "a small number"). Range [0, 1000].
+  /// Number of iterations of the update (paper: "a small number"). SmoothingIterationsRange [0, 100].
   int NumberOfIterations = 3;
-  /// sigma of the spatial Gaussian w_x(y), in mean edge lengths. Range (0, inf).
+  /// sigma of the spatial Gaussian w_x(y), in mean edge lengths. SpatialSigmaRange [0.01, 100].
   double SpatialSigma = 1.0;
-  /// Geodesic neighbourhood radius, in units of SpatialSigma. Range [0, inf).
+  /// Geodesic neighbourhood radius, in units of SpatialSigma. NeighborhoodRadiusRange [0, 10].
   double NeighborhoodRadius = 2.0;
-  /// At most this many (nearest) neighbours per face. Range [0, inf).
+  /// At most this many (nearest) neighbours per face. Range [0, inf) (not a filter property,
+  /// any std::size_t; not checked).
   std::size_t MaxNeighbors = 24;
-  /// Range clamp t of c(x), as a fraction of the robust spread Q(0.98) - Q(0.02). Range [0, inf).
+  /// Range clamp t of c(x), as a fraction of the robust spread Q(0.98) - Q(0.02).
+  /// RangeThresholdRange [0, 10].
   double RangeThreshold = 0.1;
 };
+
+// The ranges of the user-facing options, checked by SmoothBilateral; vtkSDFBilateralSmooth's
+// vtkSetClampMacro repeats these numbers (Testing/Filters/TestParameterRanges.cxx).
+/// NumberOfIterations. Was [0, 1000] in the core before; the filter has always clamped to [0, 100].
+inline constexpr Range<int> SmoothingIterationsRange{ 0, 100 };
+/// SpatialSigma, mean edge lengths. Was (0, inf) in the core before; the filter's [0.01, 100].
+inline constexpr Range<double> SpatialSigmaRange{ 0.01, 100.0 };
+/// NeighborhoodRadius, sigmas. Was [0, inf) in the core before; the filter's [0, 10].
+inline constexpr Range<double> NeighborhoodRadiusRange{ 0.0, 10.0 };
+/// RangeThreshold, robust spreads. Was [0, inf) in the core before; the filter's [0, 10] (any t
+/// of at least (max - min) / spread is capped to the same result).
+inline constexpr Range<double> RangeThresholdRange{ 0.0, 10.0 };
 
 struct BilateralSmoothingResult
 {

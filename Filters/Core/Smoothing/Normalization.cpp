@@ -30,10 +30,7 @@ std::pair<double, double> NormalizationRange(const std::vector<double>& values, 
 std::vector<double> NormalizeLogarithmic(const std::vector<double>& values, const NormalizationOptions& options)
 {
   const double alpha = options.Alpha;
-  if (!(alpha > 0.0) || !std::isfinite(alpha))
-  {
-    throw Error("alpha must be positive and finite");
-  }
+  CheckRange(alpha, NormalizeLogarithmicAlphaRange, "normalization: Alpha");
   for (std::size_t i = 0; i < values.size(); ++i)
   {
     if (!std::isfinite(values[i]))

@@ -10,7 +10,12 @@
 // Evaluated with log1p, which is the same function, accurate for small arguments.
 //
 // Parameters: alpha, default 4 (the paper's value in all its examples), valid range
-// (0, inf) and finite. alpha -> 0 tends to the linear map; larger alpha stretches more.
+// AlphaRange [0.001, 1000] (the filter's, vtkSDFBilateralSmooth; SmoothAndNormalize checks it).
+// alpha -> 0 tends to the linear map; larger alpha stretches more.
+// A documented wider check: NormalizeLogarithmic alone accepts any positive finite alpha,
+// NormalizeLogarithmicAlphaRange (0, DBL_MAX] (the core's range before AlphaRange), because the
+// function is well defined there and its tests use alpha = 1e-9 to check the linear limit to
+// 1e-9 (which the log1p evaluation is for); only the user-facing chain is held to AlphaRange.
 //
 // Family range: min and max may be given instead of taken from the values (a family of
 // meshes normalised with one range, so that one nsdf means one thickness on every member);
@@ -24,6 +29,7 @@
 #pragma once
 
 #include "Errors.h"
+#include <limits>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -33,13 +39,20 @@ namespace shapediameter
 
 struct NormalizationOptions
 {
-  /// alpha of the paper, (0, inf).
+  /// alpha of the paper, AlphaRange [0.001, 1000] (NormalizeLogarithmic alone: (0, DBL_MAX]).
   double Alpha = 4.0;
   /// When true, RangeMinimum and RangeMaximum replace the values' own min and max.
   bool UseGivenRange = false;
   double RangeMinimum = 0.0;
   double RangeMaximum = 1.0;
 };
+
+/// Alpha, the user-facing range: vtkSDFBilateralSmooth's vtkSetClampMacro repeats it
+/// (Testing/Filters/TestParameterRanges.cxx) and SmoothAndNormalize checks it. Was (0, inf) for
+/// the options before.
+inline constexpr Range<double> AlphaRange{ 0.001, 1000.0 };
+/// Alpha as NormalizeLogarithmic alone checks it (see the header comment): positive and finite.
+inline constexpr Range<double> NormalizeLogarithmicAlphaRange{ 0.0, std::numeric_limits<double>::max(), true };
 
 /// The [min, max] NormalizeLogarithmic maps to [0, 1]: the given range or the values' own
 /// (0, 0 for empty input).

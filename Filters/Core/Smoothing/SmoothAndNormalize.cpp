@@ -37,6 +37,9 @@ SmoothAndNormalizeResult SmoothAndNormalize(const SmoothAndNormalizeInput& input
       std::to_string(input.NormalizedFirst) + ", " + std::to_string(input.NormalizedLast) + ") of " +
       std::to_string(faceCount) + " faces");
   }
+  // The user-facing alpha range, narrower than NormalizeLogarithmic's own (Normalization.h);
+  // checked before any work. The smoothing options are checked by SmoothBilateral.
+  CheckRange(options.Normalization.Alpha, AlphaRange, "smooth and normalize: Alpha");
   SmoothAndNormalizeResult result;
 
   // 1. The dual graph.

@@ -30,17 +30,21 @@
 //                   min and max. The triangle overload normalises every face.
 //
 // Parameters (SmoothAndNormalizeOptions; defaults and valid ranges in the steps' headers)
-//   Smoothing       BilateralSmoothingOptions: NumberOfIterations 3 [0, 1000], SpatialSigma
-//                   sigma 1.0 (0, inf) mean edge lengths, NeighborhoodRadius 2.0 [0, inf)
-//                   sigmas, MaxNeighbors 24, RangeThreshold t 0.1 [0, inf) of the robust spread.
-//   Normalization   NormalizationOptions: Alpha 4 (0, inf) (the paper's value), and an optional
-//                   given range [RangeMinimum, RangeMaximum] for a family of meshes.
+//   Smoothing       BilateralSmoothingOptions: NumberOfIterations 3 [0, 100], SpatialSigma
+//                   sigma 1.0 [0.01, 100] mean edge lengths, NeighborhoodRadius 2.0 [0, 10]
+//                   sigmas, MaxNeighbors 24, RangeThreshold t 0.1 [0, 10] of the robust spread.
+//   Normalization   NormalizationOptions: Alpha 4 [0.001, 1000] (AlphaRange, checked here before
+//                   any work; NormalizeLogarithmic alone accepts (0, DBL_MAX]) (the paper's
+//                   value), and an optional given range [RangeMinimum, RangeMaximum] for a family
+//                   of meshes.
+//   These ranges are the Range constants of the two steps' headers and the filter's clamps.
 //
 // Errors
 //   NormalizedFirst > NormalizedLast or NormalizedLast > face count -> Error.
 //   The steps throw Error (Errors.h) with a one-line reason on what they cannot process
 //   (smoothing: values of another size than the face count, a non-finite value, an option out
-//   of range; normalisation: Alpha or a given range out of range). No faces: empty result, not
+//   of range; normalisation: a given range out of range). Alpha outside AlphaRange -> Error before
+//   any work. No faces: empty result, not
 //   an error.
 //
 // Threading and determinism

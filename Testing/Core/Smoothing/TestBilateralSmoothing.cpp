@@ -292,13 +292,17 @@ TEST(BilateralSmoothing, EmptySingleAndBadInput)
   EXPECT_THROW(SmoothBilateral(single, { std::numeric_limits<double>::infinity() }), Error);
   const FaceGraph grid = FlatGridGraph(2);
   EXPECT_THROW(SmoothBilateral(grid, { -1e308, 1e308, 0, 0, 0, 0, 0, 0 }), Error);
-  // A huge t is capped at max - min: same result as t = max - min, finite.
+  // A t above max - min is capped there: same result as t = max - min, finite. The largest
+  // valid t (RangeThresholdRange.High = 10 robust spreads, 10 * 6 here) is above 7; a t beyond
+  // the range (it was 1e308 here while the core accepted [0, inf)) is an error.
   BilateralSmoothingOptions huge;
-  huge.RangeThreshold = 1e308;
+  huge.RangeThreshold = RangeThresholdRange.High;
   const std::vector<double> ramp{ 0, 1, 2, 3, 4, 5, 6, 7 };
   const BilateralSmoothingResult capped = SmoothBilateral(grid, ramp, huge);
   EXPECT_EQ(capped.RangeThreshold, 7.0);
   ExpectFiniteWithin(capped.Values, 0.0, 7.0);
+  huge.RangeThreshold = 1e308;
+  EXPECT_THROW(SmoothBilateral(grid, ramp, huge), Error);
   BilateralSmoothingOptions bad;
   bad.NumberOfIterations = -1;
   EXPECT_THROW(SmoothBilateral(single, { 1.0 }, bad), Error);
@@ -311,6 +315,27 @@ TEST(BilateralSmoothing, EmptySingleAndBadInput)
   bad = {};
   bad.RangeThreshold = -0.1;
   EXPECT_THROW(SmoothBilateral(single, { 1.0 }, bad), Error);
+  // Just outside the upper ends of the ranges (the filter's clamps).
+  bad = {};
+  bad.NumberOfIterations = SmoothingIterationsRange.High + 1;
+  EXPECT_THROW(SmoothBilateral(single, { 1.0 }, bad), Error);
+  bad = {};
+  bad.SpatialSigma = 0.005;
+  EXPECT_THROW(SmoothBilateral(single, { 1.0 }, bad), Error);
+  bad = {};
+  bad.NeighborhoodRadius = 10.5;
+  EXPECT_THROW(SmoothBilateral(single, { 1.0 }, bad), Error);
+  try
+  {
+    bad = {};
+    bad.SpatialSigma = 200.0;
+    SmoothBilateral(single, { 1.0 }, bad);
+    ADD_FAILURE() << "no error";
+  }
+  catch (const Error& error)
+  {
+    EXPECT_STREQ(error.what(), "smoothing: SpatialSigma = 200 is outside [0.01, 100]");
+  }
 }
 
 TEST(BilateralSmoothing, RobustSpreadUsesTwoAndNinetyEightPercentQuantiles)

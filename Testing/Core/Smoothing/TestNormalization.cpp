@@ -45,7 +45,8 @@ TEST(Normalization, MatchesThePaperFormulaAndAlpha)
   const std::vector<double> stretched = NormalizeLogarithmic(sdf, options);
   EXPECT_NEAR(stretched[1], std::log(11.0) / std::log(21.0), 1e-15);
   EXPECT_GT(stretched[1], defaults[1]);
-  // alpha -> 0 tends to the linear map.
+  // alpha -> 0 tends to the linear map. 1e-9 is below AlphaRange (the filter's [0.001, 1000]):
+  // NormalizeLogarithmic alone keeps the wider NormalizeLogarithmicAlphaRange (Normalization.h).
   options.Alpha = 1e-9;
   EXPECT_NEAR(NormalizeLogarithmic(sdf, options)[1], 0.5, 1e-9);
 }

@@ -142,6 +142,17 @@ TEST(SmoothAndNormalize, BadInputThrowsTheStepsErrors)
   options = {};
   options.Normalization.Alpha = -1.0;
   EXPECT_THROW(SmoothAndNormalize(surface.Input(), options), Error);
+  // The chain holds alpha to the filter's AlphaRange, narrower than NormalizeLogarithmic's own.
+  for (const double alpha : { 1e-9, 2000.0 })
+  {
+    options.Normalization.Alpha = alpha;
+    EXPECT_THROW(SmoothAndNormalize(surface.Input(), options), Error) << alpha;
+  }
+  for (const double alpha : { AlphaRange.Low, AlphaRange.High })
+  {
+    options.Normalization.Alpha = alpha;
+    EXPECT_NO_THROW(SmoothAndNormalize(surface.Input(), options)) << alpha;
+  }
   surface.Values.pop_back();
   EXPECT_THROW(SmoothAndNormalize(surface.Input()), Error);
 }
