@@ -4,6 +4,7 @@
 // between every pair, after the best one-to-one matching of labels. See README.md here and
 // Testing/Evaluation/LabelMatching.h.
 #include "LabelMatching.h"
+#include "JsonText.h"
 #include "SegmentationMetrics.h"
 
 #include <cstdio>
@@ -15,6 +16,7 @@
 namespace
 {
 using namespace shapediameter;
+using evaluation::JsonString;
 
 const char* const kUsage =
   "Usage: sdf-pose-consistency POSE1.seg POSE2.seg [POSE3.seg ...] [--json]\n"
@@ -37,31 +39,6 @@ class UsageError : public std::runtime_error
 public:
   using std::runtime_error::runtime_error;
 };
-
-std::string JsonString(const std::string& text)
-{
-  std::string out = "\"";
-  for (const char c : text)
-  {
-    const auto byte = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\')
-    {
-      out += '\\';
-      out += c;
-    }
-    else if (byte < 0x20)
-    {
-      char escaped[8];
-      std::snprintf(escaped, sizeof(escaped), "\\u%04x", byte);
-      out += escaped;
-    }
-    else
-    {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
 
 /// The text with Markdown table separators escaped.
 std::string MarkdownCell(const std::string& text)

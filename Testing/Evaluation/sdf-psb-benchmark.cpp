@@ -5,6 +5,7 @@
 // defaults: area-weighted); this file only reads the folders and forms the averages. See
 // README.md in this directory.
 #include "IO/OFFParser.h"
+#include "JsonText.h"
 #include "SegmentationMetrics.h"
 
 #include <zlib.h>
@@ -27,6 +28,7 @@
 namespace
 {
 using namespace shapediameter;
+using evaluation::JsonString;
 namespace fs = std::filesystem;
 
 const char* const kUsage =
@@ -567,31 +569,6 @@ std::string Number(double value, const char* format = "%.4f")
 std::string Json(double value)
 {
   return Number(value, "%.10g");
-}
-
-std::string JsonString(const std::string& text)
-{
-  std::string out = "\"";
-  for (const char c : text)
-  {
-    const auto byte = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\')
-    {
-      out += '\\';
-      out += c;
-    }
-    else if (byte < 0x20)
-    {
-      char escaped[8];
-      std::snprintf(escaped, sizeof(escaped), "\\u%04x", byte);
-      out += escaped;
-    }
-    else
-    {
-      out += c;
-    }
-  }
-  return out + "\"";
 }
 
 std::string Share(std::size_t part, std::size_t whole)

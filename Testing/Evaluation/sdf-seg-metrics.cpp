@@ -3,6 +3,7 @@
 // Benchmark metrics (Chen, Golovinskiy & Funkhouser 2009). See README.md in this directory
 // and Testing/Evaluation/SegmentationMetrics.h for the definitions.
 #include "IO/OFFParser.h"
+#include "JsonText.h"
 #include "SegmentationMetrics.h"
 
 #include <cstdio>
@@ -14,6 +15,7 @@
 namespace
 {
 using namespace shapediameter;
+using evaluation::JsonString;
 
 const char* const kUsage =
   "Usage: sdf-seg-metrics MESH.off A.seg B.seg [--json] [--uniform] [--no-header]\n"
@@ -93,31 +95,6 @@ Arguments ParseArguments(int argc, char** argv)
       " file argument(s) (see --help)");
   }
   return arguments;
-}
-
-std::string JsonString(const std::string& text)
-{
-  std::string out = "\"";
-  for (const char c : text)
-  {
-    const auto byte = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\')
-    {
-      out += '\\';
-      out += c;
-    }
-    else if (byte < 0x20)
-    {
-      char escaped[8];
-      std::snprintf(escaped, sizeof(escaped), "\\u%04x", byte);
-      out += escaped;
-    }
-    else
-    {
-      out += c;
-    }
-  }
-  return out + "\"";
 }
 
 std::string Number(double value, const char* format)
