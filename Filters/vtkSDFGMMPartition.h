@@ -57,19 +57,21 @@
  *   leave a cluster without faces (a thickness level with no part large enough to pay
  *   for its boundary). `SDFClusterCount` is the k fitted.
  * - MaximumClusters 8, [2, 16]: the upper end of the automatic range.
- * - Lambda λ 0.03, [0, 1000] (the paper gives no value): a cut as long as √(area)
- *   across a flat region costs 0.35 × the mean data cost of all faces. Larger = fewer,
- *   smoother parts (above about 0.08 small thin clusters start to vanish); 0 = no
- *   smoothing (argmax).
+ * - Lambda λ 0.12, [0, 1000] (the paper gives no value): a cut as long as √(area)
+ *   across a flat region costs 1.4 × the mean data cost of all faces. Larger = fewer,
+ *   smoother parts: short parts whose base has no crease (the fingers of a coarse hand)
+ *   merge into their neighbour, and a thin band that comes and goes with the pose is
+ *   dropped in every pose; 0 = no smoothing (argmax). With ClusterModel 0 (EM) use 0.03:
+ *   EM's overlapping Gaussians lose clusters at 0.12 (docs/partition.md).
  * - Epsilon ε 1e-8, [1e-300, 1].
  * - ConvexityFactor 0.08, [0, 1]: 1 treats convex creases like concave ones.
  * - Restarts 5, [1, 100]; MaximumIterations 500, [1, 100000] (EM); Seed 0x5DF2008.
  * - NumberOfThreads 0 = all cores (vtkSDFSurfaceAlgorithm).
  * - ClusterModel 1 (default) = clusters from the modes of the area-weighted density of the
  *   input values (Filters/Core/Partition/DensityModes.h): the at most k modes rising ModeProminence
- *   (default 0.01, [0, 1]) of the highest peak and ModeValleyDepth (default 0.1, [0, 1])
+ *   (default 0.01, [0, 1]) of the highest peak and ModeValleyDepth (default 0, [0, 1])
  *   of their own height above their saddle, in a Gaussian kernel estimate of bandwidth
- *   ModeBandwidth (default 0.02 of the value range, [0.001, 0.5]). The valley depth keeps
+ *   ModeBandwidth (default 0.015 of the value range, [0.001, 0.5]). A valley depth keeps
  *   shoulders of a larger mode, which come and go with the pose, from becoming clusters;
  *   each cluster is the basin between two valleys, modelled by one Gaussian of its weighted
  *   moments. Boundaries then lie where few faces are, so a small pose-dependent shift moves
@@ -154,7 +156,7 @@ public:
   ///@}
 
   ///@{
-  /// Smoothness weight λ of the graph cut, independent of resolution and units (default 0.03,
+  /// Smoothness weight λ of the graph cut, independent of resolution and units (default 0.12,
   /// range [0, 1000]); larger = fewer, smoother parts, 0 = per-face most probable cluster.
   vtkSetClampMacro(Lambda, double, 0.0, 1000.0);
   vtkGetMacro(Lambda, double);
@@ -218,7 +220,7 @@ public:
 
   ///@{
   /// ClusterModel 1: kernel bandwidth of the density estimate, relative to the value range
-  /// (default 0.02, range [0.001, 0.5]).
+  /// (default 0.015, range [0.001, 0.5]).
   vtkSetClampMacro(ModeBandwidth, double, 0.001, 0.5);
   vtkGetMacro(ModeBandwidth, double);
   ///@}
@@ -232,7 +234,7 @@ public:
 
   ///@{
   /// ClusterModel 1: smallest height of a mode above its saddle, relative to the mode's own
-  /// height (default 0.1, range [0, 1]); 0 = prominence alone.
+  /// height (default 0 = prominence alone, range [0, 1]).
   vtkSetClampMacro(ModeValleyDepth, double, 0.0, 1.0);
   vtkGetMacro(ModeValleyDepth, double);
   ///@}

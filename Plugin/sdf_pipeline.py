@@ -56,7 +56,7 @@ def parse_arguments(argv):
                              "(default: the filter's, modes)")
     parser.add_argument("--clusters", default="5", help="number of GMM clusters k, or 'auto'")
     parser.add_argument("--lambda", dest="smoothness", type=float, default=argparse.SUPPRESS,
-                        help="graph-cut smoothness weight (default: the filter's, 0.03)")
+                        help="graph-cut smoothness weight (default: the filter's, 0.12)")
     parser.add_argument("--samples", type=int, default=10000, help="skeleton surface samples")
     parser.add_argument("--family", action="store_true",
                         help="the meshes are one family: one normalisation range and one model "

@@ -31,13 +31,15 @@ int main(int argc, char* argv[])
   vtkPolyData* parts = partition->GetOutput();
   vtkDataArray* clusters = parts->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME);
   vtkDataArray* count = parts->GetFieldData()->GetArray("SDFClusterCount");
-  // Defaults: at most 5 clusters, one per mode of the SDF's distribution (a hand has two).
+  // Defaults: at most 5 clusters, one per mode of the SDF's distribution; the cut may leave a
+  // cluster without faces, but the hand keeps at least two (fingers and palm).
   if (!clusters || !count || count->GetComponent(0, 0) < 2 || count->GetComponent(0, 0) > 5 ||
-    clusters->GetRange()[1] != count->GetComponent(0, 0) - 1)
+    clusters->GetRange()[0] < 0 || clusters->GetRange()[1] > count->GetComponent(0, 0) - 1 ||
+    clusters->GetRange()[1] <= clusters->GetRange()[0])
   {
     std::cerr << "consumer: no partition into 2 to 5 clusters\n";
     return 1;
   }
-  std::cout << parts->GetNumberOfCells() << " faces in clusters 0.." << clusters->GetRange()[1] << "\n";
+  std::cout << parts->GetNumberOfCells() << " faces in clusters " << clusters->GetRange()[0] << ".." << clusters->GetRange()[1] << "\n";
   return 0;
 }

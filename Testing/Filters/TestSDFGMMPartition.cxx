@@ -470,7 +470,7 @@ std::vector<int> ClustersAtDefaults(const figure::ArticulatedFigure& shape)
   EXPECT_EQ(smooth->GetNumberOfIterations(), 3);
   EXPECT_EQ(partition->GetClusterModel(), vtkSDFGMMPartition::DENSITY_MODES);
   EXPECT_EQ(partition->GetNumberOfClusters(), 5);
-  EXPECT_EQ(partition->GetLambda(), 0.03);
+  EXPECT_EQ(partition->GetLambda(), 0.12);
   partition->Update();
   return IntValues(partition->GetOutput(), "SDFCluster");
 }

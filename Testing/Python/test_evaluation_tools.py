@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""The evaluation CLIs on the pipeline's own output: the hand partitioned through the plugin
+"""The evaluation CLIs on the pipeline's own output: the camel partitioned through the plugin
 (reader, SDF, smoothing, partition), its labels written as .seg files. The defaults' SDFSegment
 compared with itself relabelled is perfect; with its own SDFCluster (segments are the connected
 pieces of the clusters) it has the same boundaries and no consistency error but a Hamming
@@ -14,7 +14,7 @@ from paraview import simple, servermanager
 
 simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], ns=vars(simple))
 build = os.environ["SHAPEDIAMETER_BUILD_DIR"]
-mesh = os.path.join(os.environ["SHAPEDIAMETER_DATA_DIR"], "hand.off")
+mesh = os.path.join(os.environ["SHAPEDIAMETER_DATA_DIR"], "camel.off")
 metrics = os.path.join(build, "bin", "sdf-seg-metrics")
 consistency = os.path.join(build, "bin", "sdf-pose-consistency")
 
@@ -28,9 +28,9 @@ em = simple.SDFGMMPartition(Input=smooth, NormalizedSDFArray=["CELLS", "SDFNorma
                             ClusterModel=0)
 em.UpdatePipeline()
 em_output = servermanager.Fetch(em)
-faces = 2390  # the hand's face count: one label per face, in file order
+faces = 19536  # the camel's face count: one label per face, in file order
 if output.GetNumberOfCells() != faces:
-    sys.exit("the pipeline output has %d cells, the hand %d faces" % (output.GetNumberOfCells(), faces))
+    sys.exit("the pipeline output has %d cells, the camel %d faces" % (output.GetNumberOfCells(), faces))
 
 
 def labels_of(name, data=output):
@@ -46,7 +46,7 @@ clusters = labels_of("SDFCluster")
 em_segments = labels_of("SDFSegment", em_output)
 print("pipeline output: %d segments, %d clusters" % (len(set(segments)), len(set(clusters))))
 if len(set(segments)) < 5 or len(set(clusters)) >= len(set(segments)):
-    sys.exit("implausible partition of the hand: %d segments, %d clusters" % (len(set(segments)), len(set(clusters))))
+    sys.exit("implausible partition of the camel: %d segments, %d clusters" % (len(set(segments)), len(set(clusters))))
 
 with tempfile.TemporaryDirectory() as work:
     def write(name, labels):

@@ -28,15 +28,17 @@
 //      result feeds the same posteriors, graph cut and hierarchy.
 //
 // Parameters (DensityModesOptions; none of them is in the paper)
-//   Bandwidth          0.02   (0, 1]   kernel sigma, relative to the value range; chosen for
-//                                      the same modes in every pose of a family (docs/partition.md).
+//   Bandwidth          0.015  (0, 1]   kernel sigma, relative to the value range: fine enough
+//                                      for the thickness levels people cut on the segmentation
+//                                      benchmark (docs/partition.md).
 //   MinimumProminence  0.01   [0, 1]   relative to the highest peak: drops bumps of a few faces.
-//   MinimumValleyDepth 0.1    [0, 1]   relative to the mode's own height: a mode must be
-//                                      separated from its higher neighbour by a valley at least
-//                                      a tenth of its height deep. A shoulder on the flank of
-//                                      a larger mode (two thickness levels that overlap) is not
-//                                      a cluster: whether it shows a local maximum at all
-//                                      depends on the pose.
+//   MinimumValleyDepth 0      [0, 1]   relative to the mode's own height: > 0 asks a mode to be
+//                                      separated from its higher neighbour by a valley that deep,
+//                                      so that a shoulder on the flank of a larger mode, which
+//                                      comes and goes with the pose, is not a cluster. Off by
+//                                      default: the graph cut's λ (PartitionEnergy.h) removes
+//                                      the small parts such a mode gives, and the valley depth
+//                                      cost the benchmark (docs/partition.md).
 //   MaximumModes       5      [1, 64]  at most this many clusters (the filter's k).
 //   BinCount 2048, GridSize 1201; MinSigmaRelative 1e-3.
 //
@@ -75,9 +77,9 @@ inline constexpr Range<double> ModeValleyDepthRange{ 0.0, 1.0 };
 
 struct DensityModesOptions
 {
-  double Bandwidth = 0.02;          ///< (0, 1]; as a partition option ModeBandwidthRange [0.001, 0.5]
+  double Bandwidth = 0.015;         ///< (0, 1]; as a partition option ModeBandwidthRange [0.001, 0.5]
   double MinimumProminence = 0.01;  ///< [0, inf); as a partition option ModeProminenceRange [0, 1]
-  double MinimumValleyDepth = 0.1;  ///< [0, 1] = ModeValleyDepthRange
+  double MinimumValleyDepth = 0.0;  ///< [0, 1] = ModeValleyDepthRange
   int MaximumModes = 5;
   int BinCount = 2048;
   int GridSize = 1201;

@@ -30,14 +30,15 @@
 //   twice (two faces sharing two edges) counts twice.
 //
 // Parameters (PartitionEnergyOptions)
-//   Lambda              0.03   [0, 1e3]   smoothness weight (paper's lambda; the paper gives no
+//   Lambda              0.12   [0, 1e3]   smoothness weight (paper's lambda; the paper gives no
 //                                         value). A cut of length sqrt(A) across a flat region
-//                                         costs 0.03 * 11.5 = 0.35 times the mean data cost of
-//                                         all faces; along a 90-degree concave crease 0.02.
-//                                         Chosen on the articulated test figure (lowest pose
-//                                         difference by the paper's Table 2 measure; larger
-//                                         values lose thin clusters) and checked on the meshes
-//                                         of docs/partition.md.
+//                                         costs 0.12 * 11.5 = 1.4 times the mean data cost of
+//                                         all faces; along a 90-degree concave crease 0.08.
+//                                         Chosen on the segmentation benchmark (flat from 0.08 to
+//                                         0.15) and the elephant's poses (steady from 0.12 to
+//                                         0.15); a part shorter than about lambda * sqrt(A) /
+//                                         (its data-cost gain per face) whose base has no crease
+//                                         merges into its neighbour (docs/partition.md).
 //   Epsilon             1e-8   [1e-300, 1] epsilon of e1: a zero posterior costs 18.4.
 //   ConvexityFactor     0.08   [0, 1]     phi scale on convex edges (convex creases are not
 //                                         part boundaries; 1 = ignore convexity).
@@ -103,7 +104,7 @@ inline constexpr Range<double> MinAngleRatioRange{ 1e-300, 1.0 };
 
 struct PartitionEnergyOptions
 {
-  double Lambda = 0.03;          ///< LambdaRange [0, 1000]
+  double Lambda = 0.12;          ///< LambdaRange [0, 1000]
   double Epsilon = 1e-8;         ///< EpsilonRange [1e-300, 1]
   double ConvexityFactor = 0.08; ///< ConvexityFactorRange [0, 1]
   double MinAngleRatio = 1e-5;   ///< MinAngleRatioRange [1e-300, 1]

@@ -473,7 +473,11 @@ TEST(AlphaExpansion, DenoisesAGridAndHandlesThreeLabels)
     }
   }
   ASSERT_GT(noisy, 400);
-  const PartitionEnergy energy = BuildPartitionEnergy(posteriors, graph.View());
+  // λ 0.03, not the partition's default: at 0.12 the two 60-face cuts cost more than the
+  // bands' 0.7-against-0.15 posteriors gain, and the whole grid takes one label.
+  PartitionEnergyOptions options;
+  options.Lambda = 0.03;
+  const PartitionEnergy energy = BuildPartitionEnergy(posteriors, graph.View(), options);
   const AlphaExpansionResult result = MinimizeByAlphaExpansion(energy);
   EXPECT_TRUE(result.Converged);
   EXPECT_LT(result.Energy, result.InitialEnergy);
