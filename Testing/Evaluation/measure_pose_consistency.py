@@ -77,6 +77,30 @@ def large_labels(labelings, areas, share=0.01):
     return [int((np.bincount(l, weights=a) / a.sum() >= share).sum()) for l, a in zip(labelings, areas)]
 
 
+def partition_poses(surfaces, make_partition, family):
+    """Per surface, the partition's output and its cell data with `Area`; family: every surface
+    partitioned with one model, fitted on all of them appended (the filter's Model port)."""
+    model = None
+    if family:
+        append = vtkAppendPolyData()
+        for surface in surfaces:
+            append.AddInputData(surface)
+        model = make_partition()
+        model.SetInputConnection(append.GetOutputPort())
+        model.Update()
+    results = []
+    for surface in surfaces:
+        partition = make_partition()
+        partition.SetInputData(surface)
+        if model is not None:
+            partition.SetModelConnection(model.GetOutputPort())
+        sizes = vtkCellSizeFilter()
+        sizes.SetInputConnection(partition.GetOutputPort())
+        sizes.Update()
+        results.append((partition.GetOutput(), sizes.GetOutput().GetCellData()))
+    return results
+
+
 def leaves_and_junctions(skeleton):
     """Nodes of degree 1 and of degree >= 3 in the graph of the skeleton's polylines."""
     edges = {(min(a, b), max(a, b)) for a, b in chain_settings.skeleton_edges(skeleton) if a != b}
@@ -133,25 +157,9 @@ def main():
             smooth.SetNormalizationRange(*shared)
             smooth.Update()
     smoothed = [smooth.GetOutput() for smooth in smoothed]
-    model = None
-    if arguments.family:
-        append = vtkAppendPolyData()
-        for surface in smoothed:
-            append.AddInputData(surface)
-        model = chain_settings.partition(arguments)
-        model.SetInputConnection(append.GetOutputPort())
-        model.Update()
     partitioned = []
-    for surface in smoothed:
-        partition = chain_settings.partition(arguments)
-        partition.SetInputData(surface)
-        if model is not None:
-            partition.SetModelConnection(model.GetOutputPort())
-        sizes = vtkCellSizeFilter()
-        sizes.SetInputConnection(partition.GetOutputPort())
-        sizes.Update()
-        partitioned.append(partition.GetOutput())
-        cells = sizes.GetOutput().GetCellData()
+    for output, cells in partition_poses(smoothed, lambda: chain_settings.partition(arguments), arguments.family):
+        partitioned.append(output)
         for key in columns:
             columns[key].append(vtk_to_numpy(cells.GetArray(key)).copy())
     if len({len(c) for c in columns["SDF"]}) != 1:
