@@ -96,11 +96,15 @@ def sweep_psb(arguments):
         os.makedirs(os.path.join(OUTPUT, name), exist_ok=True)
     largest_first = sorted(ids, key=lambda i: -os.path.getsize(files[i]))
     failed = []
-    with multiprocessing.get_context("fork").Pool(arguments.jobs, maxtasksperchild=50) as pool:
-        for mesh_id, error in pool.imap_unordered(psb_mesh, [(i, files[i]) for i in largest_first]):
-            if error:
-                failed.append(mesh_id)
-                print("mesh %d failed: %s" % (mesh_id, error), file=sys.stderr)
+    # close + join, not the context manager: its terminate() kills the workers with SIGTERM,
+    # which ParaView's signal handler reports with a stack trace.
+    pool = multiprocessing.get_context("fork").Pool(arguments.jobs, maxtasksperchild=50)
+    for mesh_id, error in pool.imap_unordered(psb_mesh, [(i, files[i]) for i in largest_first]):
+        if error:
+            failed.append(mesh_id)
+            print("mesh %d failed: %s" % (mesh_id, error), file=sys.stderr)
+    pool.close()
+    pool.join()
     build = os.environ.get("SHAPEDIAMETER_BUILD_DIR", os.path.join(os.path.dirname(__file__), "..", "..", "build"))
     scorer = os.path.join(build, "bin", "sdf-psb-benchmark")
     print("| setting | PSB 1 - RI | articulated | within 1.5x | per category |")
