@@ -77,6 +77,22 @@ def large_labels(labelings, areas, share=0.01):
     return [int((np.bincount(l, weights=a) / a.sum() >= share).sum()) for l, a in zip(labelings, areas)]
 
 
+def pose_files(folder):
+    """The mesh files of a pose folder (READERS' formats, optionally gzipped), 2 before 10."""
+    suffixes = tuple(READERS) + tuple(s + ".gz" for s in READERS)
+    return sorted((n for n in os.listdir(folder) if n.lower().endswith(suffixes)), key=lambda n: (len(n), n))
+
+
+def share_normalization_range(smooths):
+    """One normalisation for a family: every vtkSDFBilateralSmooth of `smooths` re-run with the
+    widest range of SDFSmoothed over them."""
+    ranges = [vtk_to_numpy(s.GetOutput().GetFieldData().GetArray("SDFNormalizationRange")) for s in smooths]
+    shared = (min(r[0] for r in ranges), max(r[1] for r in ranges))
+    for smooth in smooths:
+        smooth.SetNormalizationRange(*shared)
+        smooth.Update()
+
+
 def partition_poses(surfaces, make_partition, family):
     """Per surface, the partition's output and its cell data with `Area`; family: every surface
     partitioned with one model, fitted on all of them appended (the filter's Model port)."""
@@ -132,9 +148,7 @@ def main():
     if not os.path.isdir(arguments.folder):
         print("SKIP: %s does not exist (the shared development data is not on this machine)" % arguments.folder)
         return
-    suffixes = tuple(READERS) + tuple(s + ".gz" for s in READERS)
-    names = sorted((n for n in os.listdir(arguments.folder) if n.lower().endswith(suffixes)),
-                   key=lambda n: (len(n), n))
+    names = pose_files(arguments.folder)
     if len(names) < 2:
         sys.exit("%s: fewer than two poses" % arguments.folder)
     columns = {"SDF": [], "SDFSmoothed": [], "SDFNormalized": [], "SDFCluster": [], "SDFSegment": [], "Area": []}
@@ -150,12 +164,7 @@ def main():
             smoothed.append(smooth)
             print("%s: %d faces" % (name, smooth.GetOutput().GetNumberOfCells()), flush=True)
     if arguments.family:
-        # One normalisation for the family: the widest range of SDFSmoothed over the poses.
-        ranges = [vtk_to_numpy(s.GetOutput().GetFieldData().GetArray("SDFNormalizationRange")) for s in smoothed]
-        shared = (min(r[0] for r in ranges), max(r[1] for r in ranges))
-        for smooth in smoothed:
-            smooth.SetNormalizationRange(*shared)
-            smooth.Update()
+        share_normalization_range(smoothed)
     smoothed = [smooth.GetOutput() for smooth in smoothed]
     partitioned = []
     for output, cells in partition_poses(smoothed, lambda: chain_settings.partition(arguments), arguments.family):

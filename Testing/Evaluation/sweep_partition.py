@@ -40,25 +40,23 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 import chain_settings
 import run_psb_chain
-from measure_pose_consistency import large_labels, partition_poses, table2
+from measure_pose_consistency import large_labels, partition_poses, pose_files, share_normalization_range, table2
 
 SETTINGS = {}
 OUTPUT = None
 
 
 def partition(properties, threads=0):
-    """A vtkSDFGMMPartition with the setting's properties over its defaults."""
+    """A vtkSDFGMMPartition with the setting's properties over its defaults; as --set, a value
+    the filter clamped is an error (chain_settings.apply_settings)."""
     algorithm = shapediameter.vtkSDFGMMPartition()
     algorithm.SetNumberOfThreads(threads)
+    settings = []
     for name, value in properties.items():
-        setter = getattr(algorithm, "Set" + name, None)
-        if setter is None:
+        if not hasattr(algorithm, "Set" + name):
             raise SystemExit("vtkSDFGMMPartition has no property %s" % name)
-        if isinstance(value, list):
-            setter(*value)
-        else:
-            setter(value)
-    return algorithm
+        settings.append(("vtkSDFGMMPartition", name, value if isinstance(value, list) else [value]))
+    return chain_settings.apply_settings(algorithm, argparse.Namespace(settings=settings))
 
 
 def smoothed(path, scratch, threads):
@@ -126,25 +124,19 @@ def sweep_psb(arguments):
 
 
 def sweep_poses(arguments):
-    def is_mesh(name):
-        name = name.lower()[:-3] if name.lower().endswith(".gz") else name.lower()
-        return os.path.splitext(name)[1] in chain_settings.READERS
-
-    names = sorted((n for n in os.listdir(arguments.poses) if is_mesh(n)), key=lambda n: (len(n), n))
-    alone, family = [], []
+    names = pose_files(arguments.poses)
     with tempfile.TemporaryDirectory() as scratch:
         smooths = [smoothed(os.path.join(arguments.poses, n), scratch, 0) for n in names]
-    for smooth in smooths:
-        copy = vtkPolyData()
-        copy.DeepCopy(smooth.GetOutput())
-        alone.append(copy)
-    ranges = [vtk_to_numpy(s.GetOutput().GetFieldData().GetArray("SDFNormalizationRange")) for s in smooths]
-    for smooth in smooths:
-        smooth.SetNormalizationRange(min(r[0] for r in ranges), max(r[1] for r in ranges))
-        smooth.Update()
-        copy = vtkPolyData()
-        copy.DeepCopy(smooth.GetOutput())
-        family.append(copy)
+
+    def outputs():
+        copies = [vtkPolyData() for _ in smooths]
+        for copy, smooth in zip(copies, smooths):
+            copy.DeepCopy(smooth.GetOutput())
+        return copies
+
+    alone = outputs()
+    share_normalization_range(smooths)
+    family = outputs()
     print("| setting | alone: SDFCluster / SDFSegment | family | clusters >= 1 % per pose (alone) |")
     print("|---|---:|---:|---|")
     for name, properties in SETTINGS.items():
