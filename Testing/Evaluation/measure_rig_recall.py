@@ -2,12 +2,13 @@
 """Skeleton against an artist's rig: how much of every rig bone has a skeleton branch nearby.
 
     pvpython Testing/Evaluation/measure_rig_recall.py MESH RIG.tgf [--samples-per-bone 21]
-             [--tolerance 0.05] [--hit-rule 0|1] [--expect-recall PERCENT]
-             [--expect-leaves N]
+             [--tolerance 0.05] [--peer-mcf PROGRAM] [--expect-recall PERCENT]
+             [--expect-leaves N] [--hit-rule 0|1] [--set Class.Property=value ...]
 
-MESH (.obj, .obj.gz, .off, .ply, .stl, .vtp) runs through ShapeDiameter -> SDFBilateralSmooth
--> SDFSkeleton at the defaults. RIG.tgf (Trivial Graph Format: "index x y z" joint lines, a
-'#' line, then "a b" bone lines, a second '#' optional) is in the mesh's coordinates. Printed:
+MESH (.obj, .obj.gz, .off, .ply, .stl, .vtp) runs through the product chain at the defaults
+(ShapeDiameter -> SDFBilateralSmooth -> SDFGMMPartition -> SDFSkeleton; --set changes a
+filter's property). RIG.tgf (Trivial Graph Format: "index x y z" joint lines, a '#' line, then
+"a b" bone lines, a second '#' optional) is in the mesh's coordinates. Printed:
 
 - recall: along every rig bone, samples evenly spaced (both ends included); a sample is
   recalled when its distance to the nearest skeleton edge (or node, for a single-node
@@ -17,8 +18,11 @@ MESH (.obj, .obj.gz, .off, .ply, .stl, .vtp) runs through ShapeDiameter -> SDFBi
 - per bone: its recall and the largest distance (as a share of the diagonal).
 
 A rig is not a medial axis (joints sit where an animator wants them), but every limb of the
-rig should have a branch near it. --expect-recall / --expect-leaves make it a test (exit
-status 1 below either). A MESH or RIG that does not exist prints 'SKIP: ...' and exits 0.
+rig should have a branch near it. --peer-mcf PROGRAM adds the same figures for CGAL's
+mean-curvature-flow skeleton of the mesh (the optional peer program of Testing/Peers/cgal-mcf,
+built separately; never part of the product). --expect-recall / --expect-leaves make it a
+test of ours (exit status 1 below either). A MESH or RIG that does not exist prints
+'SKIP: ...' and exits 0.
 
 Needs PYTHONPATH to contain build/lib/python3.11/site-packages (the README's pvpython setup).
 """
@@ -29,18 +33,9 @@ import tempfile
 
 import numpy as np
 
-import shapediameter
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkFiltersCore import vtkTriangleFilter
 
 import chain_settings
-
-
-def read_triangles(path, scratch):
-    triangles = vtkTriangleFilter()
-    triangles.SetInputData(chain_settings.read_mesh(path, scratch))
-    triangles.Update()
-    return triangles.GetOutput()
+import skeleton_measures
 
 
 def read_tgf(path):
@@ -83,18 +78,16 @@ def distances_to_segments(points, starts, ends):
     return best
 
 
-def skeleton_segments(skeleton):
-    """Start and end points of every skeleton edge (a single node: a zero-length segment)."""
-    points = vtk_to_numpy(skeleton.GetPoints().GetData()).astype(float) if skeleton.GetNumberOfPoints() else np.zeros((0, 3))
-    edges = np.array(chain_settings.skeleton_edges(skeleton), dtype=int).reshape(-1, 2)
+def skeleton_segments(points, edges):
+    """Start and end points of every skeleton edge (no edges: every node as a zero-length segment)."""
     if len(edges) == 0:
         return points.copy(), points.copy()
     return points[edges[:, 0]], points[edges[:, 1]]
 
 
-def rig_recall(skeleton, joints, bones, diagonal, samples_per_bone=21, tolerance=0.05):
-    """(recall, leaves reached, leaf count, per-bone rows) of a skeleton polydata against a rig."""
-    starts, ends = skeleton_segments(skeleton)
+def rig_recall(points, edges, joints, bones, diagonal, samples_per_bone=21, tolerance=0.05):
+    """(recall, leaves reached, leaf count, per-bone rows) of a skeleton graph against a rig."""
+    starts, ends = skeleton_segments(points, edges)
     if len(starts) == 0:
         return 0.0, 0, 0, []
     limit = tolerance * diagonal
@@ -117,40 +110,47 @@ def rig_recall(skeleton, joints, bones, diagonal, samples_per_bone=21, tolerance
     return recalled / total, reached, len(leaves), rows
 
 
+def report(name, points, edges, joints, bones, diagonal, arguments):
+    """Prints the per-bone rows and the summary line of one skeleton; returns (recall, reached)."""
+    recall, reached, leaves, rows = rig_recall(points, edges, joints, bones, diagonal,
+                                               arguments.samples_per_bone, arguments.tolerance)
+    print("%s: skeleton %d nodes, %d bones" % (name, len(points), len(skeleton_measures.bone_paths(len(points), edges))))
+    for a, b, share, worst in rows:
+        print("  rig bone %d-%d: recall %5.1f %%, farthest sample %.3f of the diagonal" % (a, b, 100 * share, worst))
+    print("%s recall@%g %%: %.1f %%, leaves reached: %d of %d" % (name, 100 * arguments.tolerance, 100 * recall, reached, leaves))
+    return recall, reached
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("mesh")
     parser.add_argument("rig")
     parser.add_argument("--samples-per-bone", type=int, default=21)
     parser.add_argument("--tolerance", type=float, default=0.05, help="share of the bounding-box diagonal")
-    parser.add_argument("--hit-rule", type=int, default=None, help="vtkShapeDiameterFilter HitRule (default: the filter's)")
+    parser.add_argument("--peer-mcf", metavar="PROGRAM", help="Testing/Peers/cgal-mcf's sdf-peer-mcf")
     parser.add_argument("--expect-recall", type=float, default=None, metavar="PERCENT")
     parser.add_argument("--expect-leaves", type=int, default=None, metavar="N")
+    chain_settings.add_arguments(parser)
     arguments = parser.parse_args()
+    skeleton_measures.check_peer_program(parser, arguments.peer_mcf)
     for path in (arguments.mesh, arguments.rig):
         if not os.path.exists(path):
             print("SKIP: %s does not exist (the shared development data is not on this machine)" % path)
             return
     joints, bones = read_tgf(arguments.rig)
     with tempfile.TemporaryDirectory() as scratch:
-        surface = read_triangles(arguments.mesh, scratch)
-    sdf = chain_settings.shape_diameter(arguments)
-    sdf.SetInputData(surface)
-    smooth = shapediameter.vtkSDFBilateralSmooth()
-    smooth.SetInputConnection(sdf.GetOutputPort())
-    skeleton = shapediameter.vtkSDFSkeleton()
-    skeleton.SetInputConnection(smooth.GetOutputPort())
-    skeleton.Update()
-    bounds = np.array(surface.GetBounds()).reshape(3, 2)
-    diagonal = float(np.linalg.norm(bounds[:, 1] - bounds[:, 0]))
-    recall, reached, leaves, rows = rig_recall(skeleton.GetSkeleton(), joints, bones, diagonal,
-                                               arguments.samples_per_bone, arguments.tolerance)
-    print("%s: %d faces, skeleton %d nodes, %d bones" % (os.path.basename(arguments.mesh), surface.GetNumberOfCells(),
-          skeleton.GetSkeleton().GetNumberOfPoints(),
-          len(set(vtk_to_numpy(skeleton.GetSkeleton().GetCellData().GetArray("BoneId")).tolist()))))
-    for a, b, share, worst in rows:
-        print("  rig bone %d-%d: recall %5.1f %%, farthest sample %.3f of the diagonal" % (a, b, 100 * share, worst))
-    print("recall@%g %%: %.1f %%, leaves reached: %d of %d" % (100 * arguments.tolerance, 100 * recall, reached, leaves))
+        surface = skeleton_measures.read_triangles(arguments.mesh, scratch)
+        bounds = np.array(surface.GetBounds()).reshape(3, 2)
+        diagonal = float(np.linalg.norm(bounds[:, 1] - bounds[:, 0]))
+        print("%s: %d faces" % (os.path.basename(arguments.mesh), surface.GetNumberOfCells()))
+        points, edges = skeleton_measures.graph_of(skeleton_measures.product_skeleton(surface, arguments).GetSkeleton())
+        recall, reached = report("ours", points, edges, joints, bones, diagonal, arguments)
+        if arguments.peer_mcf:
+            try:
+                peer_points, peer_edges, seconds = skeleton_measures.run_peer_mcf(arguments.peer_mcf, surface, scratch)
+                report("CGAL MCF (%.1f s)" % seconds, peer_points, peer_edges, joints, bones, diagonal, arguments)
+            except (RuntimeError, ValueError) as error:
+                print("CGAL MCF: failed: %s" % error)
     failed = []
     if arguments.expect_recall is not None and not 100 * recall >= arguments.expect_recall:
         failed.append("recall %.1f %% below %.1f %%" % (100 * recall, arguments.expect_recall))
