@@ -134,6 +134,7 @@ vtkSDFSkeleton::vtkSDFSkeleton()
   this->UncoveredFactor = defaults.Coverage.UncoveredFactor;
   this->OwnBoneShare = defaults.OwnBoneShare;
   this->PartUncoveredFactor = defaults.Coverage.PartUncoveredFactor;
+  this->BoneSmoothing = defaults.Smoothing.Bandwidth;
   this->SetNumberOfOutputPorts(3);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
     vtkSDFBilateralSmooth::SMOOTHED_ARRAY_NAME);
@@ -194,6 +195,7 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   options.Coverage.UncoveredFactor = this->UncoveredFactor;
   options.OwnBoneShare = this->OwnBoneShare;
   options.Coverage.PartUncoveredFactor = this->PartUncoveredFactor;
+  options.Smoothing.Bandwidth = this->BoneSmoothing;
   const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
     PointMatrix(0, 3), {}, options, request.Parallel, adapter::MakeProgress(this, 0.0, 0.95),
     this->LinkBySegment ? TriangleSegments(this, input, surface) : std::vector<std::int64_t>());
@@ -276,5 +278,6 @@ void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LinkBySegment: " << this->LinkBySegment << "\n";
   os << indent << "OwnBoneShare: " << this->OwnBoneShare << "\n";
   os << indent << "PartUncoveredFactor: " << this->PartUncoveredFactor << "\n";
+  os << indent << "BoneSmoothing: " << this->BoneSmoothing << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
 }

@@ -91,6 +91,7 @@ TEST(ParameterRanges, SkeletonClampsToTheCoreRanges)
   EXPECT_CLAMP_EQ(filter, UncoveredFactor, shapediameter::UncoveredFactorRange);
   EXPECT_CLAMP_EQ(filter, OwnBoneShare, shapediameter::OwnBoneShareRange);
   EXPECT_CLAMP_EQ(filter, PartUncoveredFactor, shapediameter::PartUncoveredFactorRange);
+  EXPECT_CLAMP_EQ(filter, BoneSmoothing, shapediameter::BoneSmoothingRange);
 }
 
 /// The ends of every clamp are accepted by the core: a filter at its clamp limits runs.
@@ -146,6 +147,7 @@ TEST(ParameterRanges, TheClampEndsAreValidCoreOptions)
     skeleton.Coverage.UncoveredFactor = end(shapediameter::UncoveredFactorRange);
     skeleton.OwnBoneShare = end(shapediameter::OwnBoneShareRange);
     skeleton.Coverage.PartUncoveredFactor = end(shapediameter::PartUncoveredFactorRange);
+    skeleton.Smoothing.Bandwidth = end(shapediameter::BoneSmoothingRange);
     EXPECT_NO_THROW(shapediameter::ValidateSkeletonOptions(skeleton)) << high;
   }
 }

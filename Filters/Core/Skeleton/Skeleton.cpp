@@ -27,6 +27,7 @@ void ValidateSkeletonOptions(const SkeletonOptions& options)
   ValidateConnectionOptions(options.Connection);
   ValidateLeafExtensionOptions(options.LeafExtension);
   ValidateCoverageOptions(options.Coverage);
+  ValidateSmoothingOptions(options.Smoothing);
   CheckRange(options.OwnBoneShare, OwnBoneShareRange, "skeleton: OwnBoneShare");
 }
 
@@ -479,6 +480,84 @@ void LinkSurfaceToSkeleton(SkeletonGraph& graph, const CloudView& cloud,
   MoveFacesToPartBones(graph, surface, partBones.FaceBone, parallelFor, result);
 }
 
+/// After the bones moved (SmoothBones): every face to the nearest node of the bone it is linked
+/// to (its bone does not change), through one point tree per bone.
+void LinkFacesToNodesOfTheirBones(const SkeletonGraph& graph, const SurfaceFaces& surface,
+  const ParallelFor& parallelFor, SkeletonResult& result)
+{
+  std::vector<std::vector<std::int64_t>> boneNodes(graph.BoneLength.size());
+  for (std::size_t n = 0; n < graph.NodeBone.size(); ++n)
+  {
+    boneNodes[static_cast<std::size_t>(graph.NodeBone[n])].push_back(static_cast<std::int64_t>(n));
+  }
+  std::vector<SkeletonPointTree> trees;
+  trees.reserve(boneNodes.size());
+  for (const std::vector<std::int64_t>& nodes : boneNodes)
+  {
+    PointMatrix positions(static_cast<Eigen::Index>(nodes.size()), 3);
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+    {
+      positions.row(static_cast<Eigen::Index>(i)) = graph.NodePositions.row(nodes[i]);
+    }
+    trees.emplace_back(positions);
+  }
+  parallelFor(surface.Size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f)
+    {
+      const auto bone = static_cast<std::size_t>(result.FaceBoneId[f]);
+      const Eigen::Vector3d centre = surface.ProjectedCentres.row(static_cast<Eigen::Index>(f)).transpose();
+      const std::int64_t nearest = trees[bone].NearestAccepted(centre, {});
+      if (nearest >= 0)
+      {
+        result.FaceNodeId[f] = boneNodes[bone][static_cast<std::size_t>(nearest)];
+      }
+    }
+  });
+}
+
+/// After the bones moved (SmoothBones): the bones numbered again by their smoothed lengths
+/// (AssignBranchBones on the same topology gives the same branches, so only their order and
+/// lengths can change) and every face's SkeletonBoneId renamed with them.
+void RenumberBonesBySmoothedLength(SkeletonGraph& graph, SkeletonResult& result)
+{
+  std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t> oldBoneOfEdge;
+  for (std::size_t p = 0; p < graph.Polylines.size(); ++p)
+  {
+    const std::vector<std::int64_t>& polyline = graph.Polylines[p];
+    if (polyline.size() >= 2)
+    {
+      oldBoneOfEdge[std::minmax(polyline[0], polyline[1])] = graph.PolylineBone[p];
+    }
+  }
+  std::vector<std::int64_t> oldBoneOfNode = graph.NodeBone;
+  AssignBranchBones(graph);
+  std::vector<std::int64_t> newBone(graph.BoneLength.size(), -1);
+  for (std::size_t p = 0; p < graph.Polylines.size(); ++p)
+  {
+    const std::vector<std::int64_t>& polyline = graph.Polylines[p];
+    for (std::size_t i = 0; i + 1 < polyline.size(); ++i)
+    {
+      const auto old = oldBoneOfEdge.find(std::minmax(polyline[i], polyline[i + 1]));
+      if (old != oldBoneOfEdge.end())
+      {
+        newBone[static_cast<std::size_t>(old->second)] = graph.PolylineBone[p];
+      }
+    }
+    if (polyline.size() == 1)
+    {
+      newBone[static_cast<std::size_t>(oldBoneOfNode[static_cast<std::size_t>(polyline[0])])] =
+        graph.PolylineBone[p];
+    }
+  }
+  for (std::int64_t& bone : result.FaceBoneId)
+  {
+    if (bone >= 0)
+    {
+      bone = newBone[static_cast<std::size_t>(bone)];
+    }
+  }
+}
+
 /// The skeleton and the cloud into the result (the surface link is already there).
 void MoveIntoResult(SkeletonGraph& graph, const ProjectedCloud& cloud, const ThinnedCloud& thinned,
   SkeletonResult& result)
@@ -564,6 +643,11 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   const SurfaceFaces surface{ faceComponent, faceParts, projected.Centres, projected.Area };
   AddFallbackNodes(graph, surface, faceSdf);
   LinkSurfaceToSkeleton(graph, cloudView, surface, options, parallelFor, result);
+  if (SmoothBones(graph, &volume, options.Smoothing).MovedNodes > 0)
+  {
+    RenumberBonesBySmoothedLength(graph, result);
+    LinkFacesToNodesOfTheirBones(graph, surface, parallelFor, result);
+  }
 
   MoveIntoResult(graph, cloud, thinned, result);
   if (progress && !progress(1.0))

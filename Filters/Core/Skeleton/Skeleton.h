@@ -115,6 +115,7 @@
 #include "Skeleton/SkeletonLeafExtension.h"
 #include "Skeleton/SkeletonSampling.h"
 #include "Skeleton/SkeletonSegments.h"
+#include "Skeleton/SkeletonSmoothing.h"
 #include "Skeleton/SkeletonThinning.h"
 
 #include <cstdint>
@@ -131,6 +132,8 @@ struct SkeletonOptions
   SkeletonConnectionOptions Connection;
   SkeletonLeafExtensionOptions LeafExtension;
   SkeletonCoverageOptions Coverage;
+  /// Step 7, the bones made smooth curves (SkeletonSmoothing.h).
+  SkeletonSmoothingOptions Smoothing;
   /// With part labels: a part takes a bone no other part has taken when that bone holds at
   /// least this share of its area under the nearest-node link (larger overlaps first); else
   /// it shares the bone holding most of it. Default 0.15, range [0, 1]; any value above 0.5
