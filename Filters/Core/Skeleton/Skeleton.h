@@ -31,6 +31,11 @@
 //                                Why: a part whose bones all belong to its neighbours (an
 //                                elephant's lowered head whose nearest branches are the
 //                                ears') otherwise shares a neighbour's bone in some poses only.
+//     7. SmoothBones           - (ours) after the link: every bone's nodes onto a local
+//                                quadratic fit along the bone, held inside the volume
+//                                (SkeletonSmoothing.h); the bones are numbered again by their
+//                                smoothed lengths and every face is linked again to the
+//                                nearest node of its own bone.
 //   Steps 3, 4 and 5 move only through the volume: an Embree BVH of the mesh (EmbreeRayCaster)
 //   rejects growth steps and neighbour-graph edges whose straight segment meets the surface
 //   (the face link below does not use it: it made no measurable difference and costs two rays
