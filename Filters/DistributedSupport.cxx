@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "DistributedSupport.h"
 
+#include "Errors.h"
 #include "WholeSurface.h"
 
 #include "vtkAlgorithm.h"
+#include "vtkCommunicator.h"
 #include "vtkDataObject.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -33,6 +35,8 @@ namespace
 constexpr int RESULT_TAG = 592008;
 constexpr int STATUS_TAG = 592007;
 constexpr int GATHER_TAG = 592006;
+constexpr int REPLICA_TAG = 592010; // and the next one
+constexpr int BARRIER_TAG = 592012;
 
 vtkMultiProcessController* Controller()
 {
@@ -48,19 +52,18 @@ int RequestedPieces(vtkInformation* info)
 }
 
 /**
- * The status process 0 sends when its serial run is done. MPI's blocking receive spins on a
- * core; processes sharing a node with process 0 would take those cores from its threads for
- * the whole run. So, with MPI, wait by polling a non-blocking receive with short sleeps
- * (at most 2 ms of added latency).
+ * One int from `source`. MPI's blocking receive spins on a core; processes sharing a node with
+ * the busy ones would take those cores from their threads. So, with MPI, wait by polling a
+ * non-blocking receive with short sleeps (at most 2 ms of added latency).
  */
-int WaitForStatus(vtkMultiProcessController* controller)
+int SleepingReceive(vtkMultiProcessController* controller, int source, int tag)
 {
-  int status = 0;
+  int value = 0;
 #ifdef SHAPEDIAMETER_HAVE_MPI
   if (auto* mpi = vtkMPICommunicator::SafeDownCast(controller->GetCommunicator()))
   {
     vtkMPICommunicator::Request request;
-    if (mpi->NoBlockReceive(&status, 1, 0, STATUS_TAG, request))
+    if (mpi->NoBlockReceive(&value, 1, source, tag, request))
     {
       auto pause = std::chrono::microseconds(50);
       while (!request.Test())
@@ -68,12 +71,41 @@ int WaitForStatus(vtkMultiProcessController* controller)
         std::this_thread::sleep_for(pause);
         pause = std::min(pause * 2, std::chrono::microseconds(2000));
       }
-      return status;
+      return value;
     }
   }
 #endif
-  controller->Receive(&status, 1, 0, STATUS_TAG);
-  return status;
+  controller->Receive(&value, 1, source, tag);
+  return value;
+}
+
+/// The status process 0 sends when its serial run is done.
+int WaitForStatus(vtkMultiProcessController* controller)
+{
+  return SleepingReceive(controller, 0, STATUS_TAG);
+}
+
+/// A barrier whose waiting processes sleep (SleepingReceive), before a collective that would
+/// otherwise spin while the slowest process is still computing.
+void SleepingBarrier(vtkMultiProcessController* controller)
+{
+  int token = 1;
+  if (controller->GetLocalProcessId() == 0)
+  {
+    for (int r = 1; r < controller->GetNumberOfProcesses(); ++r)
+    {
+      SleepingReceive(controller, r, BARRIER_TAG);
+    }
+    for (int r = 1; r < controller->GetNumberOfProcesses(); ++r)
+    {
+      controller->Send(&token, 1, r, BARRIER_TAG);
+    }
+  }
+  else
+  {
+    controller->Send(&token, 1, 0, BARRIER_TAG);
+    SleepingReceive(controller, 0, BARRIER_TAG);
+  }
 }
 
 double Seconds(std::chrono::steady_clock::time_point start)
@@ -120,9 +152,35 @@ struct WholeRun
   double SerialSeconds = 0.0;
 };
 
-/// Assembles the whole surface from the pieces and runs the serial algorithm on it through
-/// substitute information vectors. A failure is reported and leaves Ran false, so that the
-/// other processes are never left waiting (they get their input back unchanged).
+/// Runs `run` (a filter's RequestData) on `mesh` through substitute information vectors: the
+/// other input ports as they are, one fresh output object per port in `outputs`.
+template <typename Run>
+int RunOnMesh(vtkAlgorithm* algorithm, vtkInformationVector** inputVector, vtkInformationVector* outputVector,
+  vtkPolyData* mesh, std::vector<vtkSmartPointer<vtkDataObject>>& outputs, const Run& run)
+{
+  const int inputPorts = algorithm->GetNumberOfInputPorts();
+  std::vector<vtkInformationVector*> inputs(inputVector, inputVector + inputPorts);
+  vtkNew<vtkInformationVector> wholeInputVector;
+  vtkNew<vtkInformation> wholeInputInfo;
+  wholeInputInfo->Set(vtkDataObject::DATA_OBJECT(), mesh);
+  wholeInputVector->Append(wholeInputInfo);
+  inputs[0] = wholeInputVector;
+  vtkNew<vtkInformationVector> wholeOutputVector;
+  outputs.clear();
+  for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
+  {
+    vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
+    outputs.push_back(vtkSmartPointer<vtkDataObject>::Take(real->NewInstance()));
+    vtkNew<vtkInformation> info;
+    info->Set(vtkDataObject::DATA_OBJECT(), outputs.back());
+    wholeOutputVector->Append(info);
+  }
+  return run(inputs.data(), wholeOutputVector.GetPointer());
+}
+
+/// Assembles the whole surface from the pieces and runs the serial algorithm on it. A failure
+/// is reported and leaves Ran false, so that the other processes are never left waiting (they
+/// get their input back unchanged).
 WholeRun RunSerialOnWhole(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, const std::vector<vtkPolyData*>& pieces, const SerialBody& serial)
 {
@@ -134,23 +192,7 @@ WholeRun RunSerialOnWhole(vtkAlgorithm* algorithm, vtkInformationVector** inputV
     run.BuildSeconds = Seconds(start);
 
     start = std::chrono::steady_clock::now();
-    const int inputPorts = algorithm->GetNumberOfInputPorts();
-    std::vector<vtkInformationVector*> inputs(inputVector, inputVector + inputPorts);
-    vtkNew<vtkInformationVector> wholeInputVector;
-    vtkNew<vtkInformation> wholeInputInfo;
-    wholeInputInfo->Set(vtkDataObject::DATA_OBJECT(), run.Whole.Mesh);
-    wholeInputVector->Append(wholeInputInfo);
-    inputs[0] = wholeInputVector;
-    vtkNew<vtkInformationVector> wholeOutputVector;
-    for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
-    {
-      vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
-      run.Outputs.push_back(vtkSmartPointer<vtkDataObject>::Take(real->NewInstance()));
-      vtkNew<vtkInformation> info;
-      info->Set(vtkDataObject::DATA_OBJECT(), run.Outputs.back());
-      wholeOutputVector->Append(info);
-    }
-    run.Status = serial(inputs.data(), wholeOutputVector);
+    run.Status = RunOnMesh(algorithm, inputVector, outputVector, run.Whole.Mesh, run.Outputs, serial);
     run.SerialSeconds = Seconds(start);
     run.Ran = true;
   }
@@ -293,6 +335,253 @@ int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVecto
               << Seconds(start) << " s" << std::endl;
   }
   return run.Status;
+}
+
+namespace
+{
+/// Process 0 to process r: a list of ids, its length first.
+void SendIds(vtkMultiProcessController* controller, const std::vector<vtkIdType>& ids, int r, int tag)
+{
+  vtkIdType count = static_cast<vtkIdType>(ids.size());
+  controller->Send(&count, 1, r, tag);
+  if (count > 0)
+  {
+    controller->Send(ids.data(), count, r, tag + 1);
+  }
+}
+
+std::vector<vtkIdType> ReceiveIds(vtkMultiProcessController* controller, int tag)
+{
+  vtkIdType count = 0;
+  controller->Receive(&count, 1, 0, tag);
+  std::vector<vtkIdType> ids(static_cast<std::size_t>(std::max<vtkIdType>(count, 0)));
+  if (count > 0)
+  {
+    controller->Receive(ids.data(), count, 0, tag + 1);
+  }
+  return ids;
+}
+
+/// What a process brings to ReplicatedShare::Combine.
+enum class Arrival : long long
+{
+  Done = 0,
+  Aborted = 1,
+  Stopped = 2
+};
+
+/// The collective behind ReplicatedShare::Combine (see there); `arrival` Stopped = this
+/// process joins only so that the others do not wait (its values are not used).
+void CombineAcrossProcesses(vtkMultiProcessController* controller, Arrival arrival, std::vector<double>& values,
+  std::vector<int>& counts, bool& aborted)
+{
+  const auto n = static_cast<long long>(values.size());
+  const long long mine[4] = { static_cast<long long>(arrival), n, -n,
+    static_cast<long long>(counts.size()) == n ? 0 : 1 };
+  long long all[4] = { 0, 0, 0, 0 };
+  SleepingBarrier(controller); // the processes finish their shares at different times
+  controller->AllReduce(mine, all, 4, vtkCommunicator::MAX_OP);
+  if (all[0] == static_cast<long long>(Arrival::Stopped))
+  {
+    if (arrival != Arrival::Stopped)
+    {
+      throw Error("another process of the distributed run stopped before its share was done (its own "
+                  "error says why)");
+    }
+    return;
+  }
+  if (all[0] == static_cast<long long>(Arrival::Aborted))
+  {
+    aborted = true;
+    return;
+  }
+  if (all[1] != -all[2] || all[3] != 0)
+  {
+    throw Error("the processes of the distributed run disagree on the size of the whole surface");
+  }
+  if (n == 0)
+  {
+    return;
+  }
+  std::vector<double> valueSums(values.size());
+  controller->AllReduce(values.data(), valueSums.data(), n, vtkCommunicator::SUM_OP);
+  values.swap(valueSums);
+  std::vector<int> countSums(counts.size());
+  controller->AllReduce(counts.data(), countSums.data(), n, vtkCommunicator::SUM_OP);
+  counts.swap(countSums);
+}
+} // namespace
+
+int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const ReplicatedBody& body)
+{
+  vtkMultiProcessController* controller = Controller();
+  const int rank = controller->GetLocalProcessId();
+  const int processes = controller->GetNumberOfProcesses();
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkNew<vtkPolyData> local;
+  if (input)
+  {
+    local->ShallowCopy(input);
+  }
+  const auto start = std::chrono::steady_clock::now();
+
+  // 1. The whole surface and the owners on process 0; the others sleep until it is ready.
+  WholeSurface whole;
+  std::vector<int> owner;
+  int ready = 1;
+  if (rank == 0)
+  {
+    const std::vector<vtkSmartPointer<vtkPolyData>> gathered = GatherPieces(controller, local);
+    std::vector<vtkPolyData*> pieces;
+    for (const auto& piece : gathered)
+    {
+      pieces.push_back(piece.GetPointer());
+    }
+    try
+    {
+      whole = AssembleWholeSurface(pieces);
+      owner.assign(static_cast<std::size_t>(whole.Mesh->GetNumberOfCells()), -1);
+      for (int r = 0; r < processes; ++r)
+      {
+        for (const vtkIdType cell : whole.CellToWhole[static_cast<std::size_t>(r)])
+        {
+          if (cell >= 0 && owner[static_cast<std::size_t>(cell)] < 0)
+          {
+            owner[static_cast<std::size_t>(cell)] = r;
+          }
+        }
+      }
+    }
+    catch (const std::exception& error)
+    {
+      vtkErrorWithObjectMacro(algorithm, "Distributed run failed on process 0: " << error.what());
+      ready = 0;
+    }
+    for (int r = 1; r < processes; ++r)
+    {
+      controller->Send(&ready, 1, r, STATUS_TAG);
+    }
+  }
+  else
+  {
+    GatherPieces(controller, local);
+    ready = WaitForStatus(controller);
+  }
+  if (!ready)
+  {
+    for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
+    {
+      vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
+      if (IsScattered(scatteredPorts, port))
+      {
+        vtkNew<vtkPolyData> nothing; // nothing usable: the process keeps its input
+        ApplyResult(input, nothing, real);
+      }
+      else if (real)
+      {
+        real->Initialize();
+      }
+    }
+    return 0;
+  }
+  const double assembleSeconds = Seconds(start);
+
+  // 2. Every process: the whole surface, the owners, its own cells' and points' places.
+  controller->Broadcast(whole.Mesh, 0);
+  owner.resize(static_cast<std::size_t>(whole.Mesh->GetNumberOfCells()));
+  if (!owner.empty())
+  {
+    controller->Broadcast(owner.data(), static_cast<vtkIdType>(owner.size()), 0);
+  }
+  std::vector<vtkIdType> cellToWhole, pointToWhole;
+  if (rank == 0)
+  {
+    for (int r = 1; r < processes; ++r)
+    {
+      SendIds(controller, whole.CellToWhole[static_cast<std::size_t>(r)], r, REPLICA_TAG);
+      SendIds(controller, whole.PointToWhole[static_cast<std::size_t>(r)], r, REPLICA_TAG);
+    }
+    cellToWhole = whole.CellToWhole[0];
+    pointToWhole = whole.PointToWhole[0];
+  }
+  else
+  {
+    cellToWhole = ReceiveIds(controller, REPLICA_TAG);
+    pointToWhole = ReceiveIds(controller, REPLICA_TAG);
+  }
+  const double shareSeconds = Seconds(start) - assembleSeconds;
+
+  // 3. The body on the whole surface, every process its own cells.
+  ReplicatedShare share;
+  share.Owned.resize(owner.size());
+  for (std::size_t c = 0; c < owner.size(); ++c)
+  {
+    share.Owned[c] = owner[c] == rank ? 1 : 0;
+  }
+  bool combined = false;
+  share.Combine = [controller, &combined](std::vector<double>& values, std::vector<int>& counts, bool& aborted) {
+    combined = true;
+    CombineAcrossProcesses(controller, aborted ? Arrival::Aborted : Arrival::Done, values, counts, aborted);
+  };
+  std::vector<vtkSmartPointer<vtkDataObject>> outputs;
+  int status = 0;
+  try
+  {
+    status = RunOnMesh(algorithm, inputVector, outputVector, whole.Mesh, outputs,
+      [&](vtkInformationVector** in, vtkInformationVector* out) { return body(in, out, share); });
+  }
+  catch (const std::exception& error)
+  {
+    vtkErrorWithObjectMacro(algorithm, "Distributed run failed on process " << rank << ": " << error.what());
+    outputs.clear();
+  }
+  if (!combined)
+  {
+    std::vector<double> noValues;
+    std::vector<int> noCounts;
+    bool aborted = algorithm->GetAbortExecute() != 0;
+    CombineAcrossProcesses(controller, aborted ? Arrival::Aborted : Arrival::Stopped, noValues, noCounts, aborted);
+  }
+  const double bodySeconds = Seconds(start) - assembleSeconds - shareSeconds;
+
+  // 4. Each process's own cells, no exchange.
+  for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
+  {
+    vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
+    vtkDataObject* wholeOutput = outputs.empty() ? nullptr : outputs[static_cast<std::size_t>(port)].GetPointer();
+    if (IsScattered(scatteredPorts, port))
+    {
+      auto* wholeSurface = vtkPolyData::SafeDownCast(wholeOutput);
+      ApplyResult(input,
+        wholeSurface ? LocalResult(local.GetPointer(), whole.Mesh, wholeSurface, cellToWhole, pointToWhole)
+                     : vtkSmartPointer<vtkPolyData>::New(),
+        real);
+    }
+    else if (real)
+    {
+      if (rank == 0 && wholeOutput)
+      {
+        real->ShallowCopy(wholeOutput);
+      }
+      else
+      {
+        real->Initialize();
+      }
+    }
+  }
+  int lowest = status;
+  controller->AllReduce(&status, &lowest, 1, vtkCommunicator::MIN_OP);
+  const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");
+  if (rank == 0 && timing && std::string(timing) != "0")
+  {
+    std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName() << " replicated on " << processes
+              << " processes: " << whole.Mesh->GetNumberOfCells() << " cells (by " << ToString(whole.Cells)
+              << ", points by " << ToString(whole.Points) << "); gather and build " << assembleSeconds
+              << " s, share " << shareSeconds << " s, body " << bodySeconds << " s, local results "
+              << Seconds(start) - assembleSeconds - shareSeconds - bodySeconds << " s" << std::endl;
+  }
+  return lowest;
 }
 
 } // namespace shapediameter::distributed

@@ -13,6 +13,7 @@
 // Private to the module: not installed, not wrapped.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -73,5 +74,52 @@ using SerialBody = std::function<int(vtkInformationVector** inputVector, vtkInfo
  */
 int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const SerialBody& serial);
+
+/**
+ * What a replicated run (RunOnReplicatedSurface) gives the filter's body: the whole surface is
+ * its input on every process, Owned says which of its cells this process computes, and
+ * Combine completes results that each process computed on its own cells only.
+ */
+struct ReplicatedShare
+{
+  /// Per cell of the whole surface: 1 when this process computes it. Every cell has exactly
+  /// one owner (a cell held by several pieces: the lowest process holding it).
+  std::vector<std::uint8_t> Owned;
+  /**
+   * Collective, called once by the body on every process after its own cells are done:
+   * `values` and `counts` (the same length everywhere, zero outside this process's cells)
+   * become their sums over the processes, i.e. every cell's owner's result (x + 0 is exact,
+   * so the sums equal the serial values bit for bit). `aborted`: in, this process aborted;
+   * out, some process did, and nothing was summed. Throws Error when another process stopped
+   * (bad input, an exception) before it reached this point, so that every process reports it
+   * instead of waiting.
+   */
+  std::function<void(std::vector<double>& values, std::vector<int>& counts, bool& aborted)> Combine;
+};
+
+/// The filter's RequestData for a replicated run: `share` is valid during the call.
+using ReplicatedBody = std::function<int(
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector, const ReplicatedShare& share)>;
+
+/**
+ * Runs `body` on the whole surface on EVERY process, each computing its own cells: for
+ * filters whose per-cell work needs the whole surface only to read it (the SDF's rays).
+ * Collective.
+ *
+ * 1. As RunOnWholeSurface: the pieces go to process 0, which assembles the whole surface in
+ *    the original order (AssembleWholeSurface) and finds each cell's owner.
+ * 2. Process 0 sends every process the whole surface, the owners, and where its own cells
+ *    and points are in the whole surface (no process other than 0 holds more than its own
+ *    piece until then).
+ * 3. Every process runs `body` on the whole surface; the body calls ReplicatedShare::Combine
+ *    once (a process that stops before it joins it from here, as stopped).
+ * 4. Every process keeps its own cells of the result (LocalResult), with no further exchange;
+ *    outputs other than `scatteredPorts` stay on process 0.
+ *
+ * Memory: every process holds the whole surface and the filter's working set on it (as a
+ * serial run), process 0 also the pieces while it assembles them. Returns the lowest status.
+ */
+int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const ReplicatedBody& body);
 
 } // namespace shapediameter::distributed

@@ -9,6 +9,11 @@
 class vtkInformationVector;
 class vtkPolyData;
 
+namespace shapediameter::distributed
+{
+struct ReplicatedShare; // DistributedSupport.h
+}
+
 namespace shapediameter::adapter
 {
 
@@ -23,6 +28,10 @@ struct SurfaceRequest
   vtkInformationVector* OutputVector;
   /// The core's parallel loop with the filter's NumberOfThreads.
   ParallelFor Parallel;
+  /// In a replicated distributed run (vtkSDFSurfaceAlgorithm::CanRunReplicated): Input is the
+  /// whole surface on every process, and the body computes the cells this share owns and
+  /// combines them (DistributedSupport.h). nullptr otherwise.
+  const distributed::ReplicatedShare* Share = nullptr;
 };
 
 } // namespace shapediameter::adapter

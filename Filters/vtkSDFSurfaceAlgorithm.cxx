@@ -31,8 +31,21 @@ int vtkSDFSurfaceAlgorithm::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   using namespace shapediameter;
-  if (distributed::IsDistributedRequest(inputVector, outputVector))
+  if (!this->ActiveShare && distributed::IsDistributedRequest(inputVector, outputVector))
   {
+    if (this->CanRunReplicated())
+    {
+      return distributed::RunOnReplicatedSurface(this, inputVector, outputVector, { this->SurfacePort },
+        [this](vtkInformationVector** in, vtkInformationVector* out, const distributed::ReplicatedShare& share) {
+          struct Deactivate
+          {
+            const distributed::ReplicatedShare*& Slot;
+            ~Deactivate() { this->Slot = nullptr; }
+          } deactivate{ this->ActiveShare };
+          this->ActiveShare = &share;
+          return this->RequestData(nullptr, in, out);
+        });
+    }
     return distributed::RunOnWholeSurface(this, inputVector, outputVector, { this->SurfacePort },
       [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); });
   }
@@ -55,7 +68,7 @@ int vtkSDFSurfaceAlgorithm::RequestData(
   try
   {
     const adapter::SurfaceRequest request{ input, output, inputVector, outputVector,
-      adapter::MakeSMPParallelFor(this->NumberOfThreads) };
+      adapter::MakeSMPParallelFor(this->NumberOfThreads), this->ActiveShare };
     if (!this->ExecuteSurface(request))
     {
       this->PassThrough(input, outputVector);

@@ -10,7 +10,8 @@
  * in this order:
  * 1. Distributed runs (Filters/DistributedSupport.h): under MPI the rest runs once, on
  *    process 0, on the whole surface gathered in its original order; every process gets its
- *    own cells back on the surface port.
+ *    own cells back on the surface port. A filter whose CanRunReplicated() is true runs it
+ *    on every process instead, on the whole surface, each process computing its own cells.
  * 2. The surface port starts as a shallow copy of the input.
  * 3. An input without cells: a warning, and that copy.
  * 4. An input without polygons (without polygons and triangle strips, for the filters that
@@ -47,6 +48,10 @@ namespace adapter
 {
 struct SurfaceRequest; // Filters/SurfaceRequest.h (private to the module)
 }
+namespace distributed
+{
+struct ReplicatedShare; // Filters/DistributedSupport.h (private to the module)
+}
 }
 
 class SHAPEDIAMETERFILTERS_EXPORT vtkSDFSurfaceAlgorithm : public vtkPolyDataAlgorithm
@@ -79,6 +84,14 @@ protected:
    */
   virtual bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) = 0;
 
+  /**
+   * Distributed runs: true when ExecuteSurface, with the current settings, can run on the
+   * whole surface on every process, computing only the cells of SurfaceRequest::Share and
+   * combining them (distributed::RunOnReplicatedSurface); false (the default) runs it once on
+   * process 0 (distributed::RunOnWholeSurface).
+   */
+  virtual bool CanRunReplicated() const { return false; }
+
   int NumberOfThreads = 0;
 
   /**
@@ -101,6 +114,8 @@ private:
   int SurfacePort;
   bool AcceptStrips;
   std::shared_ptr<const shapediameter::FaceGraph> KeptFaceGraph;
+  /// The share of the replicated run under way, else nullptr.
+  const shapediameter::distributed::ReplicatedShare* ActiveShare = nullptr;
 };
 
 #endif

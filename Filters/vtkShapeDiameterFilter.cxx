@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkShapeDiameterFilter.h"
 
+#include "DistributedSupport.h"
 #include "RayCasting/EmbreeRayCaster.h"
 #include "Mesh/MeshGeometry.h"
 #include "Mesh/Orientation.h"
@@ -159,8 +160,27 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
     origins.NeighborOffsets = this->PerPoint ? pointAdjacency.Offsets : triangleAdjacency().Offsets;
     origins.Neighbors = this->PerPoint ? pointAdjacency.Neighbors : triangleAdjacency().Neighbors;
   }
+  if (request.Share)
+  {
+    // Replicated distributed run (CanRunReplicated): the whole surface on every process, each
+    // casting from the triangles of its own cells; every origin's result depends on that
+    // origin alone, so the combined values are the serial ones.
+    origins.Skip.resize(static_cast<std::size_t>(surface.Triangles.rows()), 0);
+    for (std::size_t cell = 0; cell + 1 < surface.CellFirstTriangle.size(); ++cell)
+    {
+      if (!request.Share->Owned[cell])
+      {
+        std::fill(origins.Skip.begin() + surface.CellFirstTriangle[cell],
+          origins.Skip.begin() + surface.CellFirstTriangle[cell + 1], std::uint8_t{ 1 });
+      }
+    }
+  }
   ShapeDiameterResult result = ComputeShapeDiameter(
     caster, origins, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.9));
+  if (request.Share)
+  {
+    request.Share->Combine(result.Values, result.ValidRays, result.Aborted);
+  }
   if (result.Aborted)
   {
     return false;

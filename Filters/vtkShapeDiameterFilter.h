@@ -174,6 +174,9 @@ protected:
   ~vtkShapeDiameterFilter() override;
 
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
+  /// Under MPI the exact per-face SDF runs on every process, each casting from its own faces
+  /// (the adaptive mode and PerPoint run once on process 0; docs/distributed.md).
+  bool CanRunReplicated() const override { return this->Mode == EXACT && !this->PerPoint; }
 
   int NumberOfRays;
   double ConeAngle;
