@@ -423,18 +423,45 @@ void ReachPartsWithoutOwnBones(SkeletonGraph& graph, const CloudView& cloud,
   }
 }
 
-/// A face moved to its part's bone links to that bone's nearest node: a scan of the bone's
-/// nodes in index order (ties to the lower index, as the tree's search), far cheaper than
-/// a tree search whose predicate rejects all but a few dozen nodes.
-void MoveFacesToPartBones(const SkeletonGraph& graph, const SurfaceFaces& surface,
-  const std::vector<std::int64_t>& partBone, const ParallelFor& parallelFor, SkeletonResult& result)
+/// The nodes of every bone, each list in index order.
+std::vector<std::vector<std::int64_t>> NodesOfBones(const SkeletonGraph& graph)
 {
   std::vector<std::vector<std::int64_t>> boneNodes(graph.BoneLength.size());
   for (std::size_t n = 0; n < graph.NodeBone.size(); ++n)
   {
     boneNodes[static_cast<std::size_t>(graph.NodeBone[n])].push_back(static_cast<std::int64_t>(n));
   }
-  const PointMatrix& projectedCentres = surface.ProjectedCentres;
+  return boneNodes;
+}
+
+/// The node of `nodes` nearest to row `row` of `centres`, -1 for none: a scan in index order
+/// (ties to the lower index, as the tree's search), far cheaper than a tree search whose
+/// predicate rejects all but a few dozen nodes.
+std::int64_t NearestNodeAmong(const SkeletonGraph& graph, const std::vector<std::int64_t>& nodes,
+  const PointMatrix& centres, Eigen::Index row)
+{
+  double best = std::numeric_limits<double>::infinity();
+  std::int64_t nearest = -1;
+  for (const std::int64_t n : nodes)
+  {
+    const double dx = graph.NodePositions(n, 0) - centres(row, 0);
+    const double dy = graph.NodePositions(n, 1) - centres(row, 1);
+    const double dz = graph.NodePositions(n, 2) - centres(row, 2);
+    const double squared = dx * dx + dy * dy + dz * dz;
+    if (squared < best)
+    {
+      best = squared;
+      nearest = n;
+    }
+  }
+  return nearest;
+}
+
+/// A face moved to its part's bone links to that bone's nearest node.
+void MoveFacesToPartBones(const SkeletonGraph& graph, const SurfaceFaces& surface,
+  const std::vector<std::int64_t>& partBone, const ParallelFor& parallelFor, SkeletonResult& result)
+{
+  const std::vector<std::vector<std::int64_t>> boneNodes = NodesOfBones(graph);
   parallelFor(surface.Size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f)
     {
@@ -443,21 +470,8 @@ void MoveFacesToPartBones(const SkeletonGraph& graph, const SurfaceFaces& surfac
       {
         continue;
       }
-      const auto row = static_cast<Eigen::Index>(f);
-      double best = std::numeric_limits<double>::infinity();
-      result.FaceNodeId[f] = -1;
-      for (const std::int64_t n : boneNodes[static_cast<std::size_t>(bone)])
-      {
-        const double dx = graph.NodePositions(n, 0) - projectedCentres(row, 0);
-        const double dy = graph.NodePositions(n, 1) - projectedCentres(row, 1);
-        const double dz = graph.NodePositions(n, 2) - projectedCentres(row, 2);
-        const double squared = dx * dx + dy * dy + dz * dz;
-        if (squared < best)
-        {
-          best = squared;
-          result.FaceNodeId[f] = n;
-        }
-      }
+      result.FaceNodeId[f] = NearestNodeAmong(graph, boneNodes[static_cast<std::size_t>(bone)],
+        surface.ProjectedCentres, static_cast<Eigen::Index>(f));
       result.FaceBoneId[f] = bone;
     }
   });
@@ -481,35 +495,20 @@ void LinkSurfaceToSkeleton(SkeletonGraph& graph, const CloudView& cloud,
 }
 
 /// After the bones moved (SmoothBones): every face to the nearest node of the bone it is linked
-/// to (its bone does not change), through one point tree per bone.
+/// to (its bone does not change).
 void LinkFacesToNodesOfTheirBones(const SkeletonGraph& graph, const SurfaceFaces& surface,
   const ParallelFor& parallelFor, SkeletonResult& result)
 {
-  std::vector<std::vector<std::int64_t>> boneNodes(graph.BoneLength.size());
-  for (std::size_t n = 0; n < graph.NodeBone.size(); ++n)
-  {
-    boneNodes[static_cast<std::size_t>(graph.NodeBone[n])].push_back(static_cast<std::int64_t>(n));
-  }
-  std::vector<SkeletonPointTree> trees;
-  trees.reserve(boneNodes.size());
-  for (const std::vector<std::int64_t>& nodes : boneNodes)
-  {
-    PointMatrix positions(static_cast<Eigen::Index>(nodes.size()), 3);
-    for (std::size_t i = 0; i < nodes.size(); ++i)
-    {
-      positions.row(static_cast<Eigen::Index>(i)) = graph.NodePositions.row(nodes[i]);
-    }
-    trees.emplace_back(positions);
-  }
+  const std::vector<std::vector<std::int64_t>> boneNodes = NodesOfBones(graph);
   parallelFor(surface.Size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f)
     {
-      const auto bone = static_cast<std::size_t>(result.FaceBoneId[f]);
-      const Eigen::Vector3d centre = surface.ProjectedCentres.row(static_cast<Eigen::Index>(f)).transpose();
-      const std::int64_t nearest = trees[bone].NearestAccepted(centre, {});
+      const std::int64_t nearest = NearestNodeAmong(graph,
+        boneNodes[static_cast<std::size_t>(result.FaceBoneId[f])], surface.ProjectedCentres,
+        static_cast<Eigen::Index>(f));
       if (nearest >= 0)
       {
-        result.FaceNodeId[f] = boneNodes[bone][static_cast<std::size_t>(nearest)];
+        result.FaceNodeId[f] = nearest;
       }
     }
   });
