@@ -468,21 +468,38 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
     GatherPieces(controller, local);
     ready = WaitForStatus(controller);
   }
-  if (!ready)
-  {
+  // Each process's own cells of the body's `outputs` (none: the process keeps its input), no
+  // exchange; outputs other than the scattered ports stay on process 0.
+  std::vector<vtkIdType> cellToWhole, pointToWhole;
+  const auto keepOwnCells = [&](const std::vector<vtkSmartPointer<vtkDataObject>>& outputs) {
     for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
     {
       vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
+      vtkDataObject* wholeOutput = outputs.empty() ? nullptr : outputs[static_cast<std::size_t>(port)].GetPointer();
       if (IsScattered(scatteredPorts, port))
       {
-        vtkNew<vtkPolyData> nothing; // nothing usable: the process keeps its input
-        ApplyResult(input, nothing, real);
+        auto* wholeSurface = vtkPolyData::SafeDownCast(wholeOutput);
+        ApplyResult(input,
+          wholeSurface ? LocalResult(local.GetPointer(), whole.Mesh, wholeSurface, cellToWhole, pointToWhole)
+                       : vtkSmartPointer<vtkPolyData>::New(),
+          real);
       }
       else if (real)
       {
-        real->Initialize();
+        if (rank == 0 && wholeOutput)
+        {
+          real->ShallowCopy(wholeOutput);
+        }
+        else
+        {
+          real->Initialize();
+        }
       }
     }
+  };
+  if (!ready)
+  {
+    keepOwnCells({});
     return 0;
   }
   const double assembleSeconds = Seconds(start);
@@ -494,7 +511,6 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
   {
     controller->Broadcast(owner.data(), static_cast<vtkIdType>(owner.size()), 0);
   }
-  std::vector<vtkIdType> cellToWhole, pointToWhole;
   if (rank == 0)
   {
     for (int r = 1; r < processes; ++r)
@@ -545,31 +561,8 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
   }
   const double bodySeconds = Seconds(start) - assembleSeconds - shareSeconds;
 
-  // 4. Each process's own cells, no exchange.
-  for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
-  {
-    vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
-    vtkDataObject* wholeOutput = outputs.empty() ? nullptr : outputs[static_cast<std::size_t>(port)].GetPointer();
-    if (IsScattered(scatteredPorts, port))
-    {
-      auto* wholeSurface = vtkPolyData::SafeDownCast(wholeOutput);
-      ApplyResult(input,
-        wholeSurface ? LocalResult(local.GetPointer(), whole.Mesh, wholeSurface, cellToWhole, pointToWhole)
-                     : vtkSmartPointer<vtkPolyData>::New(),
-        real);
-    }
-    else if (real)
-    {
-      if (rank == 0 && wholeOutput)
-      {
-        real->ShallowCopy(wholeOutput);
-      }
-      else
-      {
-        real->Initialize();
-      }
-    }
-  }
+  // 4. Each process's own cells.
+  keepOwnCells(outputs);
   int lowest = status;
   controller->AllReduce(&status, &lowest, 1, vtkCommunicator::MIN_OP);
   const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");
