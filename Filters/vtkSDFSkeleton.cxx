@@ -131,6 +131,7 @@ vtkSDFSkeleton::vtkSDFSkeleton()
   this->MinimumConfidentShare = defaults.Thinning.MinimumConfidentShare;
   this->SpacingFactor = defaults.Thinning.SpacingFactor;
   this->MaximumExitAngle = defaults.LeafExtension.MaximumExitAngle;
+  this->TipReach = defaults.LeafExtension.TipReach;
   this->UncoveredFactor = defaults.Coverage.UncoveredFactor;
   this->OwnBoneShare = defaults.OwnBoneShare;
   this->PartUncoveredFactor = defaults.Coverage.PartUncoveredFactor;
@@ -192,6 +193,7 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   options.Thinning.MinimumConfidentShare = this->MinimumConfidentShare;
   options.Thinning.SpacingFactor = this->SpacingFactor;
   options.LeafExtension.MaximumExitAngle = this->MaximumExitAngle;
+  options.LeafExtension.TipReach = this->TipReach;
   options.Coverage.UncoveredFactor = this->UncoveredFactor;
   options.OwnBoneShare = this->OwnBoneShare;
   options.Coverage.PartUncoveredFactor = this->PartUncoveredFactor;
@@ -274,6 +276,7 @@ void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MinimumConfidentShare: " << this->MinimumConfidentShare << "\n";
   os << indent << "SpacingFactor: " << this->SpacingFactor << "\n";
   os << indent << "MaximumExitAngle: " << this->MaximumExitAngle << "\n";
+  os << indent << "TipReach: " << this->TipReach << "\n";
   os << indent << "UncoveredFactor: " << this->UncoveredFactor << "\n";
   os << indent << "LinkBySegment: " << this->LinkBySegment << "\n";
   os << indent << "OwnBoneShare: " << this->OwnBoneShare << "\n";

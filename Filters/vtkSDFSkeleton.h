@@ -28,6 +28,8 @@
  *    move onto a local quadratic fit along the bone, held back where a smoothed edge would
  *    leave the volume; the bones are numbered again by their smoothed lengths and every
  *    face, keeping its bone, is linked again to the nearest node of it.
+ *    (ours, 7b) A leaf whose smoothed bone meets its part's end head-on (MaximumExitAngle)
+ *    is carried on TipReach of the way to the surface, so a limb's bone spans the limb.
  * Every face is linked to the node nearest to its projected centre (face centre pushed
  * inward by SDF/2). When the input has `SDFSegment` (the partition's connected parts; the
  * product chain puts vtkSDFGMMPartition before this filter) and LinkBySegment is on, every
@@ -58,6 +60,11 @@
  *   branch leaves the volume within this angle of the exit surface's normal (deviation: the
  *   paper's branches stop where the confident points stop, short of a hand or a head, by an
  *   amount that changes with the pose; 0 = the paper's; Filters/Core/Skeleton/SkeletonLeafExtension.h).
+ * - TipReach 1, [0, 1]: step 7b (ours): such a leaf gets one more node this share of the way
+ *   from it to the surface ahead; 1 = at the surface, where a rig puts the end joint of a
+ *   limb (the medial axis ends one radius inside: the branch would stop short of a fingertip,
+ *   a head top or a sole by that radius); 0 = off (the leaf stays at the ball's centre). The
+ *   node's Radius is its leaf's (SDF/2 of the part's end), not that of an inscribed ball.
  * - UncoveredFactor 3, [0, 1e6]: after step 4, every large group of projected points farther
  *   than this many radii from the skeleton gets a branch (deviation: the paper's skeleton
  *   only joins confident segments, so a bent or stubby limb or an ear gets a branch in some
@@ -166,6 +173,15 @@ public:
   ///@}
 
   ///@{
+  /// Step 7b (ours): a leaf whose smoothed bone leaves the volume within MaximumExitAngle of
+  /// the exit surface's normal gets one more node this share of the way to that surface, in
+  /// its bone (default 1 = at the surface, range [0, 1]; 0 = off; the node's Radius is its
+  /// leaf's; Filters/Core/Skeleton/SkeletonLeafExtension.h).
+  vtkSetClampMacro(TipReach, double, 0.0, 1.0);
+  vtkGetMacro(TipReach, double);
+  ///@}
+
+  ///@{
   /// Projected points farther than this many radii from the skeleton are uncovered, and every
   /// group of them holding 1 % of the points gets a branch (default 3, range [0, 1e6]; 0 = off;
   /// not in the paper, see Filters/Core/Skeleton/SkeletonCoverage.h).
@@ -234,6 +250,7 @@ protected:
   double MinimumConfidentShare;
   double SpacingFactor;
   double MaximumExitAngle;
+  double TipReach;
   double UncoveredFactor;
   vtkTypeBool LinkBySegment = 1;
   double OwnBoneShare;

@@ -202,14 +202,18 @@ def resample(polyline, radii, spacing_factor=0.5):
 def smoothness(points, edges, radii, spacing_factor=0.5):
     """Measures of a skeleton graph: bones, turning angles (resampled / as output), length / chord.
 
-    radii: the local radius at every node (> 0), e.g. surface_distances of the nodes."""
+    radii: the local radius at every node (> 0), e.g. surface_distances of the nodes. Along a
+    bone it is taken at least half the bone's median radius: a bone that ends on the surface (our
+    tips, MCF's leaves) has radius 0 there, and spacing by it would put thousands of straight
+    samples into its last edge."""
     radii = np.maximum(np.asarray(radii, dtype=float), 1e-12)
     resampled, output, ratios = [], [], []
     paths = bone_paths(len(points), edges)
     for path in paths:
         polyline = points[path]
         output.append(turning_angles(polyline))
-        resampled.append(turning_angles(resample(polyline, radii[path], spacing_factor)))
+        local = np.maximum(radii[path], 0.5 * np.median(radii[path]))
+        resampled.append(turning_angles(resample(polyline, local, spacing_factor)))
         length = np.linalg.norm(np.diff(polyline, axis=0), axis=1).sum()
         chord = np.linalg.norm(polyline[-1] - polyline[0])
         if path[0] != path[-1] and chord > 0:

@@ -88,6 +88,7 @@ TEST(ParameterRanges, SkeletonClampsToTheCoreRanges)
   EXPECT_CLAMP_EQ(filter, MinimumConfidentShare, shapediameter::MinimumConfidentShareRange);
   EXPECT_CLAMP_EQ(filter, SpacingFactor, shapediameter::ThinningSpacingFactorRange);
   EXPECT_CLAMP_EQ(filter, MaximumExitAngle, shapediameter::MaximumExitAngleRange);
+  EXPECT_CLAMP_EQ(filter, TipReach, shapediameter::TipReachRange);
   EXPECT_CLAMP_EQ(filter, UncoveredFactor, shapediameter::UncoveredFactorRange);
   EXPECT_CLAMP_EQ(filter, OwnBoneShare, shapediameter::OwnBoneShareRange);
   EXPECT_CLAMP_EQ(filter, PartUncoveredFactor, shapediameter::PartUncoveredFactorRange);
@@ -144,6 +145,7 @@ TEST(ParameterRanges, TheClampEndsAreValidCoreOptions)
     skeleton.Thinning.MinimumConfidentShare = end(shapediameter::MinimumConfidentShareRange);
     skeleton.Thinning.SpacingFactor = end(shapediameter::ThinningSpacingFactorRange);
     skeleton.LeafExtension.MaximumExitAngle = end(shapediameter::MaximumExitAngleRange);
+    skeleton.LeafExtension.TipReach = end(shapediameter::TipReachRange);
     skeleton.Coverage.UncoveredFactor = end(shapediameter::UncoveredFactorRange);
     skeleton.OwnBoneShare = end(shapediameter::OwnBoneShareRange);
     skeleton.Coverage.PartUncoveredFactor = end(shapediameter::PartUncoveredFactorRange);

@@ -642,7 +642,10 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   const SurfaceFaces surface{ faceComponent, faceParts, projected.Centres, projected.Area };
   AddFallbackNodes(graph, surface, faceSdf);
   LinkSurfaceToSkeleton(graph, cloudView, surface, options, parallelFor, result);
-  if (SmoothBones(graph, &volume, options.Smoothing).MovedNodes > 0)
+  const bool smoothed = SmoothBones(graph, &volume, options.Smoothing).MovedNodes > 0;
+  // Step 7b after the smoothing: the tips follow the smoothed bones' directions.
+  const bool tipsAdded = ExtendLeavesToSurface(graph, volume, options.LeafExtension) > 0;
+  if (smoothed || tipsAdded)
   {
     RenumberBonesBySmoothedLength(graph, result);
     LinkFacesToNodesOfTheirBones(graph, surface, parallelFor, result);

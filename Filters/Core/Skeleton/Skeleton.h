@@ -36,6 +36,10 @@
 //                                (SkeletonSmoothing.h); the bones are numbered again by their
 //                                smoothed lengths and every face is linked again to the
 //                                nearest node of its own bone.
+//    7b. ExtendLeavesToSurface - (ours) every leaf whose smoothed bone meets its part's end
+//                                head-on gets one more node TipReach (1) of the way to the
+//                                surface, in its bone (SkeletonLeafExtension.h): a rig's end
+//                                joints sit at the tips, the medial axis ends a radius inside.
 //   Steps 3, 4 and 5 move only through the volume: an Embree BVH of the mesh (EmbreeRayCaster)
 //   rejects growth steps and neighbour-graph edges whose straight segment meets the surface
 //   (the face link below does not use it: it made no measurable difference and costs two rays

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace shapediameter
@@ -14,6 +15,7 @@ namespace shapediameter
 void ValidateLeafExtensionOptions(const SkeletonLeafExtensionOptions& options)
 {
   CheckRange(options.MaximumExitAngle, MaximumExitAngleRange, "skeleton: MaximumExitAngle");
+  CheckRange(options.TipReach, TipReachRange, "skeleton: TipReach");
 }
 
 namespace
@@ -53,89 +55,154 @@ std::vector<std::vector<std::int64_t>> NodeAdjacency(const SkeletonGraph& graph)
   return adjacency;
 }
 
+/// Where a leaf's branch leaves the volume, when it meets that exit head-on.
+struct LeafExit
+{
+  Eigen::Vector3d Tip;
+  Eigen::Vector3d Direction; ///< unit, along the branch towards the leaf and beyond
+  double Distance = 0.0;     ///< from Tip to the surface along Direction
+};
+
+/// The branch's direction at leaf v (from its node about 2 r back) and where its line leaves the
+/// volume; false when the leaf has no direction, the line does not leave the volume, or the exit
+/// surface is met at more than the angle whose cosine is minimumCosine.
+bool FindHeadOnExit(const SkeletonGraph& graph, const std::vector<std::vector<std::int64_t>>& adjacency,
+  std::int64_t leaf, const RayCaster& volume, double minimumCosine, LeafExit& found)
+{
+  const auto position = [&graph](std::int64_t node) -> Eigen::Vector3d {
+    return graph.NodePositions.row(node).transpose();
+  };
+  const double radius = graph.NodeRadius[static_cast<std::size_t>(leaf)];
+  const Eigen::Vector3d tip = position(leaf);
+  std::int64_t previous = leaf;
+  std::int64_t current = adjacency[static_cast<std::size_t>(leaf)][0];
+  std::int64_t back = current;
+  while (adjacency[static_cast<std::size_t>(current)].size() == 2)
+  {
+    const auto& around = adjacency[static_cast<std::size_t>(current)];
+    const std::int64_t next = around[0] == previous ? around[1] : around[0];
+    previous = current;
+    current = next;
+    if ((position(current) - tip).norm() >= 2.0 * radius)
+    {
+      break;
+    }
+    back = current;
+  }
+  Eigen::Vector3d direction = tip - position(back);
+  if (!(direction.norm() > 0.0))
+  {
+    return false;
+  }
+  direction.normalize();
+
+  const double exit = ExitDistance(volume, tip, direction);
+  if (!std::isfinite(exit))
+  {
+    return false;
+  }
+  const Eigen::Vector3d side = direction.unitOrthogonal();
+  const Eigen::Vector3d other = direction.cross(side);
+  const double exitSide = ExitDistance(volume, tip + 0.25 * radius * side, direction);
+  const double exitOther = ExitDistance(volume, tip + 0.25 * radius * other, direction);
+  if (!std::isfinite(exitSide) || !std::isfinite(exitOther))
+  {
+    return false;
+  }
+  const Eigen::Vector3d exitPoint = tip + exit * direction;
+  const Eigen::Vector3d normal = (tip + 0.25 * radius * side + exitSide * direction - exitPoint)
+                                   .cross(tip + 0.25 * radius * other + exitOther * direction - exitPoint);
+  if (!(normal.norm() > 0.0) || std::abs(normal.normalized().dot(direction)) < minimumCosine)
+  {
+    return false;
+  }
+  found = LeafExit{ tip, direction, exit };
+  return true;
+}
+
+/// Appends a node after leaf v: position, v's radius, confidence 0, v's cloud point and
+/// component, and the two-node polyline (IsConnection 0).
+void AppendLeafNode(SkeletonGraph& graph, std::int64_t leaf, const Eigen::Vector3d& at)
+{
+  const auto v = static_cast<std::size_t>(leaf);
+  const Eigen::Index row = graph.NodePositions.rows();
+  graph.NodePositions.conservativeResize(row + 1, 3);
+  graph.NodePositions.row(row) = at.transpose();
+  graph.NodeRadius.push_back(graph.NodeRadius[v]);
+  graph.NodeConfidence.push_back(0.0);
+  graph.NodeCloudIndex.push_back(graph.NodeCloudIndex[v]);
+  graph.NodeComponent.push_back(graph.NodeComponent[v]);
+  graph.Polylines.push_back({ leaf, static_cast<std::int64_t>(row) });
+  graph.IsConnection.push_back(0);
+}
+
+/// The leaves (degree 1, radius > 0) whose branch meets its exit head-on (within
+/// maximumExitAngle degrees), with that exit, in node order; none when the angle is 0.
+std::vector<std::pair<std::int64_t, LeafExit>> HeadOnLeafExits(
+  const SkeletonGraph& graph, const RayCaster& volume, double maximumExitAngle)
+{
+  std::vector<std::pair<std::int64_t, LeafExit>> exits;
+  if (!(maximumExitAngle > 0.0))
+  {
+    return exits;
+  }
+  const double minimumCosine = std::cos(maximumExitAngle * 3.14159265358979323846 / 180.0);
+  const std::vector<std::vector<std::int64_t>> adjacency = NodeAdjacency(graph);
+  for (std::size_t v = 0; v < adjacency.size(); ++v)
+  {
+    const auto leaf = static_cast<std::int64_t>(v);
+    LeafExit exit;
+    if (adjacency[v].size() == 1 && graph.NodeRadius[v] > 0.0 &&
+      FindHeadOnExit(graph, adjacency, leaf, volume, minimumCosine, exit))
+    {
+      exits.emplace_back(leaf, exit);
+    }
+  }
+  return exits;
+}
+
 } // namespace
 
 std::size_t ExtendLeavesToPartEnds(SkeletonGraph& graph, const RayCaster& volume,
   const SkeletonLeafExtensionOptions& options)
 {
   ValidateLeafExtensionOptions(options);
-  if (!(options.MaximumExitAngle > 0.0))
+  std::size_t extended = 0;
+  for (const auto& [leaf, exit] : HeadOnLeafExits(graph, volume, options.MaximumExitAngle))
+  {
+    // One node where a ball of the leaf's radius touches the surface ahead.
+    const double radius = graph.NodeRadius[static_cast<std::size_t>(leaf)];
+    const double extension = exit.Distance - radius;
+    if (extension > 0.25 * radius)
+    {
+      AppendLeafNode(graph, leaf, exit.Tip + extension * exit.Direction);
+      ++extended;
+    }
+  }
+  return extended;
+}
+
+std::size_t ExtendLeavesToSurface(SkeletonGraph& graph, const RayCaster& volume,
+  const SkeletonLeafExtensionOptions& options)
+{
+  ValidateLeafExtensionOptions(options);
+  if (!(options.TipReach > 0.0))
   {
     return 0;
   }
-  const double minimumCosine = std::cos(options.MaximumExitAngle * 3.14159265358979323846 / 180.0);
-  const std::vector<std::vector<std::int64_t>> adjacency = NodeAdjacency(graph);
-  const std::size_t nodes = adjacency.size();
-  const auto position = [&graph](std::int64_t node) -> Eigen::Vector3d {
-    return graph.NodePositions.row(node).transpose();
-  };
   std::size_t extended = 0;
-  for (std::size_t v = 0; v < nodes; ++v)
+  for (const auto& [leaf, exit] : HeadOnLeafExits(graph, volume, options.MaximumExitAngle))
   {
-    const auto leaf = static_cast<std::int64_t>(v);
-    const double radius = graph.NodeRadius[v];
-    if (adjacency[v].size() != 1 || !(radius > 0.0))
+    const auto v = static_cast<std::size_t>(leaf);
+    const double extension = options.TipReach * exit.Distance;
+    if (extension > 0.25 * graph.NodeRadius[v])
     {
-      continue;
+      AppendLeafNode(graph, leaf, exit.Tip + extension * exit.Direction);
+      graph.NodeBone.push_back(graph.NodeBone[v]);
+      graph.PolylineBone.push_back(graph.NodeBone[v]);
+      graph.BoneLength[static_cast<std::size_t>(graph.NodeBone[v])] += extension;
+      ++extended;
     }
-    // 1. Direction: from the farthest node within 2 r back along the branch.
-    const Eigen::Vector3d tip = position(leaf);
-    std::int64_t previous = leaf;
-    std::int64_t current = adjacency[v][0];
-    std::int64_t back = current;
-    while (adjacency[current].size() == 2)
-    {
-      const auto& around = adjacency[current];
-      const std::int64_t next = around[0] == previous ? around[1] : around[0];
-      previous = current;
-      current = next;
-      if ((position(current) - tip).norm() >= 2.0 * radius)
-      {
-        break;
-      }
-      back = current;
-    }
-    Eigen::Vector3d direction = tip - position(back);
-    if (!(direction.norm() > 0.0))
-    {
-      continue;
-    }
-    direction.normalize();
-
-    // 2. Where the branch's line leaves the volume, and the exit surface's normal there.
-    const double exit = ExitDistance(volume, tip, direction);
-    const double extension = exit - radius;
-    if (!std::isfinite(exit) || !(extension > 0.25 * radius))
-    {
-      continue;
-    }
-    const Eigen::Vector3d side = direction.unitOrthogonal();
-    const Eigen::Vector3d other = direction.cross(side);
-    const double exitSide = ExitDistance(volume, tip + 0.25 * radius * side, direction);
-    const double exitOther = ExitDistance(volume, tip + 0.25 * radius * other, direction);
-    if (!std::isfinite(exitSide) || !std::isfinite(exitOther))
-    {
-      continue;
-    }
-    const Eigen::Vector3d exitPoint = tip + exit * direction;
-    const Eigen::Vector3d normal = (tip + 0.25 * radius * side + exitSide * direction - exitPoint)
-                                     .cross(tip + 0.25 * radius * other + exitOther * direction - exitPoint);
-    if (!(normal.norm() > 0.0) || std::abs(normal.normalized().dot(direction)) < minimumCosine)
-    {
-      continue;
-    }
-
-    // 3. One node where a ball of the leaf's radius touches the surface ahead.
-    const Eigen::Index row = graph.NodePositions.rows();
-    graph.NodePositions.conservativeResize(row + 1, 3);
-    graph.NodePositions.row(row) = (tip + extension * direction).transpose();
-    graph.NodeRadius.push_back(radius);
-    graph.NodeConfidence.push_back(0.0);
-    graph.NodeCloudIndex.push_back(graph.NodeCloudIndex[v]);
-    graph.NodeComponent.push_back(graph.NodeComponent[v]);
-    graph.Polylines.push_back({ leaf, static_cast<std::int64_t>(row) });
-    graph.IsConnection.push_back(0);
-    ++extended;
   }
   return extended;
 }

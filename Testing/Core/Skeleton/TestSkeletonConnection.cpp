@@ -21,8 +21,8 @@ using namespace shapediameter;
 using namespace shapediameter::testshapes;
 using namespace shapediameter::skeletontests;
 
-/// Three branches from the cap centres meeting in one junction near the origin.
-/// Branch ends must lie within endTolerance of the cap centres.
+/// Three branches from the caps' tips (one radius beyond the cap centres: step 7b) meeting in
+/// one junction near the origin. Branch ends must lie within endTolerance of the tips.
 void ExpectTripodSkeleton(const TestMesh& tripod, double length, double r, double endTolerance)
 {
   const SkeletonResult result = RunSkeleton(tripod);
@@ -40,7 +40,7 @@ void ExpectTripodSkeleton(const TestMesh& tripod, double length, double r, doubl
     }
   }
   EXPECT_EQ(junctions, 1u);
-  // Every node near one of the three axes, every branch end near a cap centre.
+  // Every node near one of the three axes, every branch end near a tip.
   const std::vector<Arm> arms = TripodArms(length, r);
   std::set<std::size_t> armsReached;
   for (Eigen::Index n = 0; n < result.NodePositions.rows(); ++n)
@@ -49,14 +49,14 @@ void ExpectTripodSkeleton(const TestMesh& tripod, double length, double r, doubl
     double nearest = std::numeric_limits<double>::infinity();
     for (const Arm& arm : arms)
     {
-      nearest = std::min(nearest, SegmentDistance(p, Eigen::Vector3d::Zero(), arm.Length * arm.Direction));
+      nearest = std::min(nearest, SegmentDistance(p, Eigen::Vector3d::Zero(), (arm.Length + r) * arm.Direction));
     }
     EXPECT_LE(nearest, 0.25 * r);
     if (graph.Degree[n] == 1)
     {
       for (std::size_t a = 0; a < arms.size(); ++a)
       {
-        if ((p - arms[a].Length * arms[a].Direction).norm() < endTolerance)
+        if ((p - (arms[a].Length + r) * arms[a].Direction).norm() < endTolerance)
         {
           armsReached.insert(a);
         }
@@ -100,8 +100,8 @@ TEST(Skeleton, TripodHasThreeBranchesAndOneJunction)
 TEST(Skeleton, TripodWithRayCastSdf)
 {
   // Coarse tripod (7.5 degree facets), brute-force cone SDF: larger diameters and scattered
-  // points at the junction, shorter diameters on the caps (the branches stop short of the cap
-  // centres by about half a radius).
+  // points at the junction, shorter diameters on the caps (the medial branches stop short of
+  // the cap centres by about half a radius; steps 4b and 7b carry them on to the tips).
   TestMesh tripod = MakeTripod(5.0, 1.0, 48, 24);
   tripod.Sdf = RayCastSdf(tripod);
   ExpectTripodSkeleton(tripod, 5.0, 1.0, 1.0);
@@ -157,9 +157,10 @@ TEST(Skeleton, TwoCapsulesGiveTwoTrees)
   const GraphSummary graph = Summarise(result);
   EXPECT_EQ(graph.Components, 2u);
   ASSERT_EQ(result.BoneLength.size(), 2u);
-  // The longer capsule's axis (length 6) is bone 0, the shorter one's (length 4) bone 1.
-  EXPECT_NEAR(result.BoneLength[0], 6.0, 0.6);
-  EXPECT_NEAR(result.BoneLength[1], 4.0, 0.4);
+  // The longer capsule's axis (length 6) with its tips (r = 1 each side) is bone 0, the
+  // shorter one's (length 4, r = 0.5) bone 1.
+  EXPECT_NEAR(result.BoneLength[0], 8.0, 0.6);
+  EXPECT_NEAR(result.BoneLength[1], 5.0, 0.4);
   // Faces link to nodes of their own capsule.
   for (Eigen::Index f = 0; f < both.Faces(); ++f)
   {

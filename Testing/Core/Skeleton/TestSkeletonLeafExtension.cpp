@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Tests of skeleton step 4b (SkeletonLeafExtension.h): a leaf whose branch points head-on at
-// its part's end is carried on to where a ball of its radius touches that end; one that
-// points at a side wall is not. On a capsule, whose medial curve ends at the cap centres.
+// Tests of skeleton steps 4b and 7b (SkeletonLeafExtension.h): a leaf whose branch points
+// head-on at its part's end is carried on to where a ball of its radius touches that end
+// (4b), or TipReach of the way to the surface (7b); one that points at a side wall is not. On
+// a capsule, whose medial curve ends at the cap centres and whose tips lie a radius beyond.
 #include "RayCasting/EmbreeRayCaster.h"
 #include "Skeleton/SkeletonLeafExtension.h"
 #include "TestShapes.h"
@@ -116,6 +117,73 @@ TEST(SkeletonLeafExtension, ZeroAngleIsOffAndOptionsAreChecked)
     options.MaximumExitAngle = bad;
     EXPECT_THROW(ExtendLeavesToPartEnds(graph, volume, options), Error) << bad;
   }
+}
+
+/// PathGraph as one bone (bone 0, its length), as step 7b receives it.
+SkeletonGraph PathBone(const std::vector<Eigen::Vector3d>& nodes, double radius)
+{
+  SkeletonGraph graph = PathGraph(nodes, radius);
+  graph.NodeBone.assign(nodes.size(), 0);
+  graph.PolylineBone.push_back(0);
+  graph.BoneLength.push_back((nodes.back() - nodes.front()).norm());
+  return graph;
+}
+
+TEST(SkeletonLeafExtension, TipsReachTheSurfaceInTheLeavesBone)
+{
+  // Capsule of radius 0.5, cap centres at z = +-2, tips at z = +-2.5; the bone stops at +-1.
+  const TestMesh capsule = MakeCapsule(0.5, 2.0);
+  const EmbreeRayCaster volume(capsule.Points, capsule.Triangles);
+  SkeletonGraph graph = PathBone(Line({ 0, 0, -1 }, { 0, 0, 1 }, 0.1), 0.5);
+  const Eigen::Index before = graph.NodePositions.rows();
+  EXPECT_EQ(ExtendLeavesToSurface(graph, volume, {}), 2u);
+  ASSERT_EQ(graph.NodePositions.rows(), before + 2);
+  for (const Eigen::Index tip : { before, before + 1 })
+  {
+    EXPECT_NEAR(std::abs(graph.NodePositions(tip, 2)), 2.5, 1e-6);
+    EXPECT_NEAR(graph.NodePositions(tip, 0), 0.0, 1e-9);
+    EXPECT_EQ(graph.NodeRadius[static_cast<std::size_t>(tip)], 0.5) << "the leaf's radius";
+    EXPECT_EQ(graph.NodeBone[static_cast<std::size_t>(tip)], 0);
+  }
+  ASSERT_EQ(graph.PolylineBone.size(), graph.Polylines.size());
+  EXPECT_EQ(graph.PolylineBone.back(), 0);
+  EXPECT_NEAR(graph.BoneLength[0], 5.0, 1e-6) << "tip to tip";
+  // Again: the tips lie on the surface, less than r/4 from it, so nothing is added.
+  EXPECT_EQ(ExtendLeavesToSurface(graph, volume, {}), 0u);
+}
+
+TEST(SkeletonLeafExtension, TipReachIsAShareOfTheWay)
+{
+  const TestMesh capsule = MakeCapsule(0.5, 2.0);
+  const EmbreeRayCaster volume(capsule.Points, capsule.Triangles);
+  SkeletonGraph graph = PathBone(Line({ 0, 0, -1 }, { 0, 0, 1 }, 0.1), 0.5);
+  SkeletonLeafExtensionOptions half;
+  half.TipReach = 0.5;
+  EXPECT_EQ(ExtendLeavesToSurface(graph, volume, half), 2u);
+  EXPECT_NEAR(std::abs(graph.NodePositions(graph.NodePositions.rows() - 1, 2)), 1.75, 1e-6);
+  SkeletonLeafExtensionOptions off;
+  off.TipReach = 0.0;
+  graph = PathBone(Line({ 0, 0, -1 }, { 0, 0, 1 }, 0.1), 0.5);
+  EXPECT_EQ(ExtendLeavesToSurface(graph, volume, off), 0u);
+  off.TipReach = 1.0;
+  off.MaximumExitAngle = 0.0;
+  EXPECT_EQ(ExtendLeavesToSurface(graph, volume, off), 0u) << "MaximumExitAngle 0 turns both off";
+  for (const double bad : { -0.1, 1.5, std::nan("") })
+  {
+    SkeletonLeafExtensionOptions options;
+    options.TipReach = bad;
+    EXPECT_THROW(ExtendLeavesToSurface(graph, volume, options), Error) << bad;
+  }
+}
+
+TEST(SkeletonLeafExtension, ATipIsNotAddedTowardsASideWall)
+{
+  // The oblique branch of ABranchPointingAtASideWallStays: its leaves meet the wall at 70°.
+  const TestMesh capsule = MakeCapsule(0.5, 4.0);
+  const EmbreeRayCaster volume(capsule.Points, capsule.Triangles);
+  const Eigen::Vector3d direction(std::sin(20.0 * Pi / 180.0), 0.0, std::cos(20.0 * Pi / 180.0));
+  SkeletonGraph graph = PathBone(Line(-0.5 * direction, 0.5 * direction, 0.05), 0.2);
+  EXPECT_EQ(ExtendLeavesToSurface(graph, volume, {}), 0u);
 }
 
 } // namespace

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace
 {
@@ -20,11 +21,12 @@ using namespace shapediameter::skeletontests;
 
 TEST(Skeleton, CapsuleIsItsAxis)
 {
-  // Cylinder radius r = 1, cap centres at z = -4 and z = +4: the medial curve is that segment.
+  // Cylinder radius r = 1, cap centres at z = -4 and z = +4: the medial curve is that segment,
+  // and step 7b (TipReach 1) carries both ends on to the caps' tips at z = -5 and +5.
   const TestMesh capsule = MakeCapsule(1.0, 4.0);
   const SkeletonResult result = RunSkeleton(capsule);
   ExpectWellFormed(result, capsule.Faces());
-  ExpectStraightSkeleton(result, { 0, 0, -4 }, { 0, 0, 4 }, 0.05, 0.10);
+  ExpectStraightSkeleton(result, { 0, 0, -5 }, { 0, 0, 5 }, 0.05, 0.02);
   // Each cylinder face is linked to a node at its own height.
   for (Eigen::Index f = 0; f < capsule.Faces(); ++f)
   {
@@ -40,6 +42,36 @@ TEST(Skeleton, CapsuleIsItsAxis)
   }
 }
 
+TEST(Skeleton, CapsuleEndsFollowTipReach)
+{
+  // TipReach 0: the medial axis alone, carried on by step 4b to the cap centres (z = +-4);
+  // TipReach 0.5: half way from them to the tips (z = +-4.5).
+  const TestMesh capsule = MakeCapsule(1.0, 4.0);
+  for (const auto& [reach, end, lengthTolerance] :
+    { std::tuple{ 0.0, 4.0, 0.10 }, std::tuple{ 0.5, 4.5, 0.03 } })
+  {
+    SkeletonOptions options;
+    options.LeafExtension.TipReach = reach;
+    const SkeletonResult result = RunSkeleton(capsule, options);
+    ExpectWellFormed(result, capsule.Faces());
+    ExpectStraightSkeleton(result, { 0, 0, -end }, { 0, 0, end }, 0.05, lengthTolerance);
+  }
+}
+
+TEST(Skeleton, ScaledCapsuleScalesItsTips)
+{
+  // The same capsule scaled by 10 (SDF too): the tips at z = -50 and +50.
+  TestMesh capsule = MakeCapsule(1.0, 4.0);
+  capsule.Points *= 10.0;
+  for (double& sdf : capsule.Sdf)
+  {
+    sdf *= 10.0;
+  }
+  const SkeletonResult result = RunSkeleton(capsule);
+  ExpectWellFormed(result, capsule.Faces());
+  ExpectStraightSkeleton(result, { 0, 0, -50 }, { 0, 0, 50 }, 0.5, 0.02);
+}
+
 TEST(Skeleton, CapsuleWithNoisySdf)
 {
   // +-15 % noise on every face's SDF scatters P by up to 0.15 r across the axis.
@@ -47,18 +79,18 @@ TEST(Skeleton, CapsuleWithNoisySdf)
   AddSdfNoise(capsule, 0.15);
   const SkeletonResult result = RunSkeleton(capsule);
   ExpectWellFormed(result, capsule.Faces());
-  ExpectStraightSkeleton(result, { 0, 0, -4 }, { 0, 0, 4 }, 0.05, 0.10);
+  ExpectStraightSkeleton(result, { 0, 0, -5 }, { 0, 0, 5 }, 0.05, 0.10);
 }
 
 TEST(Skeleton, CapsuleWithRayCastSdf)
 {
   // A coarse capsule with a brute-force cone SDF: shorter diameters near the caps, noise from
-  // the facets. The skeleton stays on the axis; its ends may fall short of the cap centres.
+  // the facets. The skeleton stays on the axis and reaches the tips (step 7b).
   TestMesh capsule = MakeCapsule(1.0, 4.0, 24, 6, 16);
   capsule.Sdf = RayCastSdf(capsule);
   const SkeletonResult result = RunSkeleton(capsule);
   ExpectWellFormed(result, capsule.Faces());
-  ExpectStraightSkeleton(result, { 0, 0, -4 }, { 0, 0, 4 }, 0.05, 0.10);
+  ExpectStraightSkeleton(result, { 0, 0, -5 }, { 0, 0, 5 }, 0.05, 0.10);
 }
 
 TEST(Skeleton, ProlateSpheroidIsItsMedialSegment)
