@@ -133,6 +133,7 @@ vtkSDFSkeleton::vtkSDFSkeleton()
   this->MaximumExitAngle = defaults.LeafExtension.MaximumExitAngle;
   this->TipReach = defaults.LeafExtension.TipReach;
   this->UncoveredFactor = defaults.Coverage.UncoveredFactor;
+  this->ThinLimbFactor = defaults.Coverage.ThinLimbFactor;
   this->OwnBoneShare = defaults.OwnBoneShare;
   this->PartUncoveredFactor = defaults.Coverage.PartUncoveredFactor;
   this->BoneSmoothing = defaults.Smoothing.Bandwidth;
@@ -195,6 +196,7 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   options.LeafExtension.MaximumExitAngle = this->MaximumExitAngle;
   options.LeafExtension.TipReach = this->TipReach;
   options.Coverage.UncoveredFactor = this->UncoveredFactor;
+  options.Coverage.ThinLimbFactor = this->ThinLimbFactor;
   options.OwnBoneShare = this->OwnBoneShare;
   options.Coverage.PartUncoveredFactor = this->PartUncoveredFactor;
   options.Smoothing.Bandwidth = this->BoneSmoothing;
@@ -278,6 +280,7 @@ void vtkSDFSkeleton::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumExitAngle: " << this->MaximumExitAngle << "\n";
   os << indent << "TipReach: " << this->TipReach << "\n";
   os << indent << "UncoveredFactor: " << this->UncoveredFactor << "\n";
+  os << indent << "ThinLimbFactor: " << this->ThinLimbFactor << "\n";
   os << indent << "LinkBySegment: " << this->LinkBySegment << "\n";
   os << indent << "OwnBoneShare: " << this->OwnBoneShare << "\n";
   os << indent << "PartUncoveredFactor: " << this->PartUncoveredFactor << "\n";

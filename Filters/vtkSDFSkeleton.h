@@ -19,8 +19,9 @@
  *    (ours) A leaf whose branch points head-on at its part's end gets one more node where a
  *    ball of its radius touches that end (exit normal within MaximumExitAngle of the
  *    branch); then short leaf stubs are pruned.
- * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor)
- *    gets a branch through P to its farthest point; junctions it creates closer than one
+ * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor),
+ *    and every thin limb among the smaller ones (ThinLimbFactor), gets a branch through P to
+ *    its farthest point; junctions it creates closer than one
  *    radius to another are merged (its leaves are not pruned).
  * 6. (ours, with the segment link below) A large segment left without a bone of its own whose
  *    farthest projected point is far from the skeleton (PartUncoveredFactor) gets a branch.
@@ -69,6 +70,11 @@
  *   than this many radii from the skeleton gets a branch (deviation: the paper's skeleton
  *   only joins confident segments, so a bent or stubby limb or an ear gets a branch in some
  *   poses and not in others; 0 = the paper's; Filters/Core/Skeleton/SkeletonCoverage.h).
+ * - ThinLimbFactor 6, [0, 1e6]: in step 5, a group of far points holding less than 1 % of
+ *   them still gets a branch when it is a thin limb: its points lie along a line (linearity
+ *   0.95) and its tip lies at least this many radii from the skeleton (deviation: area-weighted
+ *   sampling gives a tail or a finger so few points that it never forms a confident segment
+ *   nor a large group: the camel's tail had no branch; 0 = off; Filters/Core/Skeleton/SkeletonCoverage.h).
  * - LinkBySegment on: the segment link above (deviation: the paper draws the parts on the
  *   projected points but does not say how faces are assigned to bones).
  * - OwnBoneShare 0.15, [0, 1]: with the segment link, segments first get bones of their own,
@@ -190,6 +196,15 @@ public:
   ///@}
 
   ///@{
+  /// A group of uncovered points holding less than 1 % of the points still gets a branch when
+  /// its points lie along a line (a tail, a finger) and its tip lies at least this many of its
+  /// radii from the skeleton (default 6, range [0, 1e6]; 0 = off; not in the paper, see
+  /// Filters/Core/Skeleton/SkeletonCoverage.h).
+  vtkSetClampMacro(ThinLimbFactor, double, 0.0, 1e6);
+  vtkGetMacro(ThinLimbFactor, double);
+  ///@}
+
+  ///@{
   /// Link every segment of the input's `SDFSegment` (vtkSDFGMMPartition) to one bone (default
   /// on); off, or without that array, each face is linked to its nearest node alone.
   vtkSetMacro(LinkBySegment, vtkTypeBool);
@@ -252,6 +267,7 @@ protected:
   double MaximumExitAngle;
   double TipReach;
   double UncoveredFactor;
+  double ThinLimbFactor;
   vtkTypeBool LinkBySegment = 1;
   double OwnBoneShare;
   double PartUncoveredFactor;

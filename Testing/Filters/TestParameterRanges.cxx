@@ -90,6 +90,7 @@ TEST(ParameterRanges, SkeletonClampsToTheCoreRanges)
   EXPECT_CLAMP_EQ(filter, MaximumExitAngle, shapediameter::MaximumExitAngleRange);
   EXPECT_CLAMP_EQ(filter, TipReach, shapediameter::TipReachRange);
   EXPECT_CLAMP_EQ(filter, UncoveredFactor, shapediameter::UncoveredFactorRange);
+  EXPECT_CLAMP_EQ(filter, ThinLimbFactor, shapediameter::ThinLimbFactorRange);
   EXPECT_CLAMP_EQ(filter, OwnBoneShare, shapediameter::OwnBoneShareRange);
   EXPECT_CLAMP_EQ(filter, PartUncoveredFactor, shapediameter::PartUncoveredFactorRange);
   EXPECT_CLAMP_EQ(filter, BoneSmoothing, shapediameter::BoneSmoothingRange);
@@ -147,6 +148,9 @@ TEST(ParameterRanges, TheClampEndsAreValidCoreOptions)
     skeleton.LeafExtension.MaximumExitAngle = end(shapediameter::MaximumExitAngleRange);
     skeleton.LeafExtension.TipReach = end(shapediameter::TipReachRange);
     skeleton.Coverage.UncoveredFactor = end(shapediameter::UncoveredFactorRange);
+    skeleton.Coverage.ThinLimbFactor = end(shapediameter::ThinLimbFactorRange);
+    skeleton.Coverage.ThinLimbLinearity = end(shapediameter::ThinLimbLinearityRange);
+    skeleton.Coverage.ThinLimbMinimumShare = end(shapediameter::ThinLimbMinimumShareRange);
     skeleton.OwnBoneShare = end(shapediameter::OwnBoneShareRange);
     skeleton.Coverage.PartUncoveredFactor = end(shapediameter::PartUncoveredFactorRange);
     skeleton.Smoothing.Bandwidth = end(shapediameter::BoneSmoothingRange);

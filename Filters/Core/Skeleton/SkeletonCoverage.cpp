@@ -3,6 +3,8 @@
 
 #include "Skeleton/SkeletonPointTree.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <functional>
 #include <limits>
@@ -18,6 +20,9 @@ void ValidateCoverageOptions(const SkeletonCoverageOptions& options)
   CheckRange(options.MinimumShare, CoverageMinimumShareRange, "skeleton: coverage MinimumShare");
   CheckRange(options.PartMinimumShare, PartMinimumShareRange, "skeleton: coverage PartMinimumShare");
   CheckRange(options.PartUncoveredFactor, PartUncoveredFactorRange, "skeleton: coverage PartUncoveredFactor");
+  CheckRange(options.ThinLimbFactor, ThinLimbFactorRange, "skeleton: ThinLimbFactor");
+  CheckRange(options.ThinLimbLinearity, ThinLimbLinearityRange, "skeleton: coverage ThinLimbLinearity");
+  CheckRange(options.ThinLimbMinimumShare, ThinLimbMinimumShareRange, "skeleton: coverage ThinLimbMinimumShare");
 }
 
 namespace
@@ -157,10 +162,39 @@ struct PointGroups
 {
   std::vector<std::size_t> Size;
   std::vector<std::int64_t> Tip;
+  /// Largest eigenvalue / sum of the covariance of the group's points (1 = on a line); 0 for a
+  /// group of fewer than 3 points or when no positions were given.
+  std::vector<double> Linearity;
 };
 
-PointGroups GroupFlaggedPoints(
-  const CloudNeighborGraph& neighbours, const std::vector<char>& flagged, const std::vector<double>& gap)
+/// Linearity (PointGroups::Linearity) of the points `members` of `positions`, centred first so
+/// that far-off coordinates do not cancel.
+double Linearity(const PointMatrix& positions, const std::vector<std::size_t>& members)
+{
+  if (members.size() < 3)
+  {
+    return 0.0;
+  }
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const std::size_t point : members)
+  {
+    mean += positions.row(static_cast<Eigen::Index>(point)).transpose();
+  }
+  mean /= static_cast<double>(members.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const std::size_t point : members)
+  {
+    const Eigen::Vector3d d = positions.row(static_cast<Eigen::Index>(point)).transpose() - mean;
+    covariance += d * d.transpose();
+  }
+  const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();
+  const double total = eigenvalues.sum();
+  return total > 0.0 ? eigenvalues(2) / total : 0.0;
+}
+
+PointGroups GroupFlaggedPoints(const CloudNeighborGraph& neighbours,
+  const std::vector<char>& flagged, const std::vector<double>& gap,
+  const PointMatrix* positions = nullptr)
 {
   PointGroups groups;
   std::vector<char> visited(flagged.size(), 0);
@@ -173,12 +207,17 @@ PointGroups GroupFlaggedPoints(
     std::size_t size = 0;
     std::size_t tip = seed;
     std::vector<std::size_t> stack{ seed };
+    std::vector<std::size_t> members;
     visited[seed] = 1;
     while (!stack.empty())
     {
       const std::size_t point = stack.back();
       stack.pop_back();
       ++size;
+      if (positions)
+      {
+        members.push_back(point);
+      }
       if (gap[point] > gap[tip] || (gap[point] == gap[tip] && point < tip))
       {
         tip = point;
@@ -195,6 +234,7 @@ PointGroups GroupFlaggedPoints(
     }
     groups.Size.push_back(size);
     groups.Tip.push_back(static_cast<std::int64_t>(tip));
+    groups.Linearity.push_back(positions ? Linearity(*positions, members) : 0.0);
   }
   return groups;
 }
@@ -232,13 +272,20 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
 
   // 2. Groups of uncovered points: connected through neighbour edges between uncovered
   // points (the graph's edges stay within a surface component; bridges are not used).
-  const PointGroups groups = GroupFlaggedPoints(neighbours, uncovered, gap);
+  const PointGroups groups = GroupFlaggedPoints(neighbours, uncovered, gap, &cloud.Positions);
 
-  // 3. One branch per large group.
+  // 3. One branch per large group, and per thin limb.
   std::size_t added = 0;
   for (std::size_t g = 0; g < groups.Size.size(); ++g)
   {
-    if (static_cast<double>(groups.Size[g]) >= options.MinimumShare * static_cast<double>(n) &&
+    const auto size = static_cast<double>(groups.Size[g]);
+    const auto tip = static_cast<std::size_t>(groups.Tip[g]);
+    const bool large = size >= options.MinimumShare * static_cast<double>(n);
+    const bool thinLimb = options.ThinLimbFactor > 0.0 &&
+      size >= options.ThinLimbMinimumShare * static_cast<double>(n) &&
+      groups.Linearity[g] >= options.ThinLimbLinearity &&
+      gap[tip] >= options.ThinLimbFactor * cloud.Radius[tip];
+    if ((large || thinLimb) &&
       AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, groups.Tip[g]), nearestNode, pointComponent))
     {
       ++added;

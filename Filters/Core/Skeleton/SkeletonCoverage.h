@@ -19,7 +19,8 @@
 //        bridges (IsBridge: shortest gaps, not tested against the surface) are not used, so
 //        that a branch runs through the volume only and a piece the inside test cuts off
 //        gets none (with them, spurious leaves appeared: docs/skeleton.md).
-//     3. Every group holding at least MinimumShare of all points gets one branch: the
+//     3. Every group holding at least MinimumShare of all points, and every thin limb (below),
+//        gets one branch: the
 //        shortest path through the neighbour graph from its point farthest from the skeleton
 //        (the part's tip) to the first covered point, joined to that point's nearest node.
 //        Its nodes are the MLS-projected positions (ThinnedCloud::Positions) of the path's
@@ -30,6 +31,17 @@
 //   branches shorter than MinimumBranchFactor radii (CleanGraphJunctions with
 //   LeafPruning::Keep: a branch to an ear can be shorter than the torso's radius at its
 //   junction, and pruning leaves here removed real leaves; docs/skeleton.md).
+//
+// Thin limbs: a tail, a finger or a horn of radius r and length L holds about r L of the
+// area, so area-weighted sampling gives it few points (the camel's tail: 0.8 % of the area, 53
+// uncovered points, under the 1 % a group needs), too few for a confident segment and for
+// MinimumShare. A group below MinimumShare still gets a branch when it is a limb by its shape:
+// its points lie along a line (ThinLimbLinearity: largest eigenvalue / sum of their covariance
+// >= 0.95, a group about 4.4 times as long as it is wide; a flat toe pad or an ear's sheet
+// scores 0.75-0.89, the camel's tail 0.99), its tip lies at least ThinLimbFactor (6) of its
+// radii from the skeleton (twice what uncovers a point), and it holds at least
+// ThinLimbMinimumShare (0.2 %) of the points, enough for its covariance. Length and shape in
+// radii do not change with the pose; the point count near the share does (docs/skeleton.md).
 //
 // Why: on posed characters the missed parts are not missed in every pose (an ear's sheet of
 // points happens to form a confident segment in some poses only), so the paper's skeleton
@@ -50,6 +62,9 @@
 //                                         89.5 %, the bundled meshes' bones unchanged
 //                                         (docs/skeleton.md).
 //   MinimumShare         0.01   [0, 1]    of all projected points, per group.
+//   ThinLimbFactor       6      [0, 1e6]  a thin limb's tip, in its radii; 0 = thin limbs off.
+//   ThinLimbLinearity    0.95   [0, 1]    a thin limb's points' linearity.
+//   ThinLimbMinimumShare 0.002  [0, 1]    of all projected points, per thin limb.
 //   PartMinimumShare     0.05   [0, 1]    step 6: of all projected points, per part.
 //   PartUncoveredFactor  2      [0, 1e6]  step 6: the part's tip, in its radii; 0 = step off.
 //   (The graph's neighbour count is the connection's, SkeletonConnectionOptions.)
@@ -87,6 +102,14 @@ struct SkeletonCoverageOptions
   /// Step 6: ... and when its point farthest from the skeleton lies more than this many of
   /// its radii away, PartUncoveredFactorRange [0, 1e6]; 0 = step 6 off.
   double PartUncoveredFactor = 2.0;
+  /// A group below MinimumShare still gets a branch when it is a thin limb: its tip lies at
+  /// least this many of its radii from the skeleton, ... ThinLimbFactorRange [0, 1e6]; 0 = off.
+  double ThinLimbFactor = 6.0;
+  /// ... its points lie along a line (largest eigenvalue / sum of their covariance at least
+  /// this), ThinLimbLinearityRange [0, 1] ...
+  double ThinLimbLinearity = 0.95;
+  /// ... and it holds at least this share of all points, ThinLimbMinimumShareRange [0, 1].
+  double ThinLimbMinimumShare = 0.002;
 };
 
 // The ranges, checked by ValidateCoverageOptions; vtkSDFSkeleton's vtkSetClampMacro repeats those
@@ -97,6 +120,11 @@ inline constexpr Range<double> CoverageMinimumShareRange{ 0.0, 1.0 };
 /// Not a filter property.
 inline constexpr Range<double> PartMinimumShareRange{ 0.0, 1.0 };
 inline constexpr Range<double> PartUncoveredFactorRange{ 0.0, 1e6 };
+inline constexpr Range<double> ThinLimbFactorRange{ 0.0, 1e6 };
+/// Not a filter property.
+inline constexpr Range<double> ThinLimbLinearityRange{ 0.0, 1.0 };
+/// Not a filter property.
+inline constexpr Range<double> ThinLimbMinimumShareRange{ 0.0, 1.0 };
 
 /// Throws Error if an option is outside its documented range.
 void ValidateCoverageOptions(const SkeletonCoverageOptions& options);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Tests of skeleton step 5 (SkeletonCoverage.h): a branch into every large group of projected
-// points far from the tree, on a hand-made cloud whose answer is known: an L of points where the
+// points far from the tree and into every thin limb (a small group along a line), on a hand-made cloud whose answer is known: an L of points where the
 // skeleton covers one arm only. The points are grouped and joined through the connection
 // step's neighbour graph (SkeletonConnection.h).
 #include "Skeleton/SkeletonCoverage.h"
@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -22,6 +23,28 @@ struct LCloud
   ThinnedCloud Thinned;
   SkeletonGraph Graph;
 };
+
+/// One polyline of `nodes` nodes every 0.2 along x from the origin, radius 0.1, node i from
+/// cloud point 10 i, bones assigned.
+SkeletonGraph LineSkeleton(int nodes)
+{
+  SkeletonGraph graph;
+  graph.NodePositions.resize(nodes, 3);
+  std::vector<std::int64_t> polyline;
+  for (int i = 0; i < nodes; ++i)
+  {
+    graph.NodePositions.row(i) << 0.2 * i, 0.0, 0.0;
+    graph.NodeRadius.push_back(0.1);
+    graph.NodeConfidence.push_back(0.9);
+    graph.NodeCloudIndex.push_back(10 * i);
+    graph.NodeComponent.push_back(0);
+    polyline.push_back(i);
+  }
+  graph.Polylines.push_back(polyline);
+  graph.IsConnection.push_back(0);
+  AssignBranchBones(graph);
+  return graph;
+}
 
 /// Points of radius 0.1 on a line from (0,0,0) to (4,0,0) (the skeleton: nodes every 0.2 on
 /// it) and, unless `armPoints` is 0, on a line from (4,0,0) up to (4,armLength,0) that no node
@@ -48,22 +71,44 @@ LCloud MakeL(int armPoints, double armLength = 2.0)
   l.Cloud.SourceFace.assign(positions.size(), 0);
   l.Thinned.Positions = l.Cloud.Positions;
   l.Thinned.Confidence.assign(positions.size(), 0.9);
-  const int nodes = 21;
-  l.Graph.NodePositions.resize(nodes, 3);
-  std::vector<std::int64_t> polyline;
-  for (int i = 0; i < nodes; ++i)
-  {
-    l.Graph.NodePositions.row(i) << 0.2 * i, 0.0, 0.0;
-    l.Graph.NodeRadius.push_back(0.1);
-    l.Graph.NodeConfidence.push_back(0.9);
-    l.Graph.NodeCloudIndex.push_back(10 * i);
-    l.Graph.NodeComponent.push_back(0);
-    polyline.push_back(i);
-  }
-  l.Graph.Polylines.push_back(polyline);
-  l.Graph.IsConnection.push_back(0);
-  AssignBranchBones(l.Graph);
+  l.Graph = LineSkeleton(21);
   return l;
+}
+
+/// A long covered line (2001 points of radius 0.1 from (0,0,0) to (40,0,0), nodes every 0.2)
+/// and `extra` points of radius `extraRadius` beside it, under 1 % of the cloud.
+LCloud MakeLineWith(const std::vector<Eigen::Vector3d>& extra, double extraRadius)
+{
+  LCloud l;
+  const Eigen::Index base = 2001;
+  const auto n = base + static_cast<Eigen::Index>(extra.size());
+  l.Cloud.Positions.resize(n, 3);
+  for (Eigen::Index i = 0; i < base; ++i)
+  {
+    l.Cloud.Positions.row(i) << 40.0 * static_cast<double>(i) / (base - 1), 0.0, 0.0;
+    l.Cloud.Radius.push_back(0.1);
+  }
+  for (std::size_t i = 0; i < extra.size(); ++i)
+  {
+    l.Cloud.Positions.row(base + static_cast<Eigen::Index>(i)) = extra[i].transpose();
+    l.Cloud.Radius.push_back(extraRadius);
+  }
+  l.Cloud.SourceFace.assign(static_cast<std::size_t>(n), 0);
+  l.Thinned.Positions = l.Cloud.Positions;
+  l.Thinned.Confidence.assign(static_cast<std::size_t>(n), 0.9);
+  l.Graph = LineSkeleton(201);
+  return l;
+}
+
+/// `count` points every `step` from (20, step, 0) up along y: a thin limb off the line.
+std::vector<Eigen::Vector3d> ThinArm(int count, double step)
+{
+  std::vector<Eigen::Vector3d> arm;
+  for (int i = 1; i <= count; ++i)
+  {
+    arm.emplace_back(20.0, step * i, 0.0);
+  }
+  return arm;
 }
 
 /// Step 5 on the connection's neighbour graph of the L (default neighbour count, no volume).
@@ -109,6 +154,47 @@ TEST(SkeletonCoverage, AnUncoveredArmGetsABranchToItsTip)
   // 2, so the tree is one branch of length 4 + 2.
   EXPECT_EQ(l.Graph.BoneLength.size(), 1u);
   EXPECT_NEAR(l.Graph.BoneLength[0], 6.0, 1e-9);
+}
+
+TEST(SkeletonCoverage, AThinLimbBelowTheShareGetsABranch)
+{
+  // 12 points of radius 0.02 along y up to 1.2 (60 radii): 0.6 % of the cloud, under the 1 %
+  // a group needs, but on a line and long: a tail.
+  LCloud tail = MakeLineWith(ThinArm(12, 0.1), 0.02);
+  ASSERT_EQ(Reach(tail), 1u);
+  EXPECT_NEAR((tail.Graph.NodePositions.row(tail.Graph.Polylines.back().back()) -
+                Eigen::RowVector3d(20.0, 1.2, 0.0)).norm(), 0.0, 1e-12) << "to the limb's tip";
+  // Off, or with the tip closer than ThinLimbFactor radii (6 uncovered points up to 0.098:
+  // 4.9 radii), or below ThinLimbMinimumShare (3 points, 0.15 %): no branch.
+  SkeletonCoverageOptions off;
+  off.ThinLimbFactor = 0.0;
+  LCloud same = MakeLineWith(ThinArm(12, 0.1), 0.02);
+  EXPECT_EQ(Reach(same, {}, off), 0u);
+  LCloud stub = MakeLineWith(ThinArm(14, 0.007), 0.02);
+  EXPECT_EQ(Reach(stub), 0u);
+  LCloud few = MakeLineWith(ThinArm(3, 0.4), 0.02);
+  EXPECT_EQ(Reach(few), 0u);
+}
+
+TEST(SkeletonCoverage, AFlatPadBelowTheShareGetsNoBranch)
+{
+  // 16 points of radius 0.02 in a 4 x 4 grid 0.3 wide rising from the line up to 0.4 (20
+  // radii; a toe pad, a sheet): long enough, but not along a line (linearity 0.5).
+  std::vector<Eigen::Vector3d> pad;
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = 0; j < 4; ++j)
+    {
+      pad.emplace_back(19.85 + 0.1 * i, 0.1 + 0.1 * j, 0.0);
+    }
+  }
+  LCloud sheet = MakeLineWith(pad, 0.02);
+  EXPECT_EQ(Reach(sheet), 0u);
+  // The same points count as a large group when the share allows it.
+  SkeletonCoverageOptions anySize;
+  anySize.MinimumShare = 0.001;
+  LCloud large = MakeLineWith(pad, 0.02);
+  EXPECT_EQ(Reach(large, {}, anySize), 1u);
 }
 
 TEST(SkeletonCoverage, SmallGroupsFactorZeroAndThreadsDoNotChangeTheResult)
@@ -213,6 +299,15 @@ TEST(SkeletonCoverage, OptionsOutsideTheirRangeThrow)
   EXPECT_THROW(ValidateCoverageOptions(options), Error);
   options = {};
   options.PartUncoveredFactor = -1.0;
+  EXPECT_THROW(ValidateCoverageOptions(options), Error);
+  options = {};
+  options.ThinLimbFactor = -1.0;
+  EXPECT_THROW(ValidateCoverageOptions(options), Error);
+  options = {};
+  options.ThinLimbLinearity = 1.5;
+  EXPECT_THROW(ValidateCoverageOptions(options), Error);
+  options = {};
+  options.ThinLimbMinimumShare = std::nan("");
   EXPECT_THROW(ValidateCoverageOptions(options), Error);
   EXPECT_NO_THROW(ValidateCoverageOptions({}));
 }
