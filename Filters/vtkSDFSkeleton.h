@@ -21,7 +21,7 @@
  *    branch); then short leaf stubs are pruned.
  * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor),
  *    and every thin limb among the smaller ones (ThinLimbFactor), gets a branch through P to
- *    its farthest point; junctions it creates closer than one
+ *    the centre of its far end; junctions it creates closer than one
  *    radius to another are merged (its leaves are not pruned).
  * 6. (ours, with the segment link below) A large segment left without a bone of its own whose
  *    farthest projected point is far from the skeleton (PartUncoveredFactor) gets a branch.

@@ -156,14 +156,22 @@ void CheckNeighbourGraph(const CloudNeighborGraph& neighbours, std::size_t n)
 }
 
 /// The connected sets of flagged points through the neighbour graph (bridges not used), in
-/// order of their lowest point: size and tip, the point farthest from the skeleton (gap; ties:
-/// the lowest index).
+/// order of their lowest point.
 struct PointGroups
 {
   std::vector<std::size_t> Size;
+  /// The point farthest from the skeleton (gap; ties: the lowest index): how far the part
+  /// reaches.
   std::vector<std::int64_t> Tip;
+  /// Where its branch ends: of the points within one radius (the tip's) of the tip's gap (the
+  /// part's far end), the one nearest to their centroid moved out along the tip's direction
+  /// from its nearest node to the tip's depth (ties: the lowest index): centred across the
+  /// end, as far out as the tip. Why not the tip itself: the farthest point of a stub as thick
+  /// as it is long is a corner of its end (the libigl hand's wrist: its branch ran sideways to
+  /// the wrist's edge). On a line of points the end is the tip.
+  std::vector<std::int64_t> End;
   /// Largest eigenvalue / sum of the covariance of the group's points (1 = on a line); 0 for a
-  /// group of fewer than 3 points or when no positions were given.
+  /// group of fewer than 3 points.
   std::vector<double> Linearity;
 };
 
@@ -192,9 +200,42 @@ double Linearity(const PointMatrix& positions, const std::vector<std::size_t>& m
   return total > 0.0 ? eigenvalues(2) / total : 0.0;
 }
 
-PointGroups GroupFlaggedPoints(const CloudNeighborGraph& neighbours,
-  const std::vector<char>& flagged, const std::vector<double>& gap,
-  const PointMatrix* positions = nullptr)
+/// PointGroups::End of the group `members` whose farthest point is `tip`, `outward` the unit
+/// direction from the tip's nearest node to the tip (zero: none).
+std::size_t FarEndCentre(const ProjectedCloud& cloud, const std::vector<double>& gap,
+  const std::vector<std::size_t>& members, std::size_t tip, const Eigen::Vector3d& outward)
+{
+  const double farEnd = gap[tip] - cloud.Radius[tip];
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  std::size_t count = 0;
+  for (const std::size_t point : members)
+  {
+    if (gap[point] >= farEnd)
+    {
+      centre += cloud.Positions.row(static_cast<Eigen::Index>(point)).transpose();
+      ++count;
+    }
+  }
+  centre /= static_cast<double>(count); // the tip itself is counted
+  const Eigen::Vector3d tipPosition = cloud.Positions.row(static_cast<Eigen::Index>(tip)).transpose();
+  centre += (tipPosition - centre).dot(outward) * outward;
+  std::size_t end = tip;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const std::size_t point : members)
+  {
+    const double distance = (cloud.Positions.row(static_cast<Eigen::Index>(point)).transpose() - centre).norm();
+    if (gap[point] >= farEnd && (distance < nearest || (distance == nearest && point < end)))
+    {
+      nearest = distance;
+      end = point;
+    }
+  }
+  return end;
+}
+
+PointGroups GroupFlaggedPoints(const CloudNeighborGraph& neighbours, const ProjectedCloud& cloud,
+  const std::vector<char>& flagged, const std::vector<double>& gap, const SkeletonGraph& graph,
+  const std::vector<std::int64_t>& nearestNode)
 {
   PointGroups groups;
   std::vector<char> visited(flagged.size(), 0);
@@ -204,20 +245,15 @@ PointGroups GroupFlaggedPoints(const CloudNeighborGraph& neighbours,
     {
       continue;
     }
-    std::size_t size = 0;
     std::size_t tip = seed;
-    std::vector<std::size_t> stack{ seed };
     std::vector<std::size_t> members;
+    std::vector<std::size_t> stack{ seed };
     visited[seed] = 1;
     while (!stack.empty())
     {
       const std::size_t point = stack.back();
       stack.pop_back();
-      ++size;
-      if (positions)
-      {
-        members.push_back(point);
-      }
+      members.push_back(point);
       if (gap[point] > gap[tip] || (gap[point] == gap[tip] && point < tip))
       {
         tip = point;
@@ -232,9 +268,16 @@ PointGroups GroupFlaggedPoints(const CloudNeighborGraph& neighbours,
         }
       }
     }
-    groups.Size.push_back(size);
+    groups.Size.push_back(members.size());
     groups.Tip.push_back(static_cast<std::int64_t>(tip));
-    groups.Linearity.push_back(positions ? Linearity(*positions, members) : 0.0);
+    Eigen::Vector3d outward = Eigen::Vector3d::Zero();
+    if (nearestNode[tip] >= 0 && gap[tip] > 0.0)
+    {
+      outward = (cloud.Positions.row(static_cast<Eigen::Index>(tip)) -
+                  graph.NodePositions.row(nearestNode[tip])).transpose() / gap[tip];
+    }
+    groups.End.push_back(static_cast<std::int64_t>(FarEndCentre(cloud, gap, members, tip, outward)));
+    groups.Linearity.push_back(Linearity(cloud.Positions, members));
   }
   return groups;
 }
@@ -272,7 +315,7 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
 
   // 2. Groups of uncovered points: connected through neighbour edges between uncovered
   // points (the graph's edges stay within a surface component; bridges are not used).
-  const PointGroups groups = GroupFlaggedPoints(neighbours, uncovered, gap, &cloud.Positions);
+  const PointGroups groups = GroupFlaggedPoints(neighbours, cloud, uncovered, gap, graph, nearestNode);
 
   // 3. One branch per large group, and per thin limb.
   std::size_t added = 0;
@@ -286,7 +329,7 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
       groups.Linearity[g] >= options.ThinLimbLinearity &&
       gap[tip] >= options.ThinLimbFactor * cloud.Radius[tip];
     if ((large || thinLimb) &&
-      AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, groups.Tip[g]), nearestNode, pointComponent))
+      AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, groups.End[g]), nearestNode, pointComponent))
     {
       ++added;
     }
@@ -317,9 +360,11 @@ std::size_t ReachPartsWithoutBones(SkeletonGraph& graph, const ProjectedCloud& c
   std::vector<std::int64_t> nearestNode;
   std::vector<double> gap;
   NearestNodes(graph, cloud, pointComponent, parallelFor, nearestNode, gap);
-  // The part's points, grouped as step 5 groups uncovered points: the largest group's tip.
-  const PointGroups groups = GroupFlaggedPoints(neighbours, inPart, gap);
+  // The part's points, grouped as step 5 groups uncovered points: the largest group's tip and
+  // far end.
+  const PointGroups groups = GroupFlaggedPoints(neighbours, cloud, inPart, gap, graph, nearestNode);
   std::int64_t bestTip = -1;
+  std::int64_t bestEnd = -1;
   std::size_t bestSize = 0;
   for (std::size_t g = 0; g < groups.Size.size(); ++g)
   {
@@ -327,13 +372,14 @@ std::size_t ReachPartsWithoutBones(SkeletonGraph& graph, const ProjectedCloud& c
     {
       bestSize = groups.Size[g];
       bestTip = groups.Tip[g];
+      bestEnd = groups.End[g];
     }
   }
   // A part the skeleton runs through (its points within a radius or two of a bone it shares)
   // is not given a second, parallel branch.
   if (bestTip < 0 || !(cloud.Radius[static_cast<std::size_t>(bestTip)] > 0.0) ||
     !(gap[static_cast<std::size_t>(bestTip)] > options.PartUncoveredFactor * cloud.Radius[static_cast<std::size_t>(bestTip)]) ||
-    !AddBranch(graph, cloud, thinned, PathToCovered(neighbours, inPart, bestTip), nearestNode, pointComponent))
+    !AddBranch(graph, cloud, thinned, PathToCovered(neighbours, inPart, bestEnd), nearestNode, pointComponent))
   {
     return 0;
   }

@@ -20,11 +20,16 @@
 //        that a branch runs through the volume only and a piece the inside test cuts off
 //        gets none (with them, spurious leaves appeared: docs/skeleton.md).
 //     3. Every group holding at least MinimumShare of all points, and every thin limb (below),
-//        gets one branch: the
-//        shortest path through the neighbour graph from its point farthest from the skeleton
-//        (the part's tip) to the first covered point, joined to that point's nearest node.
+//        gets one branch: the shortest path through the neighbour graph from the centre of the
+//        group's far end to the first covered point, joined to that point's nearest node. The
+//        far end's centre: the group's tip is its point farthest from the skeleton; of the
+//        points within one tip radius of the tip's distance, the centroid, moved out along the
+//        direction from the tip's nearest node to the tip's depth; the point nearest to it
+//        (ties: lowest index). On a tube it is the tip; on a stub as thick as it is long the
+//        farthest point is a corner of its end, and a branch to it ran sideways (the libigl
+//        hand's wrist: its rig leaf 0.054 of the diagonal from the skeleton, 0.017 now).
 //        Its nodes are the MLS-projected positions (ThinnedCloud::Positions) of the path's
-//        points, kept when at least half their radius from the previous node (the tip is
+//        points, kept when at least half their radius from the previous node (the end is
 //        always kept). It is a connecting path (IsConnection 1).
 //   Then the bones are assigned again (AssignBranchBones). A branch joins the nearest node,
 //   which can lie a node or two from a junction: ComputeSkeleton then contracts the inner
@@ -142,10 +147,11 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
 
 /// Step 6 (ours, with part labels): one branch into a part that has no bone of its own (see
 /// Skeleton.h, which picks the parts). inPart flags the points of P of that part; they are
-/// grouped through the neighbour graph as in step 5 (bridges not used), and the tip of the
-/// largest group, its point farthest from the skeleton, gets a branch along the shortest path
-/// to the first point outside the part, joined to that point's nearest node, when the tip lies
-/// more than PartUncoveredFactor of its radii from the skeleton. Assigns the bones again when
+/// grouped through the neighbour graph as in step 5 (bridges not used), and the largest group
+/// gets a branch from the centre of its far end (as in step 5) along the shortest path to the
+/// first point outside the part, joined to that point's nearest node, when its tip (its point
+/// farthest from the skeleton) lies more than PartUncoveredFactor of its radii from the
+/// skeleton. Assigns the bones again when
 /// it added the branch. Returns the number of branches added (0 or 1).
 std::size_t ReachPartsWithoutBones(SkeletonGraph& graph, const ProjectedCloud& cloud,
   const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
