@@ -24,6 +24,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <exception>
+#include <functional>
 #include <iostream>
 #include <string>
 #include <thread>
@@ -37,6 +38,7 @@ constexpr int STATUS_TAG = 592007;
 constexpr int GATHER_TAG = 592006;
 constexpr int REPLICA_TAG = 592010; // and the next one
 constexpr int BARRIER_TAG = 592012;
+constexpr int FAILURE_TAG = 592013; // and the next one
 
 vtkMultiProcessController* Controller()
 {
@@ -83,6 +85,29 @@ int SleepingReceive(vtkMultiProcessController* controller, int source, int tag)
 int WaitForStatus(vtkMultiProcessController* controller)
 {
   return SleepingReceive(controller, 0, STATUS_TAG);
+}
+
+/// A text to process r: its length, then its characters.
+void SendText(vtkMultiProcessController* controller, const std::string& text, int r, int tag)
+{
+  vtkIdType length = static_cast<vtkIdType>(text.size());
+  controller->Send(&length, 1, r, tag);
+  if (length > 0)
+  {
+    controller->Send(text.data(), length, r, tag + 1);
+  }
+}
+
+std::string ReceiveText(vtkMultiProcessController* controller, int source, int tag)
+{
+  vtkIdType length = 0;
+  controller->Receive(&length, 1, source, tag);
+  std::string text(static_cast<std::size_t>(std::max<vtkIdType>(length, 0)), '\0');
+  if (length > 0)
+  {
+    controller->Receive(text.data(), length, source, tag + 1);
+  }
+  return text;
 }
 
 /// A barrier whose waiting processes sleep (SleepingReceive), before a collective that would
@@ -148,6 +173,8 @@ struct WholeRun
   std::vector<vtkSmartPointer<vtkDataObject>> Outputs;
   bool Ran = false;
   int Status = 1;
+  /// What the filter reported as its failure on process 0 (empty: none).
+  std::string Failure;
   double BuildSeconds = 0.0;
   double SerialSeconds = 0.0;
 };
@@ -182,7 +209,8 @@ int RunOnMesh(vtkAlgorithm* algorithm, vtkInformationVector** inputVector, vtkIn
 /// is reported and leaves Ran false, so that the other processes are never left waiting (they
 /// get their input back unchanged).
 WholeRun RunSerialOnWhole(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
-  vtkInformationVector* outputVector, const std::vector<vtkPolyData*>& pieces, const SerialBody& serial)
+  vtkInformationVector* outputVector, const std::vector<vtkPolyData*>& pieces, const SerialBody& serial,
+  const std::function<std::string()>& failure)
 {
   WholeRun run;
   try
@@ -195,10 +223,15 @@ WholeRun RunSerialOnWhole(vtkAlgorithm* algorithm, vtkInformationVector** inputV
     run.Status = RunOnMesh(algorithm, inputVector, outputVector, run.Whole.Mesh, run.Outputs, serial);
     run.SerialSeconds = Seconds(start);
     run.Ran = true;
+    if (failure)
+    {
+      run.Failure = failure();
+    }
   }
   catch (const std::exception& error)
   {
-    vtkErrorWithObjectMacro(algorithm, "Distributed run failed on process 0: " << error.what());
+    run.Failure = std::string("Distributed run failed on process 0: ") + error.what();
+    vtkErrorWithObjectMacro(algorithm, << run.Failure);
     run.Status = 0;
   }
   return run;
@@ -229,6 +262,7 @@ void ScatterResults(vtkMultiProcessController* controller, vtkPolyData* input, v
   {
     int status = run.Status;
     controller->Send(&status, 1, r, STATUS_TAG);
+    SendText(controller, run.Failure, r, FAILURE_TAG);
   }
   const WholeSurface& whole = run.Whole;
   for (const int port : scatteredPorts)
@@ -254,10 +288,15 @@ void ScatterResults(vtkMultiProcessController* controller, vtkPolyData* input, v
 
 /// On the other processes: the status, then this process's share of every scattered port (the
 /// other ports are complete on process 0 only).
-int ReceiveResults(vtkMultiProcessController* controller, vtkPolyData* input, vtkInformationVector* outputVector,
-  const std::vector<int>& scatteredPorts)
+int ReceiveResults(vtkAlgorithm* algorithm, vtkMultiProcessController* controller, vtkPolyData* input,
+  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts)
 {
   const int status = WaitForStatus(controller);
+  const std::string failure = ReceiveText(controller, 0, FAILURE_TAG);
+  if (!failure.empty())
+  {
+    vtkErrorWithObjectMacro(algorithm, << failure << " (process 0, which ran the filter on the whole surface; this process keeps its input)");
+  }
   for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
   {
     vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
@@ -296,7 +335,8 @@ bool IsDistributedRequest(vtkInformationVector** inputVector, vtkInformationVect
 }
 
 int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
-  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const SerialBody& serial)
+  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const SerialBody& serial,
+  const std::function<std::string()>& failure)
 {
   vtkMultiProcessController* controller = Controller();
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
@@ -308,7 +348,7 @@ int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVecto
   if (controller->GetLocalProcessId() != 0)
   {
     GatherPieces(controller, local);
-    return ReceiveResults(controller, input, outputVector, scatteredPorts);
+    return ReceiveResults(algorithm, controller, input, outputVector, scatteredPorts);
   }
 
   auto start = std::chrono::steady_clock::now();
@@ -319,7 +359,7 @@ int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVecto
   {
     pieces.push_back(piece.GetPointer());
   }
-  const WholeRun run = RunSerialOnWhole(algorithm, inputVector, outputVector, pieces, serial);
+  const WholeRun run = RunSerialOnWhole(algorithm, inputVector, outputVector, pieces, serial, failure);
   start = std::chrono::steady_clock::now();
   ScatterResults(controller, input, outputVector, scatteredPorts, pieces, run);
   const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");

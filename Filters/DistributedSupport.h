@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 class vtkAlgorithm;
@@ -63,6 +64,12 @@ using SerialBody = std::function<int(vtkInformationVector** inputVector, vtkInfo
  *
  * Returns `serial`'s result (the same on every process).
  *
+ * Errors: `failure`, when given, is called on process 0 after `serial` and returns what the
+ * filter reported as its failure there (empty: none; filters report bad input with an error
+ * and return 1). That text, or the exception that stopped the assembly, is sent to every
+ * other process with the status, and each reports it as an error of `algorithm` too, so a
+ * bad piece on any process shows on every process (each keeps its input, as process 0 does).
+ *
  * Memory: process 0 holds the received pieces, the whole surface and the filter's new
  * arrays on it at once (about 2x one copy of the surface with its arrays, plus the
  * algorithm's own working set on the whole surface, as in a serial run); every other process
@@ -73,7 +80,8 @@ using SerialBody = std::function<int(vtkInformationVector** inputVector, vtkInfo
  * step on process 0 (stderr).
  */
 int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
-  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const SerialBody& serial);
+  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const SerialBody& serial,
+  const std::function<std::string()>& failure = {});
 
 /**
  * What a replicated run (RunOnReplicatedSurface) gives the filter's body: the whole surface is

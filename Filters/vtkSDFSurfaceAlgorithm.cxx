@@ -47,8 +47,10 @@ int vtkSDFSurfaceAlgorithm::RequestData(
         });
     }
     return distributed::RunOnWholeSurface(this, inputVector, outputVector, { this->SurfacePort },
-      [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); });
+      [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); },
+      [this] { return this->LastFailure; });
   }
+  this->LastFailure.clear();
 
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, this->SurfacePort);
@@ -60,8 +62,9 @@ int vtkSDFSurfaceAlgorithm::RequestData(
   }
   if (input->GetNumberOfPolys() == 0 && !(this->AcceptStrips && input->GetNumberOfStrips() > 0))
   {
-    vtkErrorMacro("Cannot " << this->Task << ": the input has no polygons"
-                            << (this->AcceptStrips ? " or triangle strips" : "") << ".");
+    this->LastFailure = std::string("Cannot ") + this->Task + ": the input has no polygons" +
+      (this->AcceptStrips ? " or triangle strips" : "") + ".";
+    vtkErrorMacro(<< this->LastFailure);
     return 1;
   }
 
@@ -79,7 +82,8 @@ int vtkSDFSurfaceAlgorithm::RequestData(
   // what() is the reason as the user reads it after "Cannot <task>: ".
   catch (const std::exception& error)
   {
-    vtkErrorMacro("Cannot " << this->Task << ": " << error.what());
+    this->LastFailure = std::string("Cannot ") + this->Task + ": " + error.what();
+    vtkErrorMacro(<< this->LastFailure);
     this->PassThrough(input, outputVector);
     return 1;
   }

@@ -40,6 +40,7 @@
 #include "vtkPolyDataAlgorithm.h"
 
 #include <memory> // for std::shared_ptr
+#include <string> // for std::string
 
 namespace shapediameter
 {
@@ -116,6 +117,9 @@ private:
   std::shared_ptr<const shapediameter::FaceGraph> KeptFaceGraph;
   /// The share of the replicated run under way, else nullptr.
   const shapediameter::distributed::ReplicatedShare* ActiveShare = nullptr;
+  /// The error the last run reported (empty: none): under MPI, process 0 sends it to the
+  /// other processes, which report it too (distributed::RunOnWholeSurface).
+  std::string LastFailure;
 };
 
 #endif

@@ -1,0 +1,115 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""A bad piece on one rank: every rank reports every filter's error, and the run ends.
+
+    python3 Testing/Python/mpi_one_rank_fails.py --mpiexec MPIEXEC --pvbatch PVBATCH
+            --ranks N --bad-rank R MESH.off
+
+Runs `MPIEXEC -n N PVBATCH <this file> --worker R MESH.off`: the reader splits MESH over the
+ranks; on rank R a programmable filter replaces one point of its piece by NaN (bad input that
+only that rank holds); then ShapeDiameter -> SDFBilateralSmooth -> SDFGMMPartition ->
+SDFSkeleton. The Shape Diameter runs replicated (each rank its own rays) and the others on rank
+0's gathered surface (Filters/DistributedSupport.h). Checked on the run's combined output:
+
+- it ends within the timeout (a rank left waiting would hang it) with exit status 0;
+- every rank reports the Shape Diameter's error about the non-finite point, and every rank
+  reports an error of each of the three later filters (their input lacks the arrays; the
+  later filters run on rank 0, which sends its error to the others);
+- the script on rank 0 reaches its end, with the skeleton empty (the documented output of a
+  failed run) and the surface passed through.
+
+Prints 'PASS ...' / 'FAIL ...' lines; exit status 1 on any failure.
+"""
+import argparse
+import re
+import subprocess
+import sys
+
+FILTERS = ("vtkShapeDiameterFilter", "vtkSDFBilateralSmooth", "vtkSDFGMMPartition", "vtkSDFSkeleton")
+
+
+def worker(bad_rank, mesh):
+    """The pvbatch side: the chain with one rank's piece made bad."""
+    import os
+
+    from paraview import simple
+
+    simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], remote=True, ns=vars(simple))
+    reader = simple.SDFOFFReader(FileName=mesh)
+    spoiled = simple.ProgrammableFilter(Input=reader)
+    spoiled.Script = """
+import math
+from vtkmodules.vtkParallelCore import vtkMultiProcessController
+controller = vtkMultiProcessController.GetGlobalController()
+output = self.GetOutput()
+output.DeepCopy(self.GetInput())
+if controller is not None and controller.GetLocalProcessId() == %d and output.GetNumberOfPoints() > 0:
+    output.GetPoints().SetPoint(0, math.nan, 0.0, 0.0)
+""" % bad_rank
+    sdf = simple.ShapeDiameter(Input=spoiled)
+    smooth = simple.SDFBilateralSmooth(Input=sdf, SDFArray=["CELLS", "SDF"])
+    parts = simple.SDFGMMPartition(Input=smooth, NormalizedSDFArray=["CELLS", "SDFNormalized"])
+    skeleton = simple.SDFSkeleton(Input=parts, SDFArray=["CELLS", "SDFSmoothed"])
+    skeleton.UpdatePipeline()
+    skeleton_cells = skeleton.GetDataInformation(0).GetNumberOfCells()
+    surface_cells = skeleton.GetDataInformation(1).GetNumberOfCells()
+    print("WORKER END skeleton cells %d, surface cells %d" % (skeleton_cells, surface_cells), flush=True)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("mesh")
+    parser.add_argument("--worker", type=int, default=None, help=argparse.SUPPRESS)
+    parser.add_argument("--mpiexec")
+    parser.add_argument("--pvbatch")
+    parser.add_argument("--ranks", type=int, default=2)
+    parser.add_argument("--bad-rank", type=int, default=1)
+    parser.add_argument("--timeout", type=float, default=240.0)
+    args = parser.parse_args()
+    if args.worker is not None:
+        worker(args.worker, args.mesh)
+        return None
+
+    command = [args.mpiexec] + (["--oversubscribe"] if args.ranks > 2 else []) + \
+        ["-n", str(args.ranks), args.pvbatch, __file__, "--worker", str(args.bad_rank), args.mesh]
+    failures = 0
+
+    def check(ok, message):
+        nonlocal failures
+        failures += 0 if ok else 1
+        print(("PASS " if ok else "FAIL ") + message, flush=True)
+
+    try:
+        run = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                             timeout=args.timeout)
+    except subprocess.TimeoutExpired as expired:
+        print((expired.stdout or b"")[-4000:] if isinstance(expired.stdout, str) else "")
+        check(False, "the run ended within %g s (a rank was left waiting)" % args.timeout)
+        return 1
+    output = run.stdout
+    check(run.returncode == 0, "exit status 0 (got %d)" % run.returncode)
+    # ParaView's log lines: "( time) [pvbatch.<rank> ] file:line ERR| vtkClass (0x...): text".
+    errors = re.findall(r"\[pvbatch\.(\d+)\s*\][^\n]*ERR\|\s*(\w+) \(0x[0-9a-f]+\): ([^\n]*)", output)
+    for rank in range(args.ranks):
+        reported = {name for r, name, _ in errors if int(r) == rank}
+        for name in FILTERS:
+            check(name in reported, "rank %d reports an error of %s" % (rank, name))
+        nan = [text for r, name, text in errors
+               if int(r) == rank and name == "vtkShapeDiameterFilter" and "non-finite coordinate" in text]
+        check(bool(nan), "rank %d names the non-finite point" % rank)
+    end = re.search(r"WORKER END skeleton cells (\d+), surface cells (\d+)", output)
+    check(end is not None, "the script reached its end")
+    if end:
+        check(int(end.group(1)) == 0, "the skeleton of a failed run is empty (%s cells)" % end.group(1))
+        check(int(end.group(2)) > 0, "the surface is passed through (%s cells)" % end.group(2))
+    if failures:
+        print(output[-6000:])
+    print("%s" % ("FAILED" if failures else "all passed"))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    # pvbatch under mpiexec: sys.exit() skips ParaView's MPI finalisation (mpiexec then reports
+    # an abnormal exit), so the worker ends the script instead.
+    status = main()
+    if status is not None:
+        sys.exit(status)
