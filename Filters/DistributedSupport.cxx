@@ -5,8 +5,11 @@
 #include "WholeSurface.h"
 
 #include "vtkAlgorithm.h"
+#include "vtkCellData.h"
 #include "vtkCommunicator.h"
+#include "vtkDataArray.h"
 #include "vtkDataObject.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiProcessController.h"
@@ -85,6 +88,28 @@ int SleepingReceive(vtkMultiProcessController* controller, int source, int tag)
 int WaitForStatus(vtkMultiProcessController* controller)
 {
   return SleepingReceive(controller, 0, STATUS_TAG);
+}
+
+/// Drops the cell arrays not named in `keep` (nothing when it is empty), except the global ids
+/// attribute and the arrays AssembleWholeSurface orders and matches cells by.
+void KeepCellArrays(vtkCellData* cells, const std::vector<std::string>& keep)
+{
+  if (keep.empty())
+  {
+    return;
+  }
+  vtkDataArray* globalIds = cells->GetGlobalIds();
+  for (int i = cells->GetNumberOfArrays() - 1; i >= 0; --i)
+  {
+    vtkAbstractArray* array = cells->GetAbstractArray(i);
+    const std::string name = array->GetName() ? array->GetName() : "";
+    const bool assembly = array == globalIds || name == "GlobalCellIds" || name == "vtkOriginalCellIds" ||
+      name == vtkDataSetAttributes::GhostArrayName();
+    if (!assembly && std::find(keep.begin(), keep.end(), name) == keep.end())
+    {
+      cells->RemoveArray(i);
+    }
+  }
 }
 
 /// A text to process r: its length, then its characters.
@@ -336,7 +361,7 @@ bool IsDistributedRequest(vtkInformationVector** inputVector, vtkInformationVect
 
 int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const SerialBody& serial,
-  const std::function<std::string()>& failure)
+  const std::function<std::string()>& failure, const std::vector<std::string>& cellArrays)
 {
   vtkMultiProcessController* controller = Controller();
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
@@ -344,6 +369,7 @@ int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVecto
   if (input)
   {
     local->ShallowCopy(input);
+    KeepCellArrays(local->GetCellData(), cellArrays);
   }
   if (controller->GetLocalProcessId() != 0)
   {

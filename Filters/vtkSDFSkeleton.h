@@ -258,6 +258,8 @@ protected:
   ~vtkSDFSkeleton() override;
 
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
+  /// The selected SDF array, its fallbacks SDFSmoothed and SDF, SDFSegment and SDFCluster.
+  std::vector<std::string> CellArraysRead() override;
 
   int NumberOfSamples;
   int NumberOfIterations;

@@ -48,7 +48,7 @@ int vtkSDFSurfaceAlgorithm::RequestData(
     }
     return distributed::RunOnWholeSurface(this, inputVector, outputVector, { this->SurfacePort },
       [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); },
-      [this] { return this->LastFailure; });
+      [this] { return this->LastFailure; }, this->CellArraysRead());
   }
   this->LastFailure.clear();
 

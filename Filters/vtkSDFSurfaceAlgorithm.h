@@ -41,6 +41,7 @@
 
 #include <memory> // for std::shared_ptr
 #include <string> // for std::string
+#include <vector> // for std::vector
 
 namespace shapediameter
 {
@@ -92,6 +93,12 @@ protected:
    * process 0 (distributed::RunOnWholeSurface).
    */
   virtual bool CanRunReplicated() const { return false; }
+
+  /**
+   * Distributed runs on process 0: the cell arrays ExecuteSurface reads, so that only those
+   * travel to process 0 (distributed::RunOnWholeSurface); empty (the default) = all of them.
+   */
+  virtual std::vector<std::string> CellArraysRead() { return {}; }
 
   int NumberOfThreads = 0;
 
