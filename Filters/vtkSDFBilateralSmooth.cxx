@@ -39,6 +39,11 @@ vtkSDFBilateralSmooth::vtkSDFBilateralSmooth()
 
 vtkSDFBilateralSmooth::~vtkSDFBilateralSmooth() = default;
 
+std::vector<std::string> vtkSDFBilateralSmooth::CellArraysRead()
+{
+  return this->WithSelectedArray({ vtkShapeDiameterFilter::SDF_ARRAY_NAME });
+}
+
 bool vtkSDFBilateralSmooth::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)
 {
   using namespace shapediameter;

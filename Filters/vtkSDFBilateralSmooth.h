@@ -111,6 +111,8 @@ protected:
   ~vtkSDFBilateralSmooth() override;
 
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
+  /// The selected SDF array and its default, SDF.
+  std::vector<std::string> CellArraysRead() override;
 
   int NumberOfIterations;
   double SpatialSigma;

@@ -150,6 +150,11 @@ vtkTable* vtkSDFGMMPartition::GetHistogram()
   return vtkTable::SafeDownCast(this->GetOutputDataObject(1));
 }
 
+std::vector<std::string> vtkSDFGMMPartition::CellArraysRead()
+{
+  return this->WithSelectedArray({ vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME });
+}
+
 bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)
 {
   using namespace shapediameter;

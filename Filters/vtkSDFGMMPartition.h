@@ -264,6 +264,8 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
+  /// The selected normalised SDF array and its default, SDFNormalized.
+  std::vector<std::string> CellArraysRead() override;
 
   int NumberOfClusters;
   int MaximumClusters;

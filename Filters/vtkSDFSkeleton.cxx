@@ -146,15 +146,9 @@ vtkSDFSkeleton::~vtkSDFSkeleton() = default;
 
 std::vector<std::string> vtkSDFSkeleton::CellArraysRead()
 {
-  std::vector<std::string> names{ vtkSDFBilateralSmooth::SMOOTHED_ARRAY_NAME,
+  return this->WithSelectedArray({ vtkSDFBilateralSmooth::SMOOTHED_ARRAY_NAME,
     vtkShapeDiameterFilter::SDF_ARRAY_NAME, vtkSDFGMMPartition::SEGMENT_ARRAY_NAME,
-    vtkSDFGMMPartition::CLUSTER_ARRAY_NAME };
-  vtkInformation* selection = this->GetInputArrayInformation(0);
-  if (selection && selection->Has(vtkDataObject::FIELD_NAME()))
-  {
-    names.emplace_back(selection->Get(vtkDataObject::FIELD_NAME()));
-  }
-  return names;
+    vtkSDFGMMPartition::CLUSTER_ARRAY_NAME });
 }
 
 bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)

@@ -91,6 +91,16 @@ int vtkSDFSurfaceAlgorithm::RequestData(
   return 1;
 }
 
+std::vector<std::string> vtkSDFSurfaceAlgorithm::WithSelectedArray(std::vector<std::string> names)
+{
+  vtkInformation* selection = this->GetInputArrayInformation(0);
+  if (selection && selection->Has(vtkDataObject::FIELD_NAME()))
+  {
+    names.emplace_back(selection->Get(vtkDataObject::FIELD_NAME()));
+  }
+  return names;
+}
+
 void vtkSDFSurfaceAlgorithm::PassThrough(vtkPolyData* input, vtkInformationVector* outputVector)
 {
   for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)

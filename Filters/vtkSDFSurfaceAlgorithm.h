@@ -100,6 +100,9 @@ protected:
    */
   virtual std::vector<std::string> CellArraysRead() { return {}; }
 
+  /// `names` and the name of the array selected as input array 0 (when one is selected).
+  std::vector<std::string> WithSelectedArray(std::vector<std::string> names);
+
   int NumberOfThreads = 0;
 
   /**
