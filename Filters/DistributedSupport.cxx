@@ -112,27 +112,30 @@ void KeepCellArrays(vtkCellData* cells, const std::vector<std::string>& keep)
   }
 }
 
-/// A text to process r: its length, then its characters.
-void SendText(vtkMultiProcessController* controller, const std::string& text, int r, int tag)
+/// Process 0 to process r: the elements of `items` (ids, a text), their count first.
+template <typename Container>
+void SendSized(vtkMultiProcessController* controller, const Container& items, int r, int tag)
 {
-  vtkIdType length = static_cast<vtkIdType>(text.size());
-  controller->Send(&length, 1, r, tag);
-  if (length > 0)
+  vtkIdType count = static_cast<vtkIdType>(items.size());
+  controller->Send(&count, 1, r, tag);
+  if (count > 0)
   {
-    controller->Send(text.data(), length, r, tag + 1);
+    controller->Send(items.data(), count, r, tag + 1);
   }
 }
 
-std::string ReceiveText(vtkMultiProcessController* controller, int source, int tag)
+/// On process r: what SendSized sent it.
+template <typename Container>
+Container ReceiveSized(vtkMultiProcessController* controller, int tag)
 {
-  vtkIdType length = 0;
-  controller->Receive(&length, 1, source, tag);
-  std::string text(static_cast<std::size_t>(std::max<vtkIdType>(length, 0)), '\0');
-  if (length > 0)
+  vtkIdType count = 0;
+  controller->Receive(&count, 1, 0, tag);
+  Container items(static_cast<std::size_t>(std::max<vtkIdType>(count, 0)), typename Container::value_type{});
+  if (count > 0)
   {
-    controller->Receive(text.data(), length, source, tag + 1);
+    controller->Receive(items.data(), count, 0, tag + 1);
   }
-  return text;
+  return items;
 }
 
 /// A barrier whose waiting processes sleep (SleepingReceive), before a collective that would
@@ -287,7 +290,7 @@ void ScatterResults(vtkMultiProcessController* controller, vtkPolyData* input, v
   {
     int status = run.Status;
     controller->Send(&status, 1, r, STATUS_TAG);
-    SendText(controller, run.Failure, r, FAILURE_TAG);
+    SendSized(controller, run.Failure, r, FAILURE_TAG);
   }
   const WholeSurface& whole = run.Whole;
   for (const int port : scatteredPorts)
@@ -317,7 +320,7 @@ int ReceiveResults(vtkAlgorithm* algorithm, vtkMultiProcessController* controlle
   vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts)
 {
   const int status = WaitForStatus(controller);
-  const std::string failure = ReceiveText(controller, 0, FAILURE_TAG);
+  const auto failure = ReceiveSized<std::string>(controller, FAILURE_TAG);
   if (!failure.empty())
   {
     vtkErrorWithObjectMacro(algorithm, << failure << " (process 0, which ran the filter on the whole surface; this process keeps its input)");
@@ -405,29 +408,6 @@ int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVecto
 
 namespace
 {
-/// Process 0 to process r: a list of ids, its length first.
-void SendIds(vtkMultiProcessController* controller, const std::vector<vtkIdType>& ids, int r, int tag)
-{
-  vtkIdType count = static_cast<vtkIdType>(ids.size());
-  controller->Send(&count, 1, r, tag);
-  if (count > 0)
-  {
-    controller->Send(ids.data(), count, r, tag + 1);
-  }
-}
-
-std::vector<vtkIdType> ReceiveIds(vtkMultiProcessController* controller, int tag)
-{
-  vtkIdType count = 0;
-  controller->Receive(&count, 1, 0, tag);
-  std::vector<vtkIdType> ids(static_cast<std::size_t>(std::max<vtkIdType>(count, 0)));
-  if (count > 0)
-  {
-    controller->Receive(ids.data(), count, 0, tag + 1);
-  }
-  return ids;
-}
-
 /// What a process brings to ReplicatedShare::Combine.
 enum class Arrival : long long
 {
@@ -581,16 +561,16 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
   {
     for (int r = 1; r < processes; ++r)
     {
-      SendIds(controller, whole.CellToWhole[static_cast<std::size_t>(r)], r, REPLICA_TAG);
-      SendIds(controller, whole.PointToWhole[static_cast<std::size_t>(r)], r, REPLICA_TAG);
+      SendSized(controller, whole.CellToWhole[static_cast<std::size_t>(r)], r, REPLICA_TAG);
+      SendSized(controller, whole.PointToWhole[static_cast<std::size_t>(r)], r, REPLICA_TAG);
     }
     cellToWhole = whole.CellToWhole[0];
     pointToWhole = whole.PointToWhole[0];
   }
   else
   {
-    cellToWhole = ReceiveIds(controller, REPLICA_TAG);
-    pointToWhole = ReceiveIds(controller, REPLICA_TAG);
+    cellToWhole = ReceiveSized<std::vector<vtkIdType>>(controller, REPLICA_TAG);
+    pointToWhole = ReceiveSized<std::vector<vtkIdType>>(controller, REPLICA_TAG);
   }
   const double shareSeconds = Seconds(start) - assembleSeconds;
 

@@ -226,13 +226,18 @@ std::pair<vtkIdType, vtkIdType> PolygonFaces(
   return { first, last };
 }
 
+std::string SelectedArrayName(vtkAlgorithm* algorithm)
+{
+  vtkInformation* selection = algorithm->GetInputArrayInformation(0);
+  return selection && selection->Has(vtkDataObject::FIELD_NAME()) ? selection->Get(vtkDataObject::FIELD_NAME())
+                                                                 : "";
+}
+
 std::string ReadCellScalars(vtkAlgorithm* algorithm, vtkPolyData* input, const char* defaultName,
   std::vector<double>& values, std::string& arrayName)
 {
   vtkInformation* selection = algorithm->GetInputArrayInformation(0);
-  arrayName = selection && selection->Has(vtkDataObject::FIELD_NAME())
-    ? selection->Get(vtkDataObject::FIELD_NAME())
-    : "";
+  arrayName = SelectedArrayName(algorithm);
   if (arrayName.empty())
   {
     // ParaView sends an empty selection when the proxy was created before its input had

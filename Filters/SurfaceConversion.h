@@ -69,6 +69,10 @@ std::pair<vtkIdType, vtkIdType> PolygonCellRange(vtkPolyData* input);
 std::pair<vtkIdType, vtkIdType> PolygonFaces(
   vtkPolyData* input, std::vector<std::int64_t>& offsets, std::vector<std::int64_t>& connectivity);
 
+/// The name of the array `algorithm` was told to process (SetInputArrayToProcess index 0);
+/// empty when nothing is selected.
+std::string SelectedArrayName(vtkAlgorithm* algorithm);
+
 /**
  * Reads the cell array `algorithm` was told to process (SetInputArrayToProcess index 0;
  * `defaultName` when that selection is empty) into `values` and its name into

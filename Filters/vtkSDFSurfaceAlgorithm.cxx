@@ -93,10 +93,10 @@ int vtkSDFSurfaceAlgorithm::RequestData(
 
 std::vector<std::string> vtkSDFSurfaceAlgorithm::WithSelectedArray(std::vector<std::string> names)
 {
-  vtkInformation* selection = this->GetInputArrayInformation(0);
-  if (selection && selection->Has(vtkDataObject::FIELD_NAME()))
+  std::string selected = shapediameter::adapter::SelectedArrayName(this);
+  if (!selected.empty())
   {
-    names.emplace_back(selection->Get(vtkDataObject::FIELD_NAME()));
+    names.push_back(std::move(selected));
   }
   return names;
 }

@@ -363,23 +363,23 @@ std::size_t ReachPartsWithoutBones(SkeletonGraph& graph, const ProjectedCloud& c
   // The part's points, grouped as step 5 groups uncovered points: the largest group's tip and
   // far end.
   const PointGroups groups = GroupFlaggedPoints(neighbours, cloud, inPart, gap, graph, nearestNode);
-  std::int64_t bestTip = -1;
-  std::int64_t bestEnd = -1;
-  std::size_t bestSize = 0;
-  for (std::size_t g = 0; g < groups.Size.size(); ++g)
+  if (groups.Size.empty())
   {
-    if (groups.Size[g] > bestSize)
+    return 0;
+  }
+  std::size_t best = 0; // the largest group, the first of equal ones
+  for (std::size_t g = 1; g < groups.Size.size(); ++g)
+  {
+    if (groups.Size[g] > groups.Size[best])
     {
-      bestSize = groups.Size[g];
-      bestTip = groups.Tip[g];
-      bestEnd = groups.End[g];
+      best = g;
     }
   }
   // A part the skeleton runs through (its points within a radius or two of a bone it shares)
   // is not given a second, parallel branch.
-  if (bestTip < 0 || !(cloud.Radius[static_cast<std::size_t>(bestTip)] > 0.0) ||
-    !(gap[static_cast<std::size_t>(bestTip)] > options.PartUncoveredFactor * cloud.Radius[static_cast<std::size_t>(bestTip)]) ||
-    !AddBranch(graph, cloud, thinned, PathToCovered(neighbours, inPart, bestEnd), nearestNode, pointComponent))
+  const auto tip = static_cast<std::size_t>(groups.Tip[best]);
+  if (!(cloud.Radius[tip] > 0.0) || !(gap[tip] > options.PartUncoveredFactor * cloud.Radius[tip]) ||
+    !AddBranch(graph, cloud, thinned, PathToCovered(neighbours, inPart, groups.End[best]), nearestNode, pointComponent))
   {
     return 0;
   }
