@@ -4,11 +4,14 @@
     python3 Testing/Python/mpi_one_rank_fails.py --mpiexec MPIEXEC --pvbatch PVBATCH
             --ranks N --bad-rank R MESH.off
 
-Runs `MPIEXEC -n N PVBATCH <this file> --worker R MESH.off`: the reader splits MESH over the
-ranks; on rank R a programmable filter replaces one point of its piece by NaN (bad input that
-only that rank holds); then ShapeDiameter -> SDFBilateralSmooth -> SDFGMMPartition ->
+Runs `MPIEXEC -n N PVBATCH <this file> --worker R --log-dir DIR MESH.off`: the reader splits
+MESH over the ranks; on every rank a programmable filter sends the rank's log (warnings and
+errors) to DIR/rank<r>.log, and on rank R it replaces one point of its piece by NaN (bad input
+that only that rank holds); then ShapeDiameter -> SDFBilateralSmooth -> SDFGMMPartition ->
 SDFSkeleton. The Shape Diameter runs replicated (each rank its own rays) and the others on rank
-0's gathered surface (Filters/DistributedSupport.h). Checked on the run's combined output:
+0's gathered surface (Filters/DistributedSupport.h). Each rank's errors are read from its own
+log file: in the ranks' combined output, a line of one rank can be cut by another's (seen: a
+rank's error split in two around rank 0's). Checked:
 
 - it ends within the timeout (a rank left waiting would hang it) with exit status 0;
 - every rank reports the Shape Diameter's error about the non-finite point, and every rank
@@ -20,17 +23,18 @@ SDFSkeleton. The Shape Diameter runs replicated (each rank its own rays) and the
 Prints 'PASS ...' / 'FAIL ...' lines; exit status 1 on any failure.
 """
 import argparse
+import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 
 FILTERS = ("vtkShapeDiameterFilter", "vtkSDFBilateralSmooth", "vtkSDFGMMPartition", "vtkSDFSkeleton")
 
 
-def worker(bad_rank, mesh):
-    """The pvbatch side: the chain with one rank's piece made bad."""
-    import os
-
+def worker(bad_rank, mesh, log_dir):
+    """The pvbatch side: the chain with one rank's piece made bad, each rank logging to a file."""
     from paraview import simple
 
     simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], remote=True, ns=vars(simple))
@@ -38,13 +42,17 @@ def worker(bad_rank, mesh):
     spoiled = simple.ProgrammableFilter(Input=reader)
     spoiled.Script = """
 import math
+import os
+from vtkmodules.vtkCommonCore import vtkLogger
 from vtkmodules.vtkParallelCore import vtkMultiProcessController
 controller = vtkMultiProcessController.GetGlobalController()
+rank = controller.GetLocalProcessId() if controller is not None else 0
+vtkLogger.LogToFile(os.path.join(%r, "rank%%d.log" %% rank), vtkLogger.TRUNCATE, vtkLogger.VERBOSITY_WARNING)
 output = self.GetOutput()
 output.DeepCopy(self.GetInput())
-if controller is not None and controller.GetLocalProcessId() == %d and output.GetNumberOfPoints() > 0:
+if rank == %d and output.GetNumberOfPoints() > 0:
     output.GetPoints().SetPoint(0, math.nan, 0.0, 0.0)
-""" % bad_rank
+""" % (log_dir, bad_rank)
     sdf = simple.ShapeDiameter(Input=spoiled)
     smooth = simple.SDFBilateralSmooth(Input=sdf, SDFArray=["CELLS", "SDF"])
     parts = simple.SDFGMMPartition(Input=smooth, NormalizedSDFArray=["CELLS", "SDFNormalized"])
@@ -52,13 +60,15 @@ if controller is not None and controller.GetLocalProcessId() == %d and output.Ge
     skeleton.UpdatePipeline()
     skeleton_cells = skeleton.GetDataInformation(0).GetNumberOfCells()
     surface_cells = skeleton.GetDataInformation(1).GetNumberOfCells()
-    print("WORKER END skeleton cells %d, surface cells %d" % (skeleton_cells, surface_cells), flush=True)
+    with open(os.path.join(log_dir, "end.txt"), "w") as end:
+        end.write("skeleton cells %d, surface cells %d\n" % (skeleton_cells, surface_cells))
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("mesh")
     parser.add_argument("--worker", type=int, default=None, help=argparse.SUPPRESS)
+    parser.add_argument("--log-dir", help=argparse.SUPPRESS)
     parser.add_argument("--mpiexec")
     parser.add_argument("--pvbatch")
     parser.add_argument("--ranks", type=int, default=2)
@@ -66,11 +76,13 @@ def main():
     parser.add_argument("--timeout", type=float, default=240.0)
     args = parser.parse_args()
     if args.worker is not None:
-        worker(args.worker, args.mesh)
+        worker(args.worker, args.mesh, args.log_dir)
         return None
 
+    log_dir = tempfile.mkdtemp(prefix="one_rank_fails_")
     command = [args.mpiexec] + (["--oversubscribe"] if args.ranks > 2 else []) + \
-        ["-n", str(args.ranks), args.pvbatch, __file__, "--worker", str(args.bad_rank), args.mesh]
+        ["-n", str(args.ranks), args.pvbatch, __file__, "--worker", str(args.bad_rank),
+         "--log-dir", log_dir, args.mesh]
     failures = 0
 
     def check(ok, message):
@@ -87,22 +99,28 @@ def main():
         return 1
     output = run.stdout
     check(run.returncode == 0, "exit status 0 (got %d)" % run.returncode)
-    # ParaView's log lines: "( time) [pvbatch.<rank> ] file:line ERR| vtkClass (0x...): text".
-    errors = re.findall(r"\[pvbatch\.(\d+)\s*\][^\n]*ERR\|\s*(\w+) \(0x[0-9a-f]+\): ([^\n]*)", output)
+
+    def read(name):
+        path = os.path.join(log_dir, name)
+        return open(path, errors="replace").read() if os.path.exists(path) else ""
+
     for rank in range(args.ranks):
-        reported = {name for r, name, _ in errors if int(r) == rank}
+        # vtkLogger's lines: "... ERR| vtkClass (0x...): text".
+        errors = re.findall(r"ERR\|\s*(\w+) \(0x[0-9a-f]+\): ([^\n]*)", read("rank%d.log" % rank))
+        reported = {name for name, _ in errors}
         for name in FILTERS:
             check(name in reported, "rank %d reports an error of %s" % (rank, name))
-        nan = [text for r, name, text in errors
-               if int(r) == rank and name == "vtkShapeDiameterFilter" and "non-finite coordinate" in text]
+        nan = [text for name, text in errors if name == "vtkShapeDiameterFilter" and "non-finite coordinate" in text]
         check(bool(nan), "rank %d names the non-finite point" % rank)
-    end = re.search(r"WORKER END skeleton cells (\d+), surface cells (\d+)", output)
+    end = re.search(r"skeleton cells (\d+), surface cells (\d+)", read("end.txt"))
     check(end is not None, "the script reached its end")
     if end:
         check(int(end.group(1)) == 0, "the skeleton of a failed run is empty (%s cells)" % end.group(1))
         check(int(end.group(2)) > 0, "the surface is passed through (%s cells)" % end.group(2))
     if failures:
         print(output[-6000:])
+    else:
+        shutil.rmtree(log_dir, ignore_errors=True)
     print("%s" % ("FAILED" if failures else "all passed"))
     return 1 if failures else 0
 
