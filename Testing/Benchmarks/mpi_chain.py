@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Wall time of the chain per stage under MPI (pvbatch), for docs/distributed.md.
+"""Wall time and memory of the chain per stage under MPI (pvbatch), for docs/distributed.md.
 
-    mpiexec --bind-to none -n N pvbatch Testing/Benchmarks/mpi_chain.py MESH.off [--threads 1] [--repeats 3]
+    mpiexec --bind-to none -n N pvbatch Testing/Benchmarks/mpi_chain.py MESH.off [--threads 1] [--repeats 3] [--memory]
 
 The chain SDF OFF Reader -> Shape Diameter -> SDF Bilateral Smooth -> SDF GMM Partition ->
 SDF Skeleton runs through the plugin's proxies on all ranks (the reader's spatial pieces), every
@@ -10,9 +10,19 @@ after the other; printed on rank 0: one line per repeat with the seconds of each
 fastest of the repeats per stage ("min"), as a Python dict on a line starting with 'RESULT '.
 Testing/Benchmarks/run-mpi-benchmarks runs it on 1 and 2 ranks and prints the ratios.
 Needs SHAPEDIAMETER_PLUGIN (the plugin's .so) in the environment.
+
+--memory (one repeat): every rank reads its VmRSS from /proc/self/status just before the reader
+runs (plugin loaded, the chain's proxies created: the "baseline") and its VmHWM after each stage.
+A ProgrammableSource run on every rank takes each reading (pvbatch runs this script on rank 0
+only) and appends it to a file per rank in a temporary directory; rank 0 prints one line per
+rank (MB: baseline, VmHWM after each stage, VmHWM - baseline after the reader and after the
+chain) and the same as a list of dicts on a line starting with 'MEMORY '. VmHWM is the process's
+high-water mark, so the figure after a stage is the peak of everything up to that stage.
 """
 import argparse
 import os
+import shutil
+import tempfile
 import time
 
 from paraview import simple
@@ -22,6 +32,8 @@ parser = argparse.ArgumentParser()
 parser.add_argument("mesh")
 parser.add_argument("--threads", type=int, default=1)
 parser.add_argument("--repeats", type=int, default=3)
+parser.add_argument("--memory", action="store_true",
+                    help="one repeat; per-rank VmRSS before the reader and VmHWM after each stage")
 args = parser.parse_args()
 
 controller = vtkMultiProcessController.GetGlobalController()
@@ -29,23 +41,97 @@ processes = controller.GetNumberOfProcesses() if controller else 1
 simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], ns=vars(simple))
 
 stages = ("read", "sdf", "smooth", "partition", "skeleton")
-fastest = {}
-for repeat in range(args.repeats):
-    reader = simple.SDFOFFReader(FileName=args.mesh)
-    sdf = simple.ShapeDiameter(Input=reader, NumberOfThreads=args.threads)
-    smooth = simple.SDFBilateralSmooth(Input=sdf, NumberOfThreads=args.threads)
-    partition = simple.SDFGMMPartition(Input=smooth, NumberOfThreads=args.threads)
-    skeleton = simple.SDFSkeleton(Input=partition, NumberOfThreads=args.threads)
-    seconds = {}
-    for name, proxy in zip(stages, (reader, sdf, smooth, partition, skeleton)):
-        start = time.perf_counter()
-        proxy.UpdatePipeline()
-        seconds[name] = time.perf_counter() - start
-    seconds["chain"] = sum(seconds[name] for name in stages)
-    print("ranks %d, threads %d, repeat %d: %s" % (processes, args.threads, repeat,
-          ", ".join("%s %.3f s" % item for item in seconds.items())), flush=True)
-    for name, value in seconds.items():
-        fastest[name] = min(fastest.get(name, value), value)
-    for proxy in (skeleton, partition, smooth, sdf, reader):
-        simple.Delete(proxy)
-print("RESULT %r" % {"ranks": processes, "threads": args.threads, **fastest}, flush=True)
+
+# Runs on every rank (the source is updated on all of them); appends "label rss hwm" in kB.
+PROBE_SCRIPT = """
+import os
+from vtkmodules.vtkParallelCore import vtkMultiProcessController
+controller = vtkMultiProcessController.GetGlobalController()
+rank = controller.GetLocalProcessId() if controller is not None else 0
+status = dict(line.split(":", 1) for line in open("/proc/self/status") if ":" in line)
+kilobytes = lambda key: int(status[key].split()[0])
+with open(os.path.join(%r, "rank%%d.txt" %% rank), "a") as readings:
+    readings.write("%%s %%d %%d\\n" %% (%r, kilobytes("VmRSS"), kilobytes("VmHWM")))
+"""
+
+
+def probe(directory, label):
+    # On rank 0 the source's script runs in this module's namespace, after `from numpy import *`
+    # (which shadows min, sum, all, ...): the namespace is put back as it was afterwards.
+    saved = dict(globals())
+    source = simple.ProgrammableSource(Script=PROBE_SCRIPT % (directory, label))
+    source.UpdatePipeline()
+    simple.Delete(source)
+    for name in set(globals()) - set(saved):
+        del globals()[name]
+    globals().update(saved)
+
+
+def read_probes(directory, timeout=60.0):
+    """{rank: {label: (rss_kB, hwm_kB)}} once every rank has written its last reading."""
+    deadline = time.time() + timeout
+    while True:
+        ranks = {}
+        for rank in range(processes):
+            path = os.path.join(directory, "rank%d.txt" % rank)
+            lines = open(path).read().splitlines() if os.path.exists(path) else []
+            ranks[rank] = {label: (int(rss), int(hwm)) for label, rss, hwm in (line.split() for line in lines)}
+        if all(stages[-1] in readings for readings in ranks.values()) or time.time() > deadline:
+            return ranks
+        time.sleep(0.2)
+
+
+def report_memory(ranks):
+    megabytes = lambda kilobytes: kilobytes / 1024.0
+    rows = []
+    for rank, readings in sorted(ranks.items()):
+        if "baseline" not in readings or stages[-1] not in readings:
+            print("rank %d: readings missing (%s)" % (rank, ", ".join(readings)), flush=True)
+            continue
+        baseline = megabytes(readings["baseline"][0])
+        row = {"rank": rank, "baseline": baseline}
+        row.update({stage: megabytes(readings[stage][1]) for stage in stages})
+        row["reader_peak"] = row["read"] - baseline
+        row["chain_peak"] = row[stages[-1]] - baseline
+        rows.append(row)
+    print("| rank | baseline RSS | " + " | ".join("VmHWM after %s" % s for s in stages) +
+          " | reader: VmHWM - baseline | chain: VmHWM - baseline |", flush=True)
+    print("|---:|" + "---:|" * (len(stages) + 3))
+    for row in rows:
+        print("| %d | " % row["rank"] + " | ".join("%.0f MB" % row[key] for key in
+              ("baseline",) + stages + ("reader_peak", "chain_peak")) + " |", flush=True)
+    print("MEMORY %r" % {"ranks": processes, "threads": args.threads, "per_rank": rows}, flush=True)
+
+
+def main():
+    fastest = {}
+    for repeat in range(1 if args.memory else args.repeats):
+        reader = simple.SDFOFFReader(FileName=args.mesh)
+        sdf = simple.ShapeDiameter(Input=reader, NumberOfThreads=args.threads)
+        smooth = simple.SDFBilateralSmooth(Input=sdf, NumberOfThreads=args.threads)
+        partition = simple.SDFGMMPartition(Input=smooth, NumberOfThreads=args.threads)
+        skeleton = simple.SDFSkeleton(Input=partition, NumberOfThreads=args.threads)
+        directory = tempfile.mkdtemp(prefix="mpi_chain_memory_") if args.memory else None
+        if args.memory:
+            probe(directory, "baseline")
+        seconds = {}
+        for name, proxy in zip(stages, (reader, sdf, smooth, partition, skeleton)):
+            start = time.perf_counter()
+            proxy.UpdatePipeline()
+            seconds[name] = time.perf_counter() - start
+            if args.memory:
+                probe(directory, name)
+        seconds["chain"] = sum(seconds[name] for name in stages)
+        print("ranks %d, threads %d, repeat %d: %s" % (processes, args.threads, repeat,
+              ", ".join("%s %.3f s" % item for item in seconds.items())), flush=True)
+        for name, value in seconds.items():
+            fastest[name] = min(fastest.get(name, value), value)
+        if args.memory:
+            report_memory(read_probes(directory))
+            shutil.rmtree(directory, ignore_errors=True)
+        for proxy in (skeleton, partition, smooth, sdf, reader):
+            simple.Delete(proxy)
+    print("RESULT %r" % {"ranks": processes, "threads": args.threads, **fastest}, flush=True)
+
+
+main()
