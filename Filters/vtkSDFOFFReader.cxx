@@ -83,19 +83,24 @@ int vtkSDFOFFReader::RequestData(
   // faces, and points and faces are numbered in file order (GlobalIds attributes
   // `GlobalPointIds`, `GlobalCellIds`) so the filters can rebuild the original mesh, in its
   // original order, from any distribution of the pieces. Serial runs get no extra array.
+  // A piece is read keeping only what it needs (ReadOFFPiece); one piece parses the whole file
+  // in one pass, which is faster and holds nothing more.
   shapediameter::OFFMesh mesh;
   std::vector<std::int64_t> globalPointIds;
   std::vector<std::int64_t> globalCellIds;
   try
   {
-    mesh = shapediameter::ReadOFFFile(this->FileName);
     if (pieces > 1)
     {
-      shapediameter::MeshPiece share = shapediameter::ExtractFacePiece(mesh, piece, pieces,
+      shapediameter::MeshPiece share = shapediameter::ReadOFFPiece(this->FileName, piece, pieces,
         this->SpatialPieces ? shapediameter::PieceOrder::Spatial : shapediameter::PieceOrder::FileOrder);
       mesh = std::move(share.Mesh);
       globalPointIds = std::move(share.GlobalPointIds);
       globalCellIds = std::move(share.GlobalFaceIds);
+    }
+    else
+    {
+      mesh = shapediameter::ReadOFFFile(this->FileName);
     }
   }
   catch (const std::exception& error)

@@ -20,7 +20,7 @@
  * - point array `Normals` (double, 3 components) for NOFF files;
  * - cell array `Colors` (unsigned char, 4 components) when face lines carry colours.
  *
- * Parsing happens in the VTK-free core (`shapediameter::ParseOFF`), which
+ * Parsing happens in the VTK-free core (`shapediameter::ReadOFFFile`, `ReadOFFPiece`), which
  * validates the declared counts against the file size before allocating
  * anything. A missing, truncated or malformed file is reported with
  * vtkErrorMacro (with the line number) and produces an empty output; the
@@ -32,8 +32,15 @@
  * centroids (`SpatialPieces` on, the default), so every piece is a compact region of space,
  * or the faces [F·p/N, F·(p+1)/N) in file order (`SpatialPieces` off; file order is rarely
  * compact). Each piece lists its faces in file order, with the vertices they use (border
- * vertices appear in each piece that uses them; vertices no face uses stay on piece 0); every
- * piece parses the whole file, so each rank briefly holds the whole mesh. The output then also
+ * vertices appear in each piece that uses them; vertices no face uses stay on piece 0).
+ *
+ * Memory per rank: a piece reads the file a few MB at a time (`shapediameter::ReadOFFPiece`)
+ * and holds, besides its own piece, every point (3 doubles per vertex, for the face
+ * centroids), one byte per vertex and, while it chooses its faces, two 8-byte Morton keys per
+ * face; never the file's text or the whole mesh's faces. It reads the file 3 times (4 for
+ * NOFF/COFF; 2-3 with `SpatialPieces` off), where one piece (a serial run) reads and parses
+ * the whole file once (`ReadOFFFile`). The pieces, global ids and errors are exactly those of
+ * splitting the whole parsed mesh. The output then also
  * carries the GlobalIds attributes `GlobalPointIds` (point data) and `GlobalCellIds` (cell
  * data), vtkIdType, numbering points and faces in file order: the module's filters use them
  * to rebuild the original mesh from the pieces, however they were redistributed afterwards

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -36,57 +37,122 @@ std::uint64_t SpreadBits(std::uint64_t value)
   return value;
 }
 
+using Vector3 = std::array<double, 3>;
+
+/// Mean of the `size` (> 0) points of `vertices`; points holds x y z per vertex.
+Vector3 Centroid(const double* points, const std::int64_t* vertices, std::size_t size)
+{
+  Vector3 centroid{ 0.0, 0.0, 0.0 };
+  for (std::size_t i = 0; i < size; ++i)
+  {
+    const auto vertex = static_cast<std::size_t>(vertices[i]);
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      centroid[axis] += points[3 * vertex + axis];
+    }
+  }
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    centroid[axis] /= static_cast<double>(size);
+  }
+  return centroid;
+}
+
+/// The Morton curve through the face centroids: the bounding cube of all centroids (Add),
+/// then the key of each (Key). The one definition of the order MortonFaceOrder and
+/// ReadOFFPiece share.
+class MortonCurve
+{
+public:
+  MortonCurve()
+  {
+    this->Low.fill(std::numeric_limits<double>::infinity());
+    this->High.fill(-std::numeric_limits<double>::infinity());
+  }
+
+  void Add(const Vector3& centroid)
+  {
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      this->Low[axis] = std::min(this->Low[axis], centroid[axis]);
+      this->High[axis] = std::max(this->High[axis], centroid[axis]);
+    }
+  }
+
+  /// 21 bits per axis over the bounding cube of the centroids added.
+  std::uint64_t Key(const Vector3& centroid)
+  {
+    if (!this->Scaled)
+    {
+      // One scale for all axes (a cube), so the curve's cells are cubes and pieces stay round.
+      double extent = 0.0;
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        extent = std::max(extent, this->High[axis] - this->Low[axis]);
+      }
+      this->Scale = extent > 0.0 && std::isfinite(extent) ? kCells / extent : 0.0;
+      this->Scaled = true;
+    }
+    std::uint64_t code = 0;
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      const double cell = std::clamp((centroid[axis] - this->Low[axis]) * this->Scale, 0.0, kCells);
+      code |= SpreadBits(static_cast<std::uint64_t>(cell)) << axis;
+    }
+    return code;
+  }
+
+private:
+  static constexpr double kCells = static_cast<double>((1u << 21) - 1);
+  Vector3 Low;
+  Vector3 High;
+  double Scale = 0.0;
+  bool Scaled = false;
+};
+
+void CheckPieceRequest(int piece, int pieces)
+{
+  if (pieces < 1 || piece < 0 || piece >= pieces)
+  {
+    throw std::invalid_argument("piece " + std::to_string(piece) + " of " + std::to_string(pieces) +
+      " does not exist");
+  }
+}
+
+/// Positions [first, end) of piece `piece` of `pieces` along an order of `faceCount` faces.
+std::pair<std::size_t, std::size_t> PiecePositions(std::size_t faceCount, int piece, int pieces)
+{
+  // 64-bit products: F·pieces stays far below 2^63 for any mesh that fits in memory.
+  const auto at = [&](int p)
+  {
+    return static_cast<std::size_t>(
+      static_cast<unsigned long long>(faceCount) * static_cast<unsigned>(p) / static_cast<unsigned>(pieces));
+  };
+  return { at(piece), at(piece + 1) };
+}
+
 } // namespace
 
 std::vector<std::int64_t> MortonFaceOrder(const OFFMesh& mesh)
 {
   const std::size_t faceCount = mesh.FaceCount();
-  std::vector<std::array<double, 3>> centroids(faceCount, std::array<double, 3>{ 0.0, 0.0, 0.0 });
-  std::array<double, 3> low{}, high{};
-  low.fill(std::numeric_limits<double>::infinity());
-  high.fill(-std::numeric_limits<double>::infinity());
+  std::vector<Vector3> centroids(faceCount, Vector3{ 0.0, 0.0, 0.0 });
+  MortonCurve curve;
   for (std::size_t f = 0; f < faceCount; ++f)
   {
     const auto begin = static_cast<std::size_t>(mesh.FaceOffsets[f]);
     const auto end = static_cast<std::size_t>(mesh.FaceOffsets[f + 1]);
-    if (begin == end)
+    if (begin != end)
     {
-      continue;
-    }
-    for (std::size_t i = begin; i < end; ++i)
-    {
-      const auto vertex = static_cast<std::size_t>(mesh.FaceConnectivity[i]);
-      for (int axis = 0; axis < 3; ++axis)
-      {
-        centroids[f][axis] += mesh.Points[3 * vertex + axis];
-      }
-    }
-    for (int axis = 0; axis < 3; ++axis)
-    {
-      centroids[f][axis] /= static_cast<double>(end - begin);
-      low[axis] = std::min(low[axis], centroids[f][axis]);
-      high[axis] = std::max(high[axis], centroids[f][axis]);
+      centroids[f] = Centroid(mesh.Points.data(), mesh.FaceConnectivity.data() + begin, end - begin);
+      curve.Add(centroids[f]);
     }
   }
-  // One scale for all axes (a cube), so the curve's cells are cubes and pieces stay round.
-  double extent = 0.0;
-  for (int axis = 0; axis < 3; ++axis)
-  {
-    extent = std::max(extent, high[axis] - low[axis]);
-  }
-  constexpr double cells = static_cast<double>((1u << 21) - 1);
-  const double scale = extent > 0.0 && std::isfinite(extent) ? cells / extent : 0.0;
   std::vector<std::pair<std::uint64_t, std::int64_t>> keyed(faceCount);
   for (std::size_t f = 0; f < faceCount; ++f)
   {
-    std::uint64_t code = 0;
     const bool hasVertices = mesh.FaceOffsets[f] != mesh.FaceOffsets[f + 1];
-    for (int axis = 0; hasVertices && axis < 3; ++axis)
-    {
-      const double cell = std::clamp((centroids[f][axis] - low[axis]) * scale, 0.0, cells);
-      code |= SpreadBits(static_cast<std::uint64_t>(cell)) << axis;
-    }
-    keyed[f] = { code, static_cast<std::int64_t>(f) };
+    keyed[f] = { hasVertices ? curve.Key(centroids[f]) : 0, static_cast<std::int64_t>(f) };
   }
   std::sort(keyed.begin(), keyed.end());
   std::vector<std::int64_t> order(faceCount);
@@ -96,18 +162,10 @@ std::vector<std::int64_t> MortonFaceOrder(const OFFMesh& mesh)
 
 MeshPiece ExtractFacePiece(const OFFMesh& mesh, int piece, int pieces, PieceOrder order)
 {
-  if (pieces < 1 || piece < 0 || piece >= pieces)
-  {
-    throw std::invalid_argument("piece " + std::to_string(piece) + " of " + std::to_string(pieces) +
-      " does not exist");
-  }
+  CheckPieceRequest(piece, pieces);
   const std::size_t faceCount = mesh.FaceCount();
   const std::size_t vertexCount = mesh.VertexCount();
-  // 64-bit products: F·pieces stays far below 2^63 for any mesh that fits in memory.
-  const auto firstPosition = static_cast<std::size_t>(
-    static_cast<unsigned long long>(faceCount) * static_cast<unsigned>(piece) / static_cast<unsigned>(pieces));
-  const auto endPosition = static_cast<std::size_t>(
-    static_cast<unsigned long long>(faceCount) * static_cast<unsigned>(piece + 1) / static_cast<unsigned>(pieces));
+  const auto [firstPosition, endPosition] = PiecePositions(faceCount, piece, pieces);
 
   // The faces of this piece, in file order.
   std::vector<std::size_t> faces;
@@ -190,6 +248,259 @@ MeshPiece ExtractFacePiece(const OFFMesh& mesh, int piece, int pieces, PieceOrde
     }
   }
   return result;
+}
+
+namespace
+{
+
+/// Pass 1 of ReadOFFPiece: every point, and the bounding box of the face centroids.
+class PointsAndCentroids : public OFFElementVisitor
+{
+public:
+  explicit PointsAndCentroids(bool centroids)
+    : Centroids(centroids)
+  {
+  }
+  void Counts(std::int64_t vertices, std::int64_t) override
+  {
+    this->Points.resize(3 * static_cast<std::size_t>(vertices));
+  }
+  void Vertex(std::int64_t v, const double* point, const double*, const std::uint8_t*) override
+  {
+    std::copy(point, point + 3, this->Points.begin() + 3 * v);
+  }
+  void Face(std::int64_t, const std::int64_t* vertices, std::size_t size, const std::uint8_t*) override
+  {
+    if (this->Centroids)
+    {
+      this->Curve.Add(Centroid(this->Points.data(), vertices, size));
+    }
+  }
+
+  std::vector<double> Points;
+  MortonCurve Curve;
+
+private:
+  bool Centroids;
+};
+
+/// Pass 2 (spatial pieces): each face's key on the curve.
+class FaceKeys : public OFFElementVisitor
+{
+public:
+  FaceKeys(const std::vector<double>& points, MortonCurve& curve, std::size_t faces)
+    : Points(points)
+    , Curve(curve)
+    , Keys(faces)
+  {
+  }
+  void Vertex(std::int64_t, const double*, const double*, const std::uint8_t*) override {}
+  void Face(std::int64_t f, const std::int64_t* vertices, std::size_t size, const std::uint8_t*) override
+  {
+    this->Keys[static_cast<std::size_t>(f)] = this->Curve.Key(Centroid(this->Points.data(), vertices, size));
+  }
+
+  const std::vector<double>& Points;
+  MortonCurve& Curve;
+  std::vector<std::uint64_t> Keys;
+};
+
+using KeyedFace = std::pair<std::uint64_t, std::int64_t>;
+
+/// The pair at position k of the pairs (keys[f], f) in increasing order (k < keys.size());
+/// `scratch` holds a permutation of keys and is reordered.
+KeyedFace KeyedFaceAt(const std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch, std::size_t k)
+{
+  std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(k), scratch.end());
+  const std::uint64_t key = scratch[k];
+  const auto smaller = static_cast<std::size_t>(
+    std::count_if(keys.begin(), keys.end(), [key](std::uint64_t other) { return other < key; }));
+  std::size_t rank = k - smaller; // among the faces with this key, in file order
+  for (std::size_t f = 0; f < keys.size(); ++f)
+  {
+    if (keys[f] == key && rank-- == 0)
+    {
+      return { key, static_cast<std::int64_t>(f) };
+    }
+  }
+  return { key, static_cast<std::int64_t>(keys.size()) }; // not reached
+}
+
+/// The faces at positions [first, end) of the Morton order, one bit per face (what
+/// ExtractFacePiece takes from MortonFaceOrder, without sorting every face).
+std::vector<bool> SpatialSelection(const std::vector<std::uint64_t>& keys, std::size_t first, std::size_t end)
+{
+  std::vector<bool> selected(keys.size(), false);
+  if (first == end)
+  {
+    return selected;
+  }
+  std::vector<std::uint64_t> scratch = keys;
+  const KeyedFace low = KeyedFaceAt(keys, scratch, first);
+  const KeyedFace high = end < keys.size() ? KeyedFaceAt(keys, scratch, end)
+                                           : KeyedFace{ std::numeric_limits<std::uint64_t>::max(), 0 };
+  for (std::size_t f = 0; f < keys.size(); ++f)
+  {
+    const KeyedFace face{ keys[f], static_cast<std::int64_t>(f) };
+    selected[f] = !(face < low) && face < high;
+  }
+  return selected;
+}
+
+/// Pass 3: the piece's faces (vertex indices still global) and which vertices faces use.
+class PieceFaces : public OFFElementVisitor
+{
+public:
+  static constexpr std::uint8_t kUsed = 1;  ///< by some face
+  static constexpr std::uint8_t kInPiece = 2; ///< by a face of the piece
+
+  PieceFaces(std::size_t vertices, bool faceColors, std::function<bool(std::int64_t)> selected, MeshPiece& piece)
+    : Flags(vertices, 0)
+    , FaceColors(faceColors)
+    , Selected(std::move(selected))
+    , Piece(piece)
+  {
+    this->Piece.Mesh.FaceOffsets.assign(1, 0);
+  }
+  void Vertex(std::int64_t, const double*, const double*, const std::uint8_t*) override {}
+  void Face(std::int64_t f, const std::int64_t* vertices, std::size_t size, const std::uint8_t* color) override
+  {
+    const bool selected = this->Selected(f);
+    const std::uint8_t flag = selected ? kUsed | kInPiece : kUsed;
+    for (std::size_t i = 0; i < size; ++i)
+    {
+      this->Flags[static_cast<std::size_t>(vertices[i])] |= flag;
+    }
+    if (!selected)
+    {
+      return;
+    }
+    OFFMesh& mesh = this->Piece.Mesh;
+    mesh.FaceConnectivity.insert(mesh.FaceConnectivity.end(), vertices, vertices + size);
+    mesh.FaceOffsets.push_back(static_cast<std::int64_t>(mesh.FaceConnectivity.size()));
+    this->Piece.GlobalFaceIds.push_back(f);
+    if (this->FaceColors)
+    {
+      const std::uint8_t* rgba = color != nullptr ? color : kOFFDefaultFaceColor.data();
+      mesh.FaceColors.insert(mesh.FaceColors.end(), rgba, rgba + 4);
+    }
+  }
+
+  std::vector<std::uint8_t> Flags;
+
+private:
+  bool FaceColors;
+  std::function<bool(std::int64_t)> Selected;
+  MeshPiece& Piece;
+};
+
+/// Pass 4 (NOFF / COFF): the normals and colours of the piece's vertices.
+class PieceVertexAttributes : public OFFElementVisitor
+{
+public:
+  explicit PieceVertexAttributes(MeshPiece& piece)
+    : Piece(piece)
+  {
+  }
+  void Vertex(std::int64_t v, const double*, const double* normal, const std::uint8_t* color) override
+  {
+    const std::vector<std::int64_t>& ids = this->Piece.GlobalPointIds;
+    if (this->Next == ids.size() || ids[this->Next] != v)
+    {
+      return;
+    }
+    ++this->Next;
+    if (normal != nullptr)
+    {
+      this->Piece.Mesh.VertexNormals.insert(this->Piece.Mesh.VertexNormals.end(), normal, normal + 3);
+    }
+    if (color != nullptr)
+    {
+      this->Piece.Mesh.VertexColors.insert(this->Piece.Mesh.VertexColors.end(), color, color + 4);
+    }
+  }
+  void Face(std::int64_t, const std::int64_t*, std::size_t, const std::uint8_t*) override {}
+
+private:
+  MeshPiece& Piece;
+  std::size_t Next = 0;
+};
+
+MeshPiece ReadPiece(OFFTextSource& source, int piece, int pieces, PieceOrder order, std::size_t chunkBytes)
+{
+  const bool spatial = order == PieceOrder::Spatial;
+  PointsAndCentroids whole(spatial);
+  const OFFLayout layout = ScanOFF(source, whole, chunkBytes);
+  CheckPieceRequest(piece, pieces);
+  const auto faceCount = static_cast<std::size_t>(layout.FaceCount);
+  const auto vertexCount = static_cast<std::size_t>(layout.VertexCount);
+  const auto [first, end] = PiecePositions(faceCount, piece, pieces);
+
+  std::function<bool(std::int64_t)> selected;
+  if (spatial)
+  {
+    FaceKeys keys(whole.Points, whole.Curve, faceCount);
+    RescanOFF(source, layout, OFFSection::Faces, keys, chunkBytes);
+    selected = [bits = SpatialSelection(keys.Keys, first, end)](std::int64_t f)
+    { return static_cast<bool>(bits[static_cast<std::size_t>(f)]); };
+  }
+  else
+  {
+    selected = [first = first, end = end](std::int64_t f)
+    { return static_cast<std::size_t>(f) >= first && static_cast<std::size_t>(f) < end; };
+  }
+
+  MeshPiece result;
+  PieceFaces faces(vertexCount, layout.FaceColors, std::move(selected), result);
+  RescanOFF(source, layout, OFFSection::Faces, faces, chunkBytes);
+
+  // The vertices the piece's faces use, in file order; piece 0 also keeps the vertices that
+  // no face uses.
+  for (std::size_t v = 0; v < vertexCount; ++v)
+  {
+    const std::uint8_t flags = faces.Flags[v];
+    if ((flags & PieceFaces::kInPiece) != 0 || (piece == 0 && (flags & PieceFaces::kUsed) == 0))
+    {
+      result.GlobalPointIds.push_back(static_cast<std::int64_t>(v));
+      AppendTuple(result.Mesh.Points, whole.Points, v, 3);
+    }
+  }
+  faces.Flags = {};
+  whole.Points = {};
+  for (std::int64_t& vertex : result.Mesh.FaceConnectivity)
+  {
+    vertex = std::lower_bound(result.GlobalPointIds.begin(), result.GlobalPointIds.end(), vertex) -
+      result.GlobalPointIds.begin();
+  }
+  if ((layout.Normals || layout.VertexColors) && !result.GlobalPointIds.empty())
+  {
+    PieceVertexAttributes attributes(result);
+    RescanOFF(source, layout, OFFSection::Vertices, attributes, chunkBytes);
+  }
+  return result;
+}
+
+} // namespace
+
+MeshPiece ReadOFFPiece(const std::string& path, int piece, int pieces, PieceOrder order, std::size_t chunkBytes)
+{
+  try
+  {
+    OFFFileSource source(path);
+    return ReadPiece(source, piece, pieces, order, chunkBytes);
+  }
+  catch (const OFFParseError& error)
+  {
+    // As ReadOFFFile: the path before the line (file errors already name it).
+    throw OFFParseError(error.Line(), error.Reason(), path);
+  }
+}
+
+MeshPiece ParseOFFPiece(const char* data, std::size_t size, int piece, int pieces, PieceOrder order,
+  std::size_t chunkBytes)
+{
+  OFFMemorySource source(data, size);
+  return ReadPiece(source, piece, pieces, order, chunkBytes);
 }
 
 } // namespace shapediameter

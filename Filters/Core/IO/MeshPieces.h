@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Splitting a parsed mesh into the pieces of a distributed (MPI) run.
+// The pieces of a distributed (MPI) run: split from a parsed mesh (ExtractFacePiece), or read
+// from an OFF file keeping only the piece (ReadOFFPiece), with the same result.
 #pragma once
 
 #include "IO/OFFParser.h"
 
+#include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace shapediameter
@@ -40,6 +43,30 @@ enum class PieceOrder
  * Throws std::invalid_argument unless 0 <= piece < pieces.
  */
 MeshPiece ExtractFacePiece(const OFFMesh& mesh, int piece, int pieces, PieceOrder order = PieceOrder::FileOrder);
+
+/**
+ * ExtractFacePiece(ReadOFFFile(path), piece, pieces, order), identical in every array and in
+ * every error (the same OFFParseError messages, prefixed with the path; std::invalid_argument
+ * for a piece that does not exist), without holding the file or the whole mesh: the file is
+ * read chunkBytes at a time (ScanOFF, RescanOFF in OFFParser.h), in up to four passes:
+ *   1. every line checked as ParseOFF checks it; kept: every point (3 doubles per vertex) and,
+ *      for PieceOrder::Spatial, the bounding box of the face centroids;
+ *   2. (Spatial only) the faces again: each face's Morton key (8 bytes per face), from which
+ *      the piece's faces are chosen (a bit per face; the keys are then released);
+ *   3. the faces again: the piece's faces with their colours, and which vertices they use;
+ *   4. (NOFF / COFF only) the vertices again: the normals and colours of the piece's vertices.
+ * Memory besides the piece: the points, a chunk plus the longest line, one byte per vertex,
+ * and during pass 2 two keys per face. Cost: reading the file 2-4 times instead of once.
+ * A file changed between the passes gives an OFFParseError or a piece of the changed file,
+ * never an out-of-range index.
+ */
+MeshPiece ReadOFFPiece(const std::string& path, int piece, int pieces, PieceOrder order = PieceOrder::FileOrder,
+  std::size_t chunkBytes = kOFFChunkBytes);
+
+/// ReadOFFPiece on text held in memory (ParseOFF's errors, without a path), read through the
+/// same chunked passes: what the tests compare against ExtractFacePiece(ParseOFF(...)).
+MeshPiece ParseOFFPiece(const char* data, std::size_t size, int piece, int pieces,
+  PieceOrder order = PieceOrder::FileOrder, std::size_t chunkBytes = kOFFChunkBytes);
 
 /// The faces of `mesh` along a Morton curve through their centroids (21 bits per axis over the
 /// bounding cube of the centroids), ties by file index. Faces without vertices sort first.

@@ -11,6 +11,8 @@
 #include <memory>
 #include <system_error>
 
+#include <sys/stat.h>
+
 namespace shapediameter
 {
 
@@ -55,31 +57,54 @@ std::string Quoted(const Token& token)
 }
 
 /// Splits the input into lines, drops `#` comments and returns only lines that hold tokens.
+/// The input is a buffer in memory, or an OFFTextSource read a chunk at a time: a line that
+/// does not end inside the buffer is moved to the buffer's start and completed by the next
+/// reads (the buffer grows only for a line longer than a chunk).
 class LineReader
 {
 public:
+  /// The whole input, in memory.
   LineReader(const char* data, std::size_t size)
-    : Cursor(data)
+    : Base(data)
+    , Cursor(data)
     , End(data + size)
   {
-    // A UTF-8 byte-order mark some Windows editors write.
-    if (size >= 3 && std::memcmp(data, "\xEF\xBB\xBF", 3) == 0)
+    this->SkipByteOrderMark();
+  }
+
+  /// The input of `source` from byte `offset`, which follows `line` lines (a byte-order mark
+  /// is looked for at offset 0 only). The source must be positioned at `offset`.
+  LineReader(OFFTextSource& source, std::size_t chunkBytes, std::uint64_t offset, std::int64_t line)
+    : Source(&source)
+    , ChunkBytes(std::max<std::size_t>(chunkBytes, 1))
+    , BaseOffset(offset)
+    , TotalSize(source.Size())
+    , LineNumber(line)
+  {
+    this->Buffer.resize(this->ChunkBytes);
+    this->Base = this->Cursor = this->End = this->Buffer.data();
+    if (offset == 0)
     {
-      this->Cursor += 3;
+      while (this->End - this->Cursor < 3 && this->Refill())
+      {
+      }
+      this->SkipByteOrderMark();
     }
   }
 
   /// Advances to the next line with a token outside comments and splits it into tokens.
-  /// Returns false at the end of the input.
+  /// Returns false at the end of the input. The tokens are valid until the next call.
   bool Next(std::vector<Token>& tokens)
   {
-    while (this->Cursor < this->End)
+    for (;;)
     {
+      const char* lineEnd = this->LineEnd();
+      if (this->Cursor == this->End)
+      {
+        return false;
+      }
       const char* begin = this->Cursor;
-      const auto remaining = static_cast<std::size_t>(this->End - begin);
-      const auto* newline = static_cast<const char*>(std::memchr(begin, '\n', remaining));
-      const char* lineEnd = newline != nullptr ? newline : this->End;
-      this->Cursor = newline != nullptr ? newline + 1 : this->End;
+      this->Cursor = lineEnd < this->End ? lineEnd + 1 : this->End;
       ++this->LineNumber;
 
       const auto* hash =
@@ -109,16 +134,92 @@ public:
         return true;
       }
     }
-    return false;
   }
 
   /// 1-based number of the line last returned (or of the last line when at the end).
   std::int64_t Line() const { return this->LineNumber; }
-  std::size_t RemainingBytes() const { return static_cast<std::size_t>(this->End - this->Cursor); }
+  /// Byte offset in the input of the next line.
+  std::uint64_t Offset() const { return this->BaseOffset + static_cast<std::uint64_t>(this->Cursor - this->Base); }
+  std::size_t RemainingBytes() const
+  {
+    if (this->Source == nullptr)
+    {
+      return static_cast<std::size_t>(this->End - this->Cursor);
+    }
+    const std::uint64_t offset = this->Offset();
+    return offset < this->TotalSize ? static_cast<std::size_t>(this->TotalSize - offset) : 0;
+  }
 
 private:
-  const char* Cursor;
-  const char* End;
+  void SkipByteOrderMark()
+  {
+    // A UTF-8 byte-order mark some Windows editors write.
+    if (this->End - this->Cursor >= 3 && std::memcmp(this->Cursor, "\xEF\xBB\xBF", 3) == 0)
+    {
+      this->Cursor += 3;
+    }
+  }
+
+  /// The '\n' that ends the line at Cursor, or End when the input ends without one; reads
+  /// more of a source until then.
+  const char* LineEnd()
+  {
+    std::size_t searched = 0;
+    for (;;)
+    {
+      const char* from = this->Cursor + searched;
+      if (from < this->End)
+      {
+        const auto* newline =
+          static_cast<const char*>(std::memchr(from, '\n', static_cast<std::size_t>(this->End - from)));
+        if (newline != nullptr)
+        {
+          return newline;
+        }
+      }
+      searched = static_cast<std::size_t>(this->End - this->Cursor);
+      if (!this->Refill())
+      {
+        return this->End;
+      }
+    }
+  }
+
+  /// Keeps [Cursor, End) at the buffer's start and appends up to one chunk of the source.
+  /// False when nothing more was read.
+  bool Refill()
+  {
+    if (this->Source == nullptr || this->Exhausted)
+    {
+      return false;
+    }
+    const auto kept = static_cast<std::size_t>(this->End - this->Cursor);
+    if (this->Cursor != this->Buffer.data())
+    {
+      this->BaseOffset += static_cast<std::uint64_t>(this->Cursor - this->Base);
+      std::memmove(this->Buffer.data(), this->Cursor, kept);
+    }
+    if (this->Buffer.size() < kept + this->ChunkBytes)
+    {
+      this->Buffer.resize(std::max(kept + this->ChunkBytes, 2 * this->Buffer.size()));
+    }
+    const std::size_t got = this->Source->Read(this->Buffer.data() + kept, this->ChunkBytes);
+    this->Exhausted = got == 0;
+    this->Base = this->Cursor = this->Buffer.data();
+    this->End = this->Cursor + kept + got;
+    return got > 0;
+  }
+
+  OFFTextSource* Source = nullptr;
+  std::size_t ChunkBytes = 0;
+  std::vector<char> Buffer;
+  bool Exhausted = false;
+  /// Offset in the input of Base, the buffer's first byte.
+  std::uint64_t BaseOffset = 0;
+  std::uint64_t TotalSize = 0;
+  const char* Base = nullptr;
+  const char* Cursor = nullptr;
+  const char* End = nullptr;
   std::int64_t LineNumber = 0;
 };
 
@@ -293,12 +394,105 @@ std::int64_t ReadCount(const Token& token, std::int64_t line, const char* what)
   return value;
 }
 
-/// One parse: the input's lines, what the header declares and the mesh read so far. The
-/// steps run in order (ParseOFF); each reads its lines through Reader into Tokens.
+/// Values on a vertex line besides the colour: x y z, nx ny nz with N, s t with ST.
+std::size_t ValuesBesidesColor(const Header& header)
+{
+  return 3 + (header.normals ? 3 : 0) + (header.textureCoordinates ? 2 : 0);
+}
+
+/// Where a parse puts the elements: the whole OFFMesh (ParseOFF).
+struct MeshSink
+{
+  void BeginVertices(std::size_t vertices, const Header& header)
+  {
+    this->Mesh.Points.resize(3 * vertices);
+    if (header.normals)
+    {
+      this->Mesh.VertexNormals.resize(3 * vertices);
+    }
+    if (header.colors)
+    {
+      this->Mesh.VertexColors.resize(4 * vertices);
+    }
+  }
+  void Vertex(std::size_t v, const double* point, const double* normal, const std::uint8_t* color)
+  {
+    std::copy(point, point + 3, this->Mesh.Points.begin() + static_cast<std::ptrdiff_t>(3 * v));
+    if (normal != nullptr)
+    {
+      std::copy(normal, normal + 3, this->Mesh.VertexNormals.begin() + static_cast<std::ptrdiff_t>(3 * v));
+    }
+    if (color != nullptr)
+    {
+      std::copy(color, color + 4, this->Mesh.VertexColors.begin() + static_cast<std::ptrdiff_t>(4 * v));
+    }
+  }
+  void BeginFaces(std::size_t faces)
+  {
+    this->Faces = faces;
+    this->Mesh.FaceOffsets.reserve(faces + 1);
+    this->Mesh.FaceOffsets.push_back(0);
+    this->Mesh.FaceConnectivity.reserve(3 * faces);
+  }
+  /// Where a face's indices are appended.
+  std::vector<std::int64_t>& FaceIndices() { return this->Mesh.FaceConnectivity; }
+  void Face(std::size_t f, const std::int64_t*, std::size_t, const std::uint8_t* color)
+  {
+    this->Mesh.FaceOffsets.push_back(static_cast<std::int64_t>(this->Mesh.FaceConnectivity.size()));
+    if (color == nullptr)
+    {
+      return;
+    }
+    if (this->Mesh.FaceColors.empty())
+    {
+      this->Mesh.FaceColors.resize(4 * this->Faces);
+      for (std::size_t g = 0; g < this->Faces; ++g)
+      {
+        std::copy(kOFFDefaultFaceColor.begin(), kOFFDefaultFaceColor.end(),
+          this->Mesh.FaceColors.begin() + static_cast<std::ptrdiff_t>(4 * g));
+      }
+    }
+    std::copy(color, color + 4, this->Mesh.FaceColors.begin() + static_cast<std::ptrdiff_t>(4 * f));
+  }
+
+  OFFMesh Mesh;
+  std::size_t Faces = 0;
+};
+
+/// Where a chunked parse puts the elements: an OFFElementVisitor (ScanOFF, RescanOFF).
+struct VisitorSink
+{
+  void BeginVertices(std::size_t, const Header&) {}
+  void Vertex(std::size_t v, const double* point, const double* normal, const std::uint8_t* color)
+  {
+    this->Visitor.Vertex(static_cast<std::int64_t>(v), point, normal, color);
+  }
+  void BeginFaces(std::size_t) {}
+  std::vector<std::int64_t>& FaceIndices()
+  {
+    this->Indices.clear();
+    return this->Indices;
+  }
+  void Face(std::size_t f, const std::int64_t* vertices, std::size_t size, const std::uint8_t* color)
+  {
+    this->AnyFaceColor = this->AnyFaceColor || color != nullptr;
+    this->Visitor.Face(static_cast<std::int64_t>(f), vertices, size, color);
+  }
+
+  OFFElementVisitor& Visitor;
+  std::vector<std::int64_t> Indices;
+  bool AnyFaceColor = false;
+};
+
+/// One parse: the input's lines, what the header declares, and the sink that receives the
+/// elements. The steps run in order (ParseOFF, ScanOFF); each reads its lines through Reader
+/// into Tokens.
+template <typename Sink>
 struct OFFReader
 {
-  OFFReader(const char* data, std::size_t size)
-    : Reader(data, size)
+  OFFReader(LineReader& reader, Sink& sink)
+    : Reader(reader)
+    , Elements(sink)
   {
     this->Tokens.reserve(32);
   }
@@ -313,22 +507,24 @@ struct OFFReader
   /// Rejects counts the file cannot hold, before anything is allocated for them.
   void CheckCountsFitInput();
 
-  /// Points, and VertexNormals / VertexColors when the header declares them.
+  /// Every vertex, into the sink.
   void ReadVertices();
 
   /// Vertex v's line: x y z [nx ny nz] [r g b [a]] [s t] (vertexLayout names them).
   void ReadVertex(std::size_t v, const std::string& vertexLayout);
 
-  /// FaceOffsets, FaceConnectivity, and FaceColors when some face has a colour.
+  /// Every face, into the sink.
   void ReadFaces();
 
-  /// Face f's line: n i_0 ... i_{n-1} [colour]; appends the indices to FaceConnectivity.
+  /// Face f's line: n i_0 ... i_{n-1} [colour]; appends the indices to the sink's FaceIndices.
   void ReadFace(std::size_t f);
 
-  /// The `count` values after face f's indices: none, a colour-map index or a colour.
-  void ReadFaceColor(std::size_t f, const Token* values, std::size_t count, std::int64_t line);
+  /// The `count` values after face f's indices: none, a colour-map index or a colour. True
+  /// when they are a colour, then in rgba.
+  bool ReadFaceColor(std::size_t f, const Token* values, std::size_t count, std::int64_t line, std::uint8_t* rgba);
 
-  LineReader Reader;
+  LineReader& Reader;
+  Sink& Elements;
   std::vector<Token> Tokens;
   Header Format;
   /// Line of the counts, where count errors are reported.
@@ -337,10 +533,10 @@ struct OFFReader
   std::int64_t FaceCount = 0;
   /// Values on a vertex line besides the colour: x y z, nx ny nz with N, s t with ST.
   std::size_t FixedVertexValues = 0;
-  OFFMesh Mesh;
 };
 
-std::size_t OFFReader::ReadKeyword()
+template <typename Sink>
+std::size_t OFFReader<Sink>::ReadKeyword()
 {
   if (!this->Reader.Next(this->Tokens))
   {
@@ -374,7 +570,8 @@ std::size_t OFFReader::ReadKeyword()
   return 0;
 }
 
-void OFFReader::ReadCounts(std::size_t countsBegin)
+template <typename Sink>
+void OFFReader<Sink>::ReadCounts(std::size_t countsBegin)
 {
   const std::vector<Token>& tokens = this->Tokens;
   this->CountsLine = this->Reader.Line();
@@ -398,10 +595,11 @@ void OFFReader::ReadCounts(std::size_t countsBegin)
   }
 }
 
-void OFFReader::CheckCountsFitInput()
+template <typename Sink>
+void OFFReader<Sink>::CheckCountsFitInput()
 {
   const Header& header = this->Format;
-  this->FixedVertexValues = 3 + (header.normals ? 3 : 0) + (header.textureCoordinates ? 2 : 0);
+  this->FixedVertexValues = ValuesBesidesColor(header);
   const std::size_t minimumVertexValues = this->FixedVertexValues + (header.colors ? 3 : 0);
   const std::uint64_t bytesPerVertex = 2 * minimumVertexValues; // "v " per value
   const std::uint64_t bytesPerFace = 8;                          // "3 0 1 2\n"
@@ -420,7 +618,8 @@ void OFFReader::CheckCountsFitInput()
   }
 }
 
-void OFFReader::ReadVertices()
+template <typename Sink>
+void OFFReader<Sink>::ReadVertices()
 {
   const Header& header = this->Format;
   std::string vertexLayout = "x y z";
@@ -429,22 +628,15 @@ void OFFReader::ReadVertices()
   vertexLayout += header.textureCoordinates ? " s t" : "";
 
   const auto vertices = static_cast<std::size_t>(this->VertexCount);
-  this->Mesh.Points.resize(3 * vertices);
-  if (header.normals)
-  {
-    this->Mesh.VertexNormals.resize(3 * vertices);
-  }
-  if (header.colors)
-  {
-    this->Mesh.VertexColors.resize(4 * vertices);
-  }
+  this->Elements.BeginVertices(vertices, header);
   for (std::size_t v = 0; v < vertices; ++v)
   {
     this->ReadVertex(v, vertexLayout);
   }
 }
 
-void OFFReader::ReadVertex(std::size_t v, const std::string& vertexLayout)
+template <typename Sink>
+void OFFReader<Sink>::ReadVertex(std::size_t v, const std::string& vertexLayout)
 {
   const Header& header = this->Format;
   const std::vector<Token>& tokens = this->Tokens;
@@ -476,20 +668,23 @@ void OFFReader::ReadVertex(std::size_t v, const std::string& vertexLayout)
         " values, expected " + std::to_string(fixedVertexValues) + " (" + vertexLayout + ")");
   }
   std::size_t t = 0;
+  double point[3];
+  double normal[3];
+  std::uint8_t color[4];
   for (std::size_t k = 0; k < 3; ++k)
   {
-    this->Mesh.Points[3 * v + k] = ReadFinite(tokens[t++], line, "vertex", index);
+    point[k] = ReadFinite(tokens[t++], line, "vertex", index);
   }
   if (header.normals)
   {
     for (std::size_t k = 0; k < 3; ++k)
     {
-      this->Mesh.VertexNormals[3 * v + k] = ReadFinite(tokens[t++], line, "vertex", index);
+      normal[k] = ReadFinite(tokens[t++], line, "vertex", index);
     }
   }
   if (header.colors)
   {
-    ReadColor(&tokens[t], colorValues, &this->Mesh.VertexColors[4 * v], line, "vertex", index);
+    ReadColor(&tokens[t], colorValues, color, line, "vertex", index);
     t += colorValues;
   }
   if (header.textureCoordinates)
@@ -504,22 +699,22 @@ void OFFReader::ReadVertex(std::size_t v, const std::string& vertexLayout)
       ++t;
     }
   }
+  this->Elements.Vertex(v, point, header.normals ? normal : nullptr, header.colors ? color : nullptr);
 }
 
-void OFFReader::ReadFaces()
+template <typename Sink>
+void OFFReader<Sink>::ReadFaces()
 {
   const auto faces = static_cast<std::size_t>(this->FaceCount);
-  this->Mesh.FaceOffsets.reserve(faces + 1);
-  this->Mesh.FaceOffsets.push_back(0);
-  this->Mesh.FaceConnectivity.reserve(3 * faces);
+  this->Elements.BeginFaces(faces);
   for (std::size_t f = 0; f < faces; ++f)
   {
     this->ReadFace(f);
-    this->Mesh.FaceOffsets.push_back(static_cast<std::int64_t>(this->Mesh.FaceConnectivity.size()));
   }
 }
 
-void OFFReader::ReadFace(std::size_t f)
+template <typename Sink>
+void OFFReader<Sink>::ReadFace(std::size_t f)
 {
   const std::vector<Token>& tokens = this->Tokens;
   // A local copy: the int64 index stores below may alias the member as far as the compiler
@@ -552,6 +747,8 @@ void OFFReader::ReadFace(std::size_t f)
         " vertices; at least 3 are required");
   }
   const auto corners = static_cast<std::size_t>(faceSize);
+  std::vector<std::int64_t>& indices = this->Elements.FaceIndices();
+  const std::size_t first = indices.size();
   const std::size_t extra = valuesAfterSize - corners;
   if (extra == 2 || extra > 4)
   {
@@ -573,12 +770,16 @@ void OFFReader::ReadFace(std::size_t f)
       Fail(line, "face " + std::to_string(f) + ": vertex index " + Printable(tokens[k]) +
           " is out of range [0, " + std::to_string(vertexCount) + ")");
     }
-    this->Mesh.FaceConnectivity.push_back(vertex);
+    indices.push_back(vertex);
   }
-  this->ReadFaceColor(f, tokens.data() + corners + 1, extra, line);
+  std::uint8_t rgba[4];
+  const bool colored = this->ReadFaceColor(f, tokens.data() + corners + 1, extra, line, rgba);
+  this->Elements.Face(f, indices.data() + first, corners, colored ? rgba : nullptr);
 }
 
-void OFFReader::ReadFaceColor(std::size_t f, const Token* values, std::size_t count, std::int64_t line)
+template <typename Sink>
+bool OFFReader<Sink>::ReadFaceColor(
+  std::size_t f, const Token* values, std::size_t count, std::int64_t line, std::uint8_t* rgba)
 {
   if (count == 1)
   {
@@ -590,20 +791,12 @@ void OFFReader::ReadFaceColor(std::size_t f, const Token* values, std::size_t co
           " is not an integer");
     }
   }
-  else if (count >= 3)
+  if (count < 3)
   {
-    const auto faces = static_cast<std::size_t>(this->FaceCount);
-    if (this->Mesh.FaceColors.empty())
-    {
-      this->Mesh.FaceColors.resize(4 * faces);
-      for (std::size_t g = 0; g < faces; ++g)
-      {
-        std::copy(kOFFDefaultFaceColor.begin(), kOFFDefaultFaceColor.end(),
-          this->Mesh.FaceColors.begin() + static_cast<std::ptrdiff_t>(4 * g));
-      }
-    }
-    ReadColor(values, count, &this->Mesh.FaceColors[4 * f], line, "face", static_cast<std::int64_t>(f));
+    return false;
   }
+  ReadColor(values, count, rgba, line, "face", static_cast<std::int64_t>(f));
+  return true;
 }
 } // namespace
 
@@ -621,13 +814,15 @@ OFFMesh ParseOFF(const char* data, std::size_t size)
   {
     size = 0;
   }
-  OFFReader reader(data, size);
+  LineReader lines(data, size);
+  MeshSink sink;
+  OFFReader<MeshSink> reader(lines, sink);
   reader.ReadCounts(reader.ReadKeyword());
   reader.CheckCountsFitInput();
   reader.ReadVertices();
   reader.ReadFaces();
   // Anything after the declared elements is ignored on purpose (see the header).
-  return std::move(reader.Mesh);
+  return std::move(sink.Mesh);
 }
 
 OFFMesh ReadOFFFile(const std::string& path)
@@ -649,6 +844,123 @@ OFFMesh ReadOFFFile(const std::string& path)
   catch (const OFFParseError& error)
   {
     throw OFFParseError(error.Line(), error.Reason(), path);
+  }
+}
+
+OFFFileSource::OFFFileSource(const std::string& path)
+  : Path(path)
+{
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr)
+  {
+    throw OFFParseError(0, std::string("cannot open file: ") + std::strerror(errno), path);
+  }
+  this->File = file;
+  struct stat status = {};
+  if (fstat(fileno(file), &status) != 0)
+  {
+    const int cause = errno;
+    std::fclose(file);
+    throw OFFParseError(0, std::string("cannot read file: ") + std::strerror(cause), path);
+  }
+  this->Bytes = static_cast<std::uint64_t>(std::max<off_t>(status.st_size, 0));
+}
+
+OFFFileSource::~OFFFileSource()
+{
+  std::fclose(static_cast<std::FILE*>(this->File));
+}
+
+void OFFFileSource::Seek(std::uint64_t offset)
+{
+  auto* file = static_cast<std::FILE*>(this->File);
+  std::clearerr(file);
+  if (fseeko(file, static_cast<off_t>(offset), SEEK_SET) != 0)
+  {
+    throw OFFParseError(0, std::string("cannot read file: ") + std::strerror(errno), this->Path);
+  }
+}
+
+std::size_t OFFFileSource::Read(char* into, std::size_t capacity)
+{
+  auto* file = static_cast<std::FILE*>(this->File);
+  const std::size_t got = std::fread(into, 1, capacity, file);
+  if (got < capacity && std::ferror(file) != 0)
+  {
+    throw OFFParseError(0, std::string("cannot read file: ") + std::strerror(errno), this->Path);
+  }
+  return got;
+}
+
+OFFMemorySource::OFFMemorySource(const char* data, std::size_t size)
+  : Data(data)
+  , Bytes(data == nullptr ? 0 : size)
+{
+}
+
+void OFFMemorySource::Seek(std::uint64_t offset)
+{
+  this->Position = static_cast<std::size_t>(std::min<std::uint64_t>(offset, this->Bytes));
+}
+
+std::size_t OFFMemorySource::Read(char* into, std::size_t capacity)
+{
+  const std::size_t got = std::min(capacity, this->Bytes - this->Position);
+  if (got > 0)
+  {
+    std::memcpy(into, this->Data + this->Position, got);
+  }
+  this->Position += got;
+  return got;
+}
+
+OFFLayout ScanOFF(OFFTextSource& source, OFFElementVisitor& visitor, std::size_t chunkBytes)
+{
+  source.Seek(0);
+  LineReader lines(source, chunkBytes, 0, 0);
+  VisitorSink sink{ visitor, {}, false };
+  OFFReader<VisitorSink> reader(lines, sink);
+  reader.ReadCounts(reader.ReadKeyword());
+  reader.CheckCountsFitInput();
+  visitor.Counts(reader.VertexCount, reader.FaceCount);
+  OFFLayout layout;
+  layout.VertexCount = reader.VertexCount;
+  layout.FaceCount = reader.FaceCount;
+  layout.Normals = reader.Format.normals;
+  layout.VertexColors = reader.Format.colors;
+  layout.TextureCoordinates = reader.Format.textureCoordinates;
+  layout.VerticesOffset = lines.Offset();
+  layout.VerticesLine = lines.Line();
+  reader.ReadVertices();
+  layout.FacesOffset = lines.Offset();
+  layout.FacesLine = lines.Line();
+  reader.ReadFaces();
+  layout.FaceColors = sink.AnyFaceColor;
+  return layout;
+}
+
+void RescanOFF(OFFTextSource& source, const OFFLayout& layout, OFFSection section, OFFElementVisitor& visitor,
+  std::size_t chunkBytes)
+{
+  const bool vertices = section == OFFSection::Vertices;
+  const std::uint64_t offset = vertices ? layout.VerticesOffset : layout.FacesOffset;
+  source.Seek(offset);
+  LineReader lines(source, chunkBytes, offset, vertices ? layout.VerticesLine : layout.FacesLine);
+  VisitorSink sink{ visitor, {}, false };
+  OFFReader<VisitorSink> reader(lines, sink);
+  reader.Format.normals = layout.Normals;
+  reader.Format.colors = layout.VertexColors;
+  reader.Format.textureCoordinates = layout.TextureCoordinates;
+  reader.FixedVertexValues = ValuesBesidesColor(reader.Format);
+  reader.VertexCount = layout.VertexCount;
+  reader.FaceCount = layout.FaceCount;
+  if (vertices)
+  {
+    reader.ReadVertices();
+  }
+  else
+  {
+    reader.ReadFaces();
   }
 }
 

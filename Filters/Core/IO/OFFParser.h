@@ -49,6 +49,12 @@
 //
 // Cost: one pass over an in-memory buffer with std::from_chars, no iostreams: linear in the
 //   file size.
+//
+// Chunked parsing (ScanOFF, RescanOFF; used by ReadOFFPiece in MeshPieces.h): the same grammar,
+//   checks and messages read from an OFFTextSource in chunks of a given size (a line longer
+//   than a chunk is carried over and completed by the next reads), handing each vertex and face
+//   to a visitor instead of storing the mesh. Memory: one chunk plus the longest line. The
+//   header counts are checked against the source's size exactly as against a buffer's.
 #pragma once
 
 #include "Errors.h"
@@ -113,5 +119,106 @@ OFFMesh ParseOFF(const char* data, std::size_t size);
 /// Reads the file at path and parses it. Throws OFFParseError when the file cannot be opened
 /// or read, and on malformed content; the message is then prefixed with the path.
 OFFMesh ReadOFFFile(const std::string& path);
+
+// ---- Chunked parsing: what a reader that keeps only part of the file builds on.
+
+/// Bytes read at a time by the chunked parse unless told otherwise (a few MB: large enough
+/// that reading costs what one read of the whole file costs, small beside any mesh).
+inline constexpr std::size_t kOFFChunkBytes = std::size_t{ 4 } << 20;
+
+/// Input of the chunked parse, read from the start or from an offset, possibly several times.
+class OFFTextSource
+{
+public:
+  virtual ~OFFTextSource() = default;
+  /// Size in bytes (what the header counts are checked against).
+  virtual std::uint64_t Size() const = 0;
+  /// Moves to byte `offset`. Throws OFFParseError (line 0) when that fails.
+  virtual void Seek(std::uint64_t offset) = 0;
+  /// Reads up to `capacity` bytes at the current position into `into`; 0 at the end.
+  /// Throws OFFParseError (line 0) on a read error.
+  virtual std::size_t Read(char* into, std::size_t capacity) = 0;
+};
+
+/// An open file; errors as ReadOFFFile's ("cannot open file: ...", "cannot read file: ...",
+/// with the path as the source).
+class OFFFileSource : public OFFTextSource
+{
+public:
+  explicit OFFFileSource(const std::string& path);
+  ~OFFFileSource() override;
+  OFFFileSource(const OFFFileSource&) = delete;
+  OFFFileSource& operator=(const OFFFileSource&) = delete;
+  std::uint64_t Size() const override { return this->Bytes; }
+  void Seek(std::uint64_t offset) override;
+  std::size_t Read(char* into, std::size_t capacity) override;
+
+private:
+  std::string Path;
+  void* File = nullptr; // std::FILE*
+  std::uint64_t Bytes = 0;
+};
+
+/// Text held in memory (data may be null when size is 0), read through the chunked path.
+class OFFMemorySource : public OFFTextSource
+{
+public:
+  OFFMemorySource(const char* data, std::size_t size);
+  std::uint64_t Size() const override { return this->Bytes; }
+  void Seek(std::uint64_t offset) override;
+  std::size_t Read(char* into, std::size_t capacity) override;
+
+private:
+  const char* Data;
+  std::size_t Bytes;
+  std::size_t Position = 0;
+};
+
+/// Receives the elements of a chunked parse, in file order. The pointers are valid during the
+/// call only.
+class OFFElementVisitor
+{
+public:
+  virtual ~OFFElementVisitor() = default;
+  /// The header's counts, once they are known to fit the input (before any element).
+  virtual void Counts(std::int64_t /*vertices*/, std::int64_t /*faces*/) {}
+  /// Vertex `index`: point x y z; normal (NOFF) and RGBA colour (COFF) or null.
+  virtual void Vertex(std::int64_t index, const double* point, const double* normal, const std::uint8_t* color) = 0;
+  /// Face `index`: its `size` vertex indices (each checked to be in range); its RGBA colour,
+  /// or null when the face has none or only a colour-map index.
+  virtual void Face(std::int64_t index, const std::int64_t* vertices, std::size_t size, const std::uint8_t* color) = 0;
+};
+
+/// What ScanOFF learned of an accepted input: the header, and where the vertex and face lines
+/// start, so that RescanOFF can visit one of them again.
+struct OFFLayout
+{
+  std::int64_t VertexCount = 0;
+  std::int64_t FaceCount = 0;
+  bool Normals = false;            ///< N: the vertices carry normals
+  bool VertexColors = false;       ///< C: the vertices carry colours
+  bool TextureCoordinates = false; ///< ST
+  bool FaceColors = false;         ///< some face has an r g b [a] colour (OFFMesh::FaceColors)
+  std::uint64_t VerticesOffset = 0; ///< byte offset just after the counts' line
+  std::int64_t VerticesLine = 0;    ///< the counts' line: lines before VerticesOffset
+  std::uint64_t FacesOffset = 0;    ///< byte offset just after the last vertex's line
+  std::int64_t FacesLine = 0;       ///< lines before FacesOffset
+};
+
+enum class OFFSection
+{
+  Vertices,
+  Faces
+};
+
+/// Parses the source from its start as ParseOFF parses a buffer (the same checks in the same
+/// order, the same OFFParseError messages), reading chunkBytes (>= 1) at a time, and visits
+/// every vertex, then every face.
+OFFLayout ScanOFF(OFFTextSource& source, OFFElementVisitor& visitor, std::size_t chunkBytes = kOFFChunkBytes);
+
+/// Visits the vertices or the faces of an input ScanOFF accepted, reading only their lines.
+/// Checks them again (a file changed in between gives an OFFParseError, never a bad index).
+void RescanOFF(OFFTextSource& source, const OFFLayout& layout, OFFSection section, OFFElementVisitor& visitor,
+  std::size_t chunkBytes = kOFFChunkBytes);
 
 } // namespace shapediameter

@@ -23,11 +23,17 @@
 // other processes on the machine cannot trip it). Any other failure prints the seed, the
 // iteration and the offending input (escaped), so it can be replayed.
 //
+// Each input also goes through the chunked piece reader (ParseOFFPiece, chunks of 1 to 61
+// bytes, 1 to 4 pieces, both orders), which must give what ExtractFacePiece(ParseOFF(...))
+// gives: the same piece or the same error (OFFPieceOracle.h).
+//
 // Separately: a header declaring 2^40 vertices (or faces) in a tiny file is rejected
-// without allocating for the declared counts (peak RSS growth checked with getrusage, and
+// without allocating for the declared counts, by ParseOFF and by ParseOFFPiece (peak RSS
+// growth checked with getrusage, and
 // the address space is capped during the call so that even an untouched giant allocation
 // would fail), and without looping over the declared counts (the same CPU-time bound).
 #include "IO/OFFParser.h"
+#include "IO/OFFPieceOracle.h"
 #include "OFFTestOracle.h"
 
 #include <gtest/gtest.h>
@@ -56,7 +62,9 @@ namespace
 using shapediameter::OFFMesh;
 using shapediameter::OFFParseError;
 using shapediameter::ParseOFF;
+using shapediameter::PieceOrder;
 using shapediameter::testing::MeshViolation;
+using shapediameter::testing::PieceDifference;
 using shapediameter::testing::SameMesh;
 using shapediameter::testing::WriteOFF;
 
@@ -506,6 +514,14 @@ bool FuzzSeed(std::uint64_t seed, FuzzStatistics& statistics)
     watchdog.Arm("seed %" PRIu64 ", iteration %" PRIu64 " (%zu bytes): replay with Mutator(seed)", seed,
       iteration, text.size());
     const double start = ThreadCpuSeconds();
+    const int pieces = 1 + static_cast<int>(iteration % 4);
+    const std::string pieceDifference = PieceDifference(text, static_cast<int>((iteration / 4) % pieces), pieces,
+      iteration % 2 == 0 ? PieceOrder::Spatial : PieceOrder::FileOrder, 1 + (iteration * 7919) % 61);
+    if (!pieceDifference.empty())
+    {
+      ADD_FAILURE() << "chunked piece reader: " << pieceDifference << " from " << context();
+      return false;
+    }
     try
     {
       const OFFMesh mesh = ParseExact(text);
@@ -657,19 +673,29 @@ TEST(OFFParserFuzz, HeaderDeclaring2To40ElementsIsRejectedWithoutAllocating)
     // A loop over the declared counts would hang rather than allocate.
     watchdog.Arm("giant-header input %zu", i);
     {
-      try
+      for (const bool chunked : { false, true })
       {
-        AddressSpaceCap cap(256ull << 20);
-        ParseExact(text);
-        ADD_FAILURE() << "accepted";
-      }
-      catch (const OFFParseError& error)
-      {
-        EXPECT_NE(std::string(error.what()).find("declares"), std::string::npos) << error.what();
-      }
-      catch (const std::exception& error)
-      {
-        ADD_FAILURE() << "not an OFFParseError: " << typeid(error).name() << ": " << error.what();
+        try
+        {
+          AddressSpaceCap cap(256ull << 20);
+          if (chunked)
+          {
+            shapediameter::ParseOFFPiece(text.data(), text.size(), 1, 2, PieceOrder::Spatial, 7);
+          }
+          else
+          {
+            ParseExact(text);
+          }
+          ADD_FAILURE() << "accepted";
+        }
+        catch (const OFFParseError& error)
+        {
+          EXPECT_NE(std::string(error.what()).find("declares"), std::string::npos) << error.what();
+        }
+        catch (const std::exception& error)
+        {
+          ADD_FAILURE() << "not an OFFParseError: " << typeid(error).name() << ": " << error.what();
+        }
       }
     }
     EXPECT_LT(PeakRSSKilobytes() - rssBefore, 50 * 1024) << "kB of peak RSS growth";
