@@ -25,10 +25,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <exception>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <thread>
 
@@ -42,6 +44,8 @@ constexpr int GATHER_TAG = 592006;
 constexpr int REPLICA_TAG = 592010; // and the next one
 constexpr int BARRIER_TAG = 592012;
 constexpr int FAILURE_TAG = 592013; // and the next one
+constexpr int HALO_TAG = 592020;
+constexpr int STATE_TAG = 592021;
 
 vtkMultiProcessController* Controller()
 {
@@ -621,6 +625,318 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
               << Seconds(start) - assembleSeconds - shareSeconds - bodySeconds << " s" << std::endl;
   }
   return lowest;
+}
+
+namespace
+{
+/// How a process of a halo run ends its part.
+enum Outcome : int
+{
+  Succeeded = 0,
+  Aborted = 1,
+  Failed = 2
+};
+
+/// The processes' states, combined.
+struct GroupState
+{
+  int HighestOutcome = Succeeded;
+  bool AllEnded = false;
+  bool AnyEnded = false;
+};
+
+/// Every process's outcome and whether it has ended, combined on every process through
+/// process 0; the waiting processes sleep (SleepingReceive).
+GroupState ExchangeStates(vtkMultiProcessController* controller, int outcome, bool ended)
+{
+  int combined = 0;
+  if (controller->GetLocalProcessId() == 0)
+  {
+    int highest = outcome;
+    bool all = ended, any = ended;
+    for (int r = 1; r < controller->GetNumberOfProcesses(); ++r)
+    {
+      const int code = SleepingReceive(controller, r, STATE_TAG);
+      highest = std::max(highest, code / 2);
+      all = all && code % 2 == 1;
+      any = any || code % 2 == 1;
+    }
+    combined = highest * 4 + (all ? 2 : 0) + (any ? 1 : 0);
+    for (int r = 1; r < controller->GetNumberOfProcesses(); ++r)
+    {
+      controller->Send(&combined, 1, r, STATE_TAG);
+    }
+  }
+  else
+  {
+    int code = outcome * 2 + (ended ? 1 : 0);
+    controller->Send(&code, 1, 0, STATE_TAG);
+    combined = SleepingReceive(controller, 0, STATE_TAG);
+  }
+  return GroupState{ combined / 4, (combined / 2) % 2 == 1, combined % 2 == 1 };
+}
+
+/**
+ * The core's ProcessGroup over the controller. Before each collective the processes exchange
+ * their states: when one has failed (it calls Finish instead of the collective), the others'
+ * collective throws, and they call Finish too; Finish repeats the exchange until every
+ * process has ended, so no process waits for one that left.
+ */
+class ControllerGroup final : public ProcessGroup
+{
+public:
+  explicit ControllerGroup(vtkMultiProcessController* controller)
+    : Controller(controller)
+  {
+  }
+
+  std::vector<double> AllGather(const std::vector<double>& values) const override
+  {
+    this->Proceed();
+    const auto processes = static_cast<std::size_t>(this->Controller->GetNumberOfProcesses());
+    vtkIdType mine = static_cast<vtkIdType>(values.size());
+    std::vector<vtkIdType> lengths(processes), offsets(processes, 0);
+    this->Controller->AllGather(&mine, lengths.data(), 1);
+    for (std::size_t r = 1; r < processes; ++r)
+    {
+      offsets[r] = offsets[r - 1] + lengths[r - 1];
+    }
+    std::vector<double> all(static_cast<std::size_t>(offsets.back() + lengths.back()));
+    std::vector<double> sent(values);
+    sent.resize(std::max<std::size_t>(sent.size(), 1)); // a valid buffer even when empty
+    all.resize(std::max<std::size_t>(all.size(), 1));
+    this->Controller->AllGatherV(sent.data(), all.data(), mine, lengths.data(), offsets.data());
+    all.resize(static_cast<std::size_t>(offsets.back() + lengths.back()));
+    return all;
+  }
+
+  void SumInPlace(std::vector<std::int64_t>& values) const override
+  {
+    this->Proceed();
+    if (values.empty())
+    {
+      return;
+    }
+    std::vector<long long> mine(values.begin(), values.end()), sums(values.size());
+    this->Controller->AllReduce(mine.data(), sums.data(), static_cast<vtkIdType>(mine.size()), vtkCommunicator::SUM_OP);
+    std::copy(sums.begin(), sums.end(), values.begin());
+  }
+
+  void MaxInPlace(std::vector<double>& values) const override
+  {
+    this->Proceed();
+    if (values.empty())
+    {
+      return;
+    }
+    std::vector<double> maxima(values.size());
+    this->Controller->AllReduce(values.data(), maxima.data(), static_cast<vtkIdType>(values.size()), vtkCommunicator::MAX_OP);
+    values.swap(maxima);
+  }
+
+  /// This process's part is over with `outcome`; returns the highest outcome of all, once
+  /// every process has ended. Collective.
+  int Finish(int outcome) const
+  {
+    for (;;)
+    {
+      const GroupState state = ExchangeStates(this->Controller, outcome, true);
+      if (state.AllEnded)
+      {
+        return state.HighestOutcome;
+      }
+    }
+  }
+
+private:
+  void Proceed() const
+  {
+    const GroupState state = ExchangeStates(this->Controller, Succeeded, false);
+    if (state.HighestOutcome == Failed)
+    {
+      throw Error("another process of the distributed run stopped (its own error says why)");
+    }
+    if (state.AnyEnded)
+    {
+      throw Error("the processes of the distributed run went out of step");
+    }
+  }
+
+  vtkMultiProcessController* Controller;
+};
+
+/// Each process's piece's own cells near every other process's cells, exchanged point to
+/// point in one global order of the pairs (deadlock-free with blocking sends); returns the
+/// non-empty pieces received.
+std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
+  vtkMultiProcessController* controller, vtkPolyData* local, double radius)
+{
+  const int rank = controller->GetLocalProcessId();
+  const int processes = controller->GetNumberOfProcesses();
+  std::vector<double> bounds = CellCenterBounds(local);
+  std::vector<double> allBounds(6 * static_cast<std::size_t>(processes));
+  controller->AllGather(bounds.data(), allBounds.data(), 6);
+  // The centres here and the face graph's may differ in the last bits.
+  double largest = 0.0;
+  for (const double value : allBounds)
+  {
+    largest = std::isfinite(value) ? std::max(largest, std::abs(value)) : largest;
+  }
+  const double reach = radius * (1.0 + 1e-9) + 1e-12 * largest;
+  std::vector<vtkSmartPointer<vtkPolyData>> received;
+  const auto send = [&](int other) {
+    const std::vector<double> otherBounds(allBounds.begin() + 6 * other, allBounds.begin() + 6 * other + 6);
+    vtkSmartPointer<vtkPolyData> near = ExtractPolygons(local, CellsNearBounds(local, otherBounds, reach));
+    controller->Send(near, other, HALO_TAG);
+  };
+  const auto receive = [&](int other) {
+    auto piece = vtkSmartPointer<vtkPolyData>::New();
+    controller->Receive(piece, other, HALO_TAG);
+    if (piece->GetNumberOfCells() > 0)
+    {
+      received.push_back(piece);
+    }
+  };
+  for (int a = 0; a < processes; ++a)
+  {
+    for (int b = a + 1; b < processes; ++b)
+    {
+      if (rank == a)
+      {
+        send(b);
+        receive(b);
+      }
+      else if (rank == b)
+      {
+        receive(a);
+        send(a);
+      }
+    }
+  }
+  return received;
+}
+} // namespace
+
+std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const HaloRadiusFunction& radius,
+  const HaloBody& body, const std::function<std::string()>& failure, const std::vector<std::string>& cellArrays)
+{
+  vtkMultiProcessController* controller = Controller();
+  const int rank = controller->GetLocalProcessId();
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkNew<vtkPolyData> local;
+  if (input)
+  {
+    local->ShallowCopy(input);
+    KeepCellArrays(local->GetCellData(), cellArrays);
+  }
+  auto start = std::chrono::steady_clock::now();
+
+  // 1. Can every process run with a halo, and how wide?
+  double haloRadius = -1.0;
+  {
+    const ControllerGroup group(controller);
+    int outcome = Failed;
+    try
+    {
+      if (input && local->GetNumberOfCells() > 0 && local->GetNumberOfCells() == local->GetNumberOfPolys() &&
+        HasGlobalIds(local))
+      {
+        haloRadius = radius(local, group);
+        outcome = std::isfinite(haloRadius) && haloRadius >= 0.0 ? Succeeded : Failed;
+      }
+    }
+    catch (const std::exception&)
+    {
+      outcome = Failed; // RunOnWholeSurface, which the caller runs instead, reports it
+    }
+    if (group.Finish(outcome) != Succeeded)
+    {
+      return std::nullopt;
+    }
+  }
+  const double radiusSeconds = Seconds(start);
+
+  // 2. and 3. The halo, and this process's cells with it in the whole surface's order.
+  start = std::chrono::steady_clock::now();
+  std::vector<vtkSmartPointer<vtkPolyData>> received = ExchangeHalos(controller, local, haloRadius);
+  std::vector<vtkPolyData*> pieces{ local.GetPointer() };
+  for (const auto& piece : received)
+  {
+    pieces.push_back(piece.GetPointer());
+  }
+  const ControllerGroup group(controller);
+  int outcome = Succeeded;
+  int status = 1;
+  WholeSurface surface;
+  std::vector<vtkSmartPointer<vtkDataObject>> outputs;
+  double exchangeSeconds = 0.0, bodySeconds = 0.0;
+  try
+  {
+    surface = AssembleWholeSurface(pieces);
+    received.clear();
+    HaloShare share;
+    share.Group = &group;
+    share.Own.assign(static_cast<std::size_t>(surface.Mesh->GetNumberOfCells()), 0);
+    for (const vtkIdType cell : surface.CellToWhole[0])
+    {
+      share.Own[static_cast<std::size_t>(cell)] = 1;
+    }
+    exchangeSeconds = Seconds(start);
+    start = std::chrono::steady_clock::now();
+    status = RunOnMesh(algorithm, inputVector, outputVector, surface.Mesh, outputs,
+      [&](vtkInformationVector** in, vtkInformationVector* out) { return body(in, out, share); });
+    bodySeconds = Seconds(start);
+    if (failure && !failure().empty())
+    {
+      outcome = Failed;
+    }
+    else if (algorithm->GetAbortExecute())
+    {
+      outcome = Aborted;
+    }
+  }
+  catch (const std::exception& error)
+  {
+    vtkErrorWithObjectMacro(algorithm, "Distributed run failed on process " << rank << ": " << error.what());
+    outcome = Failed;
+  }
+  const int highest = group.Finish(outcome);
+  if (highest == Failed && outcome != Failed)
+  {
+    vtkErrorWithObjectMacro(algorithm, "Another process of the distributed run failed (its own error says "
+                                       "why); this process keeps its input.");
+  }
+
+  // 4. Each process's own cells.
+  for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
+  {
+    vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
+    auto* result = highest == Succeeded && !outputs.empty()
+      ? vtkPolyData::SafeDownCast(outputs[static_cast<std::size_t>(port)])
+      : nullptr;
+    if (IsScattered(scatteredPorts, port))
+    {
+      ApplyResult(input,
+        result ? LocalResult(local, surface.Mesh, result, surface.CellToWhole[0], surface.PointToWhole[0])
+               : vtkSmartPointer<vtkPolyData>::New(),
+        real);
+    }
+    else if (real)
+    {
+      real->Initialize();
+    }
+  }
+  const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");
+  if (rank == 0 && timing && std::string(timing) != "0")
+  {
+    std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName() << " with a halo on "
+              << controller->GetNumberOfProcesses() << " processes: radius " << haloRadius << " ("
+              << radiusSeconds << " s), process 0: " << local->GetNumberOfCells() << " own cells, "
+              << surface.Mesh->GetNumberOfCells() - local->GetNumberOfCells() << " halo cells; halo exchange "
+              << exchangeSeconds << " s, body " << bodySeconds << " s" << std::endl;
+  }
+  return highest == Succeeded ? status : 1;
 }
 
 } // namespace shapediameter::distributed

@@ -13,13 +13,17 @@
 // Private to the module: not installed, not wrapped.
 #pragma once
 
+#include "ProcessGroup.h"
+
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 class vtkAlgorithm;
 class vtkInformationVector;
+class vtkPolyData;
 
 namespace shapediameter::distributed
 {
@@ -136,5 +140,52 @@ using ReplicatedBody = std::function<int(
  */
 int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const ReplicatedBody& body);
+
+/**
+ * What a halo run (RunOnHaloSurface) gives the filter's body: its input is this process's own
+ * cells plus a halo of the other processes' cells near them, in the whole surface's order.
+ */
+struct HaloShare
+{
+  /// Per cell of the body's input: 1 for this process's own cells, 0 for the halo.
+  std::vector<std::uint8_t> Own;
+  /// The processes, for the whole surface's measures (collectives; never null in a body).
+  const ProcessGroup* Group = nullptr;
+};
+
+/// The halo a filter needs: the distance within which its body reads other cells to compute
+/// one cell. Collective (every process calls it with its own piece); throws only before its
+/// first collective, on a piece it cannot process.
+using HaloRadiusFunction = std::function<double(vtkPolyData* piece, const ProcessGroup& group)>;
+/// The filter's RequestData for a halo run: `share` is valid during the call.
+using HaloBody =
+  std::function<int(vtkInformationVector** inputVector, vtkInformationVector* outputVector, const HaloShare& share)>;
+
+/**
+ * Runs `body` on every process on its own cells plus a halo, without collecting the surface:
+ * for filters whose result on a cell depends only on the cells within a known distance of it
+ * and on a few whole-surface measures the body combines over the processes (the smoothing's
+ * neighbourhoods, its mean edge length and quantiles). Collective.
+ *
+ * 1. Every process's piece must hold polygons only (at least one) with global cell and point
+ *    ids, and `radius` must succeed on every process; otherwise nothing is done and the result
+ *    is empty: the caller then runs RunOnWholeSurface, which reports what was wrong.
+ * 2. The boxes around the processes' cell centres are exchanged; each process sends every
+ *    other the cells whose centre lies within `radius` of that process's box (a superset of
+ *    the cells within that distance, along the surface, of one of its cells), point to point.
+ * 3. Each process assembles its cells and those it received in the whole surface's order
+ *    (AssembleWholeSurface: by global ids), and runs `body` on them. Only the cell arrays in
+ *    `cellArrays` (all when empty) travel.
+ * 4. Each process keeps its own cells of the result on the `scatteredPorts`; the other ports
+ *    are emptied. When the body failed or aborted on any process, every process keeps its
+ *    input, and those that did not fail themselves report that another one did.
+ *
+ * A process that fails (bad input, an exception) makes the others' collectives throw instead
+ * of waiting (the group exchanges each process's state before every collective, sleeping).
+ * Memory per process: its piece, the halo, and the body's working set on both.
+ */
+std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const HaloRadiusFunction& radius,
+  const HaloBody& body, const std::function<std::string()>& failure, const std::vector<std::string>& cellArrays);
 
 } // namespace shapediameter::distributed

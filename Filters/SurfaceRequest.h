@@ -12,6 +12,7 @@ class vtkPolyData;
 namespace shapediameter::distributed
 {
 struct ReplicatedShare; // DistributedSupport.h
+struct HaloShare;       // DistributedSupport.h
 }
 
 namespace shapediameter::adapter
@@ -32,6 +33,10 @@ struct SurfaceRequest
   /// whole surface on every process, and the body computes the cells this share owns and
   /// combines them (DistributedSupport.h). nullptr otherwise.
   const distributed::ReplicatedShare* Share = nullptr;
+  /// In a halo run (vtkSDFSurfaceAlgorithm::CanRunWithHalo): Input is this process's own cells
+  /// plus a halo, the body computes the cells flagged as its own, with the whole surface's
+  /// measures combined over the share's group (DistributedSupport.h). nullptr otherwise.
+  const distributed::HaloShare* Halo = nullptr;
 };
 
 } // namespace shapediameter::adapter

@@ -20,6 +20,7 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <tuple>
 #include <unordered_map>
 
@@ -524,6 +525,123 @@ vtkSmartPointer<vtkPolyData> LocalResult(vtkPolyData* piece, vtkPolyData* wholeI
   }
   result->SetFieldData(field);
   return result;
+}
+
+bool HasGlobalIds(vtkPolyData* piece)
+{
+  return IdArray(piece->GetCellData(), "GlobalCellIds", piece->GetNumberOfCells()) &&
+    IdArray(piece->GetPointData(), "GlobalPointIds", piece->GetNumberOfPoints());
+}
+
+namespace
+{
+/// The mean of the cell's corners (the origin for a cell without corners).
+void CellCenter(vtkPolyData* piece, vtkIdType cell, vtkIdList* corners, double center[3])
+{
+  piece->GetCellPoints(cell, corners);
+  center[0] = center[1] = center[2] = 0.0;
+  const vtkIdType n = corners->GetNumberOfIds();
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    double point[3];
+    piece->GetPoint(corners->GetId(k), point);
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      center[axis] += point[axis];
+    }
+  }
+  for (int axis = 0; n > 0 && axis < 3; ++axis)
+  {
+    center[axis] /= static_cast<double>(n);
+  }
+}
+} // namespace
+
+std::vector<double> CellCenterBounds(vtkPolyData* piece)
+{
+  const double infinity = std::numeric_limits<double>::infinity();
+  std::vector<double> bounds{ infinity, -infinity, infinity, -infinity, infinity, -infinity };
+  vtkNew<vtkIdList> corners;
+  for (vtkIdType cell = 0; cell < piece->GetNumberOfCells(); ++cell)
+  {
+    double center[3];
+    CellCenter(piece, cell, corners, center);
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      bounds[2 * axis] = std::min(bounds[2 * axis], center[axis]);
+      bounds[2 * axis + 1] = std::max(bounds[2 * axis + 1], center[axis]);
+    }
+  }
+  return bounds;
+}
+
+std::vector<vtkIdType> CellsNearBounds(vtkPolyData* piece, const std::vector<double>& bounds, double radius)
+{
+  std::vector<vtkIdType> near;
+  vtkNew<vtkIdList> corners;
+  for (vtkIdType cell = 0; cell < piece->GetNumberOfCells(); ++cell)
+  {
+    double center[3];
+    CellCenter(piece, cell, corners, center);
+    bool inside = true;
+    for (int axis = 0; inside && axis < 3; ++axis)
+    {
+      inside = center[axis] >= bounds[2 * axis] - radius && center[axis] <= bounds[2 * axis + 1] + radius;
+    }
+    if (inside)
+    {
+      near.push_back(cell);
+    }
+  }
+  return near;
+}
+
+vtkSmartPointer<vtkPolyData> ExtractPolygons(vtkPolyData* piece, const std::vector<vtkIdType>& cells)
+{
+  auto extracted = vtkSmartPointer<vtkPolyData>::New();
+  std::vector<vtkIdType> newPoint(static_cast<std::size_t>(piece->GetNumberOfPoints()), -1);
+  std::vector<vtkIdType> usedPoints;
+  vtkNew<vtkCellArray> polygons;
+  vtkNew<vtkIdList> corners;
+  for (const vtkIdType cell : cells)
+  {
+    piece->GetCellPoints(cell, corners);
+    for (vtkIdType k = 0; k < corners->GetNumberOfIds(); ++k)
+    {
+      vtkIdType& mapped = newPoint[static_cast<std::size_t>(corners->GetId(k))];
+      if (mapped < 0)
+      {
+        mapped = static_cast<vtkIdType>(usedPoints.size());
+        usedPoints.push_back(corners->GetId(k));
+      }
+      corners->SetId(k, mapped);
+    }
+    polygons->InsertNextCell(corners);
+  }
+  vtkNew<vtkPoints> points;
+  points->SetDataType(piece->GetPoints() ? piece->GetPoints()->GetDataType() : VTK_DOUBLE);
+  points->SetNumberOfPoints(static_cast<vtkIdType>(usedPoints.size()));
+  for (std::size_t p = 0; p < usedPoints.size(); ++p)
+  {
+    points->SetPoint(static_cast<vtkIdType>(p), piece->GetPoint(usedPoints[p]));
+  }
+  extracted->SetPoints(points);
+  extracted->SetPolys(polygons);
+  vtkCellData* cellData = extracted->GetCellData();
+  cellData->CopyGlobalIdsOn(); // ids are labels: VTK does not copy them unless asked
+  cellData->CopyAllocate(piece->GetCellData(), static_cast<vtkIdType>(cells.size()));
+  for (std::size_t c = 0; c < cells.size(); ++c)
+  {
+    cellData->CopyData(piece->GetCellData(), cells[c], static_cast<vtkIdType>(c));
+  }
+  vtkPointData* pointData = extracted->GetPointData();
+  pointData->CopyGlobalIdsOn();
+  pointData->CopyAllocate(piece->GetPointData(), static_cast<vtkIdType>(usedPoints.size()));
+  for (std::size_t p = 0; p < usedPoints.size(); ++p)
+  {
+    pointData->CopyData(piece->GetPointData(), usedPoints[p], static_cast<vtkIdType>(p));
+  }
+  return extracted;
 }
 
 void ApplyResult(vtkPolyData* input, vtkPolyData* result, vtkDataObject* outputObject)

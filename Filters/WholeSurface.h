@@ -81,4 +81,21 @@ vtkSmartPointer<vtkPolyData> LocalResult(vtkPolyData* piece, vtkPolyData* wholeI
 /// just the input when `result` does not match it (nothing usable came back).
 void ApplyResult(vtkPolyData* input, vtkPolyData* result, vtkDataObject* output);
 
+/// True when the piece has global ids for its cells and its points (the GlobalIds attributes,
+/// else the reader's `GlobalCellIds` and `GlobalPointIds`): AssembleWholeSurface then orders
+/// any set of pieces' cells and points as the whole surface orders them.
+bool HasGlobalIds(vtkPolyData* piece);
+
+/// The bounding box (xmin, xmax, ymin, ymax, zmin, zmax) of the centres (mean of the corners)
+/// of the piece's cells; inverted (min > max) when it has none.
+std::vector<double> CellCenterBounds(vtkPolyData* piece);
+
+/// The piece's cells whose centre lies within `radius` (per axis) of `bounds`: a superset of
+/// the cells within that distance of any cell centre inside the box.
+std::vector<vtkIdType> CellsNearBounds(vtkPolyData* piece, const std::vector<double>& bounds, double radius);
+
+/// The piece's polygons `cells` with the points they use, as a polydata with the piece's cell
+/// and point arrays on them.
+vtkSmartPointer<vtkPolyData> ExtractPolygons(vtkPolyData* piece, const std::vector<vtkIdType>& cells);
+
 } // namespace shapediameter::distributed

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFBilateralSmooth.h"
 
+#include "DistributedSupport.h"
+#include "Mesh/FaceGraph.h"
 #include "Smoothing/SmoothAndNormalize.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
@@ -18,6 +20,7 @@
 #include "vtkPolyData.h"
 
 #include <algorithm>
+#include <optional>
 
 vtkStandardNewMacro(vtkSDFBilateralSmooth);
 
@@ -44,18 +47,42 @@ std::vector<std::string> vtkSDFBilateralSmooth::CellArraysRead()
   return this->WithSelectedArray({ vtkShapeDiameterFilter::SDF_ARRAY_NAME });
 }
 
+namespace
+{
+/// The smoothed array's values (throws the reason when the input has none usable).
+std::vector<double> SmoothedValues(vtkAlgorithm* filter, vtkPolyData* input)
+{
+  std::vector<double> values;
+  std::string arrayName;
+  const std::string reason = shapediameter::adapter::ReadCellScalars(
+    filter, input, vtkShapeDiameterFilter::SDF_ARRAY_NAME, values, arrayName);
+  if (!reason.empty())
+  {
+    throw shapediameter::Error(reason + "."); // reported as "Cannot <task>: <reason>."
+  }
+  return values;
+}
+} // namespace
+
+double vtkSDFBilateralSmooth::HaloRadius(vtkPolyData* piece, const shapediameter::ProcessGroup& group)
+{
+  using namespace shapediameter;
+  SmoothedValues(this, piece); // a piece without a usable array runs on process 0, which reports it
+  std::vector<std::int64_t> offsets, connectivity;
+  adapter::PolygonCells(piece, offsets, connectivity);
+  const std::vector<std::uint8_t> own(offsets.empty() ? 0 : offsets.size() - 1, 1);
+  const double meanEdgeLength =
+    MeanEdgeLengthOverProcesses(adapter::PointsOf(piece), offsets, connectivity, own, group);
+  // As SmoothBilateral scales them.
+  return this->NeighborhoodRadius * (this->SpatialSigma * meanEdgeLength);
+}
+
 bool vtkSDFBilateralSmooth::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)
 {
   using namespace shapediameter;
   vtkPolyData* input = request.Input;
   vtkPolyData* output = request.Output;
-  std::vector<double> values;
-  std::string arrayName;
-  const std::string reason = adapter::ReadCellScalars(this, input, vtkShapeDiameterFilter::SDF_ARRAY_NAME, values, arrayName);
-  if (!reason.empty())
-  {
-    throw shapediameter::Error(reason + "."); // reported as "Cannot <task>: <reason>."
-  }
+  const std::vector<double> values = SmoothedValues(this, input);
 
   std::vector<std::int64_t> offsets, connectivity;
   adapter::PolygonCells(input, offsets, connectivity);
@@ -73,15 +100,21 @@ bool vtkSDFBilateralSmooth::ExecuteSurface(const shapediameter::adapter::Surface
   options.Normalization.RangeMinimum = this->NormalizationRange[0];
   options.Normalization.RangeMaximum = this->NormalizationRange[1];
   const PointMatrix points = adapter::PointsOf(input);
+  std::optional<FaceShare> share;
+  if (request.Halo)
+  {
+    share.emplace(FaceShare{ request.Halo->Own, *request.Halo->Group });
+  }
   const SmoothAndNormalizeResult result = SmoothAndNormalize(
     SmoothAndNormalizeInput{ points, offsets, connectivity, values, static_cast<std::size_t>(first),
-      static_cast<std::size_t>(last) },
+      static_cast<std::size_t>(last), share ? &*share : nullptr },
     options, request.Parallel, adapter::MakeProgress(this, 0.0, 1.0));
   if (result.Aborted)
   {
     return false;
   }
-  this->KeepFaceGraph(result.Graph);
+  // A halo run's graph is of this process's part only: no later filter gets the same surface.
+  this->KeepFaceGraph(request.Halo ? nullptr : result.Graph);
 
   output->GetFieldData()->AddArray(adapter::MakeArray<vtkDoubleArray>(
     NORMALIZATION_RANGE_ARRAY_NAME, std::vector<double>{ result.RangeMinimum, result.RangeMaximum }));

@@ -113,6 +113,10 @@ protected:
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
   /// The selected SDF array and its default, SDF.
   std::vector<std::string> CellArraysRead() override;
+  /// Distributed runs smooth each process's own faces with a halo of its neighbours'.
+  bool CanRunWithHalo() const override { return true; }
+  /// NeighborhoodRadius x SpatialSigma x the whole surface's mean edge length.
+  double HaloRadius(vtkPolyData* piece, const shapediameter::ProcessGroup& group) override;
 
   int NumberOfIterations;
   double SpatialSigma;

@@ -10,6 +10,8 @@
 #include "vtkInformationVector.h"
 #include "vtkPolyData.h"
 
+#include <optional>
+
 vtkSDFSurfaceAlgorithm::vtkSDFSurfaceAlgorithm(
   const char* task, const char* emptyNote, int surfacePort, bool acceptStrips)
   : Task(task)
@@ -31,7 +33,7 @@ int vtkSDFSurfaceAlgorithm::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   using namespace shapediameter;
-  if (!this->ActiveShare && distributed::IsDistributedRequest(inputVector, outputVector))
+  if (!this->ActiveShare && !this->ActiveHalo && distributed::IsDistributedRequest(inputVector, outputVector))
   {
     if (this->CanRunReplicated())
     {
@@ -45,6 +47,26 @@ int vtkSDFSurfaceAlgorithm::RequestData(
           this->ActiveShare = &share;
           return this->RequestData(nullptr, in, out);
         });
+    }
+    if (this->CanRunWithHalo())
+    {
+      const std::optional<int> status = distributed::RunOnHaloSurface(this, inputVector, outputVector,
+        { this->SurfacePort },
+        [this](vtkPolyData* piece, const ProcessGroup& group) { return this->HaloRadius(piece, group); },
+        [this](vtkInformationVector** in, vtkInformationVector* out, const distributed::HaloShare& share) {
+          struct Deactivate
+          {
+            const distributed::HaloShare*& Slot;
+            ~Deactivate() { this->Slot = nullptr; }
+          } deactivate{ this->ActiveHalo };
+          this->ActiveHalo = &share;
+          return this->RequestData(nullptr, in, out);
+        },
+        [this] { return this->LastFailure; }, this->CellArraysRead());
+      if (status)
+      {
+        return *status;
+      }
     }
     return distributed::RunOnWholeSurface(this, inputVector, outputVector, { this->SurfacePort },
       [this](vtkInformationVector** in, vtkInformationVector* out) { return this->RequestData(nullptr, in, out); },
@@ -71,7 +93,7 @@ int vtkSDFSurfaceAlgorithm::RequestData(
   try
   {
     const adapter::SurfaceRequest request{ input, output, inputVector, outputVector,
-      adapter::MakeSMPParallelFor(this->NumberOfThreads), this->ActiveShare };
+      adapter::MakeSMPParallelFor(this->NumberOfThreads), this->ActiveShare, this->ActiveHalo };
     if (!this->ExecuteSurface(request))
     {
       this->PassThrough(input, outputVector);
@@ -89,6 +111,11 @@ int vtkSDFSurfaceAlgorithm::RequestData(
   }
   this->UpdateProgress(1.0);
   return 1;
+}
+
+double vtkSDFSurfaceAlgorithm::HaloRadius(vtkPolyData*, const shapediameter::ProcessGroup&)
+{
+  return -1.0; // never asked: CanRunWithHalo() is false
 }
 
 std::vector<std::string> vtkSDFSurfaceAlgorithm::WithSelectedArray(std::vector<std::string> names)

@@ -11,7 +11,9 @@
  * 1. Distributed runs (Filters/DistributedSupport.h): under MPI the rest runs once, on
  *    process 0, on the whole surface gathered in its original order; every process gets its
  *    own cells back on the surface port. A filter whose CanRunReplicated() is true runs it
- *    on every process instead, on the whole surface, each process computing its own cells.
+ *    on every process instead, on the whole surface, each process computing its own cells;
+ *    one whose CanRunWithHalo() is true runs it on every process on its own cells plus a halo
+ *    of its neighbours' (HaloRadius wide), without collecting the surface.
  * 2. The surface port starts as a shallow copy of the input.
  * 3. An input without cells: a warning, and that copy.
  * 4. An input without polygons (without polygons and triangle strips, for the filters that
@@ -45,7 +47,8 @@
 
 namespace shapediameter
 {
-struct FaceGraph; // Filters/Core/Mesh/FaceGraph.h
+struct FaceGraph;   // Filters/Core/Mesh/FaceGraph.h
+class ProcessGroup; // Filters/Core/ProcessGroup.h
 namespace adapter
 {
 struct SurfaceRequest; // Filters/SurfaceRequest.h (private to the module)
@@ -53,6 +56,7 @@ struct SurfaceRequest; // Filters/SurfaceRequest.h (private to the module)
 namespace distributed
 {
 struct ReplicatedShare; // Filters/DistributedSupport.h (private to the module)
+struct HaloShare;       // Filters/DistributedSupport.h (private to the module)
 }
 }
 
@@ -95,6 +99,22 @@ protected:
   virtual bool CanRunReplicated() const { return false; }
 
   /**
+   * Distributed runs: true when ExecuteSurface, with the current settings, can run on each
+   * process's own cells plus a halo HaloRadius wide (distributed::RunOnHaloSurface), computing
+   * only the cells SurfaceRequest::Halo flags as its own; false (the default) runs it once on
+   * process 0. A halo run falls back to process 0 when a piece is not fit for it (cells other
+   * than polygons, no global ids, bad input: the serial checks then report it).
+   */
+  virtual bool CanRunWithHalo() const { return false; }
+
+  /**
+   * The halo width CanRunWithHalo needs for `piece`, in the surface's units. Collective (every
+   * process calls it with its own piece; whole-surface measures come from `group`); throws
+   * only before its first collective, on a piece it cannot process.
+   */
+  virtual double HaloRadius(vtkPolyData* piece, const shapediameter::ProcessGroup& group);
+
+  /**
    * Distributed runs on process 0: the cell arrays ExecuteSurface reads, so that only those
    * travel to process 0 (distributed::RunOnWholeSurface); empty (the default) = all of them.
    */
@@ -127,6 +147,8 @@ private:
   std::shared_ptr<const shapediameter::FaceGraph> KeptFaceGraph;
   /// The share of the replicated run under way, else nullptr.
   const shapediameter::distributed::ReplicatedShare* ActiveShare = nullptr;
+  /// The share of the halo run under way, else nullptr.
+  const shapediameter::distributed::HaloShare* ActiveHalo = nullptr;
   /// The error the last run reported (empty: none): under MPI, process 0 sends it to the
   /// other processes, which report it too (distributed::RunOnWholeSurface).
   std::string LastFailure;

@@ -364,3 +364,41 @@ TEST(WholeSurface, ApplyResultKeepsTheInputWhenNothingCameBack)
   EXPECT_EQ(local->GetNumberOfCells(), mesh->GetNumberOfCells());
   EXPECT_NE(local->GetCellData()->GetArray("Value"), nullptr);
 }
+
+TEST(WholeSurface, HaloSelectionAndExtractionKeepIdsAndArrays)
+{
+  const auto mesh = Mesh();
+  // Triangles 2..5, centres (2/3, 1/3), (1/3, 2/3), (5/3, 1/3), (4/3, 2/3).
+  const auto piece = Piece(mesh, { 2, 3, 4, 5 }, true);
+  EXPECT_TRUE(HasGlobalIds(piece));
+  EXPECT_FALSE(HasGlobalIds(Piece(mesh, { 2, 3 }, false)));
+  const std::vector<double> bounds = CellCenterBounds(piece);
+  EXPECT_NEAR(bounds[0], 1.0 / 3.0, 1e-15);
+  EXPECT_NEAR(bounds[1], 5.0 / 3.0, 1e-15);
+  EXPECT_EQ(bounds[4], 0.0);
+  const std::vector<double> none = CellCenterBounds(vtkNew<vtkPolyData>());
+  EXPECT_GT(none[0], none[1]);
+
+  // A box around x in [0, 0.5]: within 0.1, only the centre at x 1/3; within 0.2 also the one
+  // at 2/3; the far ones (x 4/3, 5/3) only from 0.84 on.
+  const std::vector<double> left{ 0.0, 0.5, 0.0, 1.0, 0.0, 0.0 };
+  EXPECT_EQ(CellsNearBounds(piece, left, 0.1), (std::vector<vtkIdType>{ 1 }));
+  EXPECT_EQ(CellsNearBounds(piece, left, 0.2), (std::vector<vtkIdType>{ 0, 1 }));
+  EXPECT_EQ(CellsNearBounds(piece, left, 1.2).size(), 4u);
+
+  const auto extracted = ExtractPolygons(piece, { 1, 3 });
+  ASSERT_EQ(extracted->GetNumberOfCells(), 2);
+  ASSERT_EQ(extracted->GetNumberOfPoints(), 5); // triangles 0-4-3 and 1-5-4 share point 4
+  // Its ids and arrays let AssembleWholeSurface put it back in place beside the other cells.
+  const WholeSurface whole = AssembleWholeSurface({ extracted, ExtractPolygons(piece, { 0, 2 }) });
+  EXPECT_EQ(whole.Cells, CellOrder::GlobalCellIds);
+  EXPECT_EQ(whole.Points, PointOrder::GlobalPointIds);
+  EXPECT_EQ(whole.CellToWhole[0], (std::vector<vtkIdType>{ 1, 3 }));
+  vtkDataArray* value = whole.Mesh->GetCellData()->GetArray("Value");
+  ASSERT_NE(value, nullptr);
+  for (vtkIdType c = 0; c < 4; ++c)
+  {
+    EXPECT_EQ(value->GetComponent(c, 0), 10.0 * static_cast<double>(c + 2));
+    EXPECT_EQ(CellPoints(whole.Mesh, c).size(), 3u);
+  }
+}

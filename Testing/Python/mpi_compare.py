@@ -90,12 +90,34 @@ smooth = simple.SDFBilateralSmooth(Input=sdf)
 partition = simple.SDFGMMPartition(Input=smooth)
 skeleton = simple.SDFSkeleton(Input=partition)
 stage_times = {}
-for name, proxy in (("split", surface), ("sdf", sdf), ("smooth", smooth), ("partition", partition),
-                    ("skeleton", skeleton)):
-    t = time.perf_counter()
-    proxy.UpdatePipeline()
-    stage_times[name] = time.perf_counter() - t
+# Rank 0's module reports how each filter ran (SHAPEDIAMETER_DISTRIBUTED_TIMING) on its stderr,
+# captured here to check that the smoothing ran with a halo instead of collecting the surface.
+timing_report = None
+if not args.connect:
+    import tempfile
+    os.environ["SHAPEDIAMETER_DISTRIBUTED_TIMING"] = "1"
+    sys.stderr.flush()
+    saved_stderr = os.dup(2)
+    timing_report = tempfile.TemporaryFile(mode="w+")
+    os.dup2(timing_report.fileno(), 2)
+try:
+    for name, proxy in (("split", surface), ("sdf", sdf), ("smooth", smooth), ("partition", partition),
+                        ("skeleton", skeleton)):
+        t = time.perf_counter()
+        proxy.UpdatePipeline()
+        stage_times[name] = time.perf_counter() - t
+finally:
+    if timing_report is not None:
+        sys.stderr.flush()
+        os.dup2(saved_stderr, 2)
+        os.close(saved_stderr)
+        timing_report.seek(0)
+        timing_report = timing_report.read()
+        sys.stderr.write(timing_report)
 distributed_seconds = time.perf_counter() - start
+if timing_report is not None and args.split != "redistribute":
+    check("vtkSDFBilateralSmooth with a halo" in timing_report,
+          "the smoothing ran on each rank's own faces with a halo (the reader's global ids), not on rank 0")
 
 
 

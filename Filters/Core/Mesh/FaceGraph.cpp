@@ -11,6 +11,7 @@
 #include <mutex>
 #include <numeric>
 #include <string>
+#include <tuple>
 #include <utility>
 
 namespace shapediameter
@@ -132,6 +133,24 @@ struct PolygonSides
   std::vector<std::int64_t> HalfedgeFace;
 };
 
+/// The total length of face f's sides that are edges (in side order) and their number: the
+/// one definition behind MeanEdgeLength and SumSideLengths, so both add the same terms.
+std::pair<double, std::int64_t> FacePerimeter(const PolygonSides& sides, std::size_t f)
+{
+  double perimeter = 0.0;
+  std::int64_t count = 0;
+  const std::int64_t first = sides.Offsets[f];
+  for (std::int64_t h = first; h < first + sides.FaceSize(f); ++h)
+  {
+    if (sides.IsEdge(h))
+    {
+      perimeter += (sides.Point(sides.NextVertex(h)) - sides.Point(sides.Connectivity[static_cast<std::size_t>(h)])).norm();
+      ++count;
+    }
+  }
+  return { perimeter, count };
+}
+
 /// Per face, the total length and the number of its sides that are edges.
 struct FacePerimeters
 {
@@ -180,12 +199,8 @@ FacePerimeters ComputeFaceGeometry(const PolygonSides& sides, const ParallelFor&
         const Vec3 b = sides.Point(sides.NextVertex(h));
         areaVector += (a - center).cross(b - center);
         squaredSides += (b - a).squaredNorm();
-        if (sides.IsEdge(h))
-        {
-          perimeters[f] += (b - a).norm();
-          ++sideCounts[f];
-        }
       }
+      std::tie(perimeters[f], sideCounts[f]) = FacePerimeter(sides, f);
       areaVector *= 0.5;
       const double areaNorm = areaVector.norm();
       if (areaNorm > 1e-12 * squaredSides && areaNorm > 0.0)
@@ -199,19 +214,20 @@ FacePerimeters ComputeFaceGeometry(const PolygonSides& sides, const ParallelFor&
   return result;
 }
 
-/// DegenerateFaceCount, MeanEdgeLength and BoundingBoxDiagonal of `graph` (serial sums, in
-/// face order).
+/// DegenerateFaceCount, MeanEdgeLength and BoundingBoxDiagonal of `graph`. The perimeters are
+/// summed exactly (ExactSum): the mean then does not depend on the faces' order or on how they
+/// are split between processes (SumSideLengths).
 void ComputeMeshMeasures(const PolygonSides& sides, const FacePerimeters& perimeters, FaceGraph& graph)
 {
-  double perimeterSum = 0.0;
+  ExactSum perimeterSum;
   std::int64_t sideSum = 0;
   for (std::size_t f = 0; f < sides.FaceCount; ++f)
   {
-    perimeterSum += perimeters.Lengths[f];
+    perimeterSum.Add(perimeters.Lengths[f]);
     sideSum += perimeters.SideCounts[f];
     graph.DegenerateFaceCount += graph.Degenerate[f];
   }
-  graph.MeanEdgeLength = sideSum > 0 ? perimeterSum / static_cast<double>(sideSum) : 0.0;
+  graph.MeanEdgeLength = MeanEdgeLengthOf(perimeterSum.Rounded(), sideSum);
   if (!sides.Connectivity.empty())
   {
     Vec3 lower = Vec3::Constant(std::numeric_limits<double>::infinity());
@@ -589,6 +605,39 @@ struct SharedGraphEntry
 std::mutex SharedGraphMutex;
 std::vector<SharedGraphEntry> SharedGraphs; // guarded by SharedGraphMutex
 } // namespace
+
+SideLengthSum SumSideLengths(const PointsView& points, const std::vector<std::int64_t>& faceOffsets,
+  const std::vector<std::int64_t>& faceConnectivity, const std::vector<std::uint8_t>& faces)
+{
+  ValidateInput(points, faceOffsets, faceConnectivity);
+  const PolygonSides sides(points, faceOffsets, faceConnectivity);
+  if (faces.size() != sides.FaceCount)
+  {
+    throw Error("side lengths: " + std::to_string(faces.size()) + " face flags for " +
+      std::to_string(sides.FaceCount) + " faces");
+  }
+  SideLengthSum sum;
+  for (std::size_t f = 0; f < sides.FaceCount; ++f)
+  {
+    if (faces[f] != 0)
+    {
+      const auto [perimeter, count] = FacePerimeter(sides, f);
+      sum.Length.Add(perimeter);
+      sum.Count += count;
+    }
+  }
+  return sum;
+}
+
+double MeanEdgeLengthOverProcesses(const PointsView& points, const std::vector<std::int64_t>& faceOffsets,
+  const std::vector<std::int64_t>& faceConnectivity, const std::vector<std::uint8_t>& faces,
+  const ProcessGroup& group)
+{
+  const SideLengthSum sides = SumSideLengths(points, faceOffsets, faceConnectivity, faces);
+  std::vector<std::int64_t> count{ sides.Count };
+  group.SumInPlace(count);
+  return MeanEdgeLengthOf(SumOverProcesses(sides.Length, group), count[0]);
+}
 
 std::shared_ptr<const FaceGraph> SharedFaceGraph(const PointsView& points,
   const std::vector<std::int64_t>& faceOffsets, const std::vector<std::int64_t>& faceConnectivity,

@@ -56,8 +56,10 @@
 #pragma once
 
 #include "Errors.h"
+#include "ExactSum.h"
 #include "Mesh/MeshTypes.h"
 #include "Parallel.h"
+#include "ProcessGroup.h"
 
 #include <cstdint>
 #include <memory>
@@ -90,7 +92,8 @@ struct FaceGraph
   std::vector<std::uint8_t> Concave;
 
   // ---- whole-mesh measures (scale references for the other steps)
-  /// Mean length of all polygon sides with distinct endpoints; 0 without such sides.
+  /// Mean length of all polygon sides with distinct endpoints (the face perimeters summed
+  /// exactly, so independent of the face order); 0 without such sides.
   double MeanEdgeLength = 0.0;
   /// Diagonal of the bounding box of the points referenced by faces; 0 without faces.
   double BoundingBoxDiagonal = 0.0;
@@ -130,6 +133,38 @@ FaceGraph BuildFaceGraph(const PointsView& points, const std::vector<std::int64_
 std::shared_ptr<const FaceGraph> SharedFaceGraph(const PointsView& points,
   const std::vector<std::int64_t>& faceOffsets, const std::vector<std::int64_t>& faceConnectivity,
   const ParallelFor& parallelFor = SerialFor);
+
+/// The side lengths of some faces, for a mean edge length over several processes' faces.
+struct SideLengthSum
+{
+  /// The exact sum of the faces' perimeters (each the sum of its sides that are edges).
+  ExactSum Length;
+  /// The number of those sides.
+  std::int64_t Count = 0;
+};
+
+/**
+ * The perimeters and side counts of the faces f with `faces[f] != 0`, the terms that
+ * FaceGraph::MeanEdgeLength adds: the mean edge length of a surface split between processes
+ * is MeanEdgeLengthOf(SumOverProcesses(each's Length), the sum of the Counts), equal bit for
+ * bit to BuildFaceGraph's on the whole surface. `faces` has one entry per face. Throws what
+ * BuildFaceGraph throws on malformed input.
+ */
+SideLengthSum SumSideLengths(const PointsView& points, const std::vector<std::int64_t>& faceOffsets,
+  const std::vector<std::int64_t>& faceConnectivity, const std::vector<std::uint8_t>& faces);
+
+/// The mean of `count` sides of total length `length` (0 without sides).
+inline double MeanEdgeLengthOf(double length, std::int64_t count)
+{
+  return count > 0 ? length / static_cast<double>(count) : 0.0;
+}
+
+/// FaceGraph::MeanEdgeLength of a surface split between the processes of `group`, each
+/// passing its input and flagging its own faces in `faces`: equal bit for bit to the serial
+/// value on the whole surface. Collective; throws what SumSideLengths throws before it.
+double MeanEdgeLengthOverProcesses(const PointsView& points, const std::vector<std::int64_t>& faceOffsets,
+  const std::vector<std::int64_t>& faceConnectivity, const std::vector<std::uint8_t>& faces,
+  const ProcessGroup& group);
 
 /// A triangle mesh's faces in that CSR form (3 corners per face; both empty without triangles).
 void TriangleFaces(

@@ -23,10 +23,15 @@ void ValidateOptions(const BilateralSmoothingOptions& options)
   CheckRange(options.RangeThreshold, RangeThresholdRange, "smoothing: RangeThreshold");
 }
 
-// Nearest-rank quantile: the value at index floor(q (n - 1)) of the sorted values.
+// Nearest-rank quantile: the value at index floor(q (n - 1)) of the n sorted values.
+std::size_t QuantileRank(double q, std::size_t n)
+{
+  return static_cast<std::size_t>(std::floor(q * static_cast<double>(n - 1)));
+}
+
 double Quantile(std::vector<double>& scratch, double q)
 {
-  const auto rank = static_cast<std::size_t>(std::floor(q * static_cast<double>(scratch.size() - 1)));
+  const std::size_t rank = QuantileRank(q, scratch.size());
   std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(rank), scratch.end());
   return scratch[rank];
 }
@@ -51,8 +56,31 @@ double RobustSpread(const std::vector<double>& values)
   return spread;
 }
 
+double RobustSpreadOverProcesses(const std::vector<double>& values, const ProcessGroup& group)
+{
+  std::vector<std::int64_t> count{ static_cast<std::int64_t>(values.size()) };
+  group.SumInPlace(count);
+  if (count[0] == 0)
+  {
+    return 0.0;
+  }
+  const auto n = static_cast<std::size_t>(count[0]);
+  const std::vector<double> quantiles = OrderStatisticsOverProcesses(values,
+    { static_cast<std::int64_t>(QuantileRank(LowerSpreadQuantile, n)),
+      static_cast<std::int64_t>(QuantileRank(UpperSpreadQuantile, n)) },
+    group);
+  const double spread = quantiles[1] - quantiles[0];
+  if (spread != 0.0)
+  {
+    return spread;
+  }
+  const auto [minimum, maximum] = RangeOverProcesses(values, group);
+  return maximum - minimum;
+}
+
 BilateralSmoothingResult SmoothBilateral(const FaceGraph& graph, const std::vector<double>& values,
-  const BilateralSmoothingOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress)
+  const BilateralSmoothingOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress,
+  const SmoothingShare* share)
 {
   ValidateOptions(options);
   const std::size_t faceCount = graph.FaceCount();
@@ -73,6 +101,15 @@ BilateralSmoothingResult SmoothBilateral(const FaceGraph& graph, const std::vect
     maximum = std::max(maximum, values[f]);
   }
   // Every difference f^i(x) - f(y) then stays finite (f^i(x) stays within [min, max]).
+  if (share && share->Own.size() != faceCount)
+  {
+    throw Error("got " + std::to_string(share->Own.size()) + " face flags for " + std::to_string(faceCount) + " faces");
+  }
+  if (share)
+  {
+    minimum = share->Minimum;
+    maximum = share->Maximum;
+  }
   if (!std::isfinite(maximum - minimum))
   {
     throw Error("the value range overflows");
@@ -80,10 +117,10 @@ BilateralSmoothingResult SmoothBilateral(const FaceGraph& graph, const std::vect
 
   BilateralSmoothingResult result;
   result.Values = values;
-  const double spread = RobustSpread(values);
+  const double spread = share ? share->Spread : RobustSpread(values);
   // No difference exceeds max - min, so a larger t is the same t (and stays finite).
   result.RangeThreshold = std::min(options.RangeThreshold * spread, maximum - minimum);
-  result.SpatialSigma = options.SpatialSigma * graph.MeanEdgeLength;
+  result.SpatialSigma = options.SpatialSigma * (share ? share->MeanEdgeLength : graph.MeanEdgeLength);
   result.NeighborhoodRadius = options.NeighborhoodRadius * result.SpatialSigma;
   if (faceCount == 0 || spread == 0.0 || options.NumberOfIterations == 0 || options.MaxNeighbors == 0 ||
     !(result.SpatialSigma > 0.0))
@@ -109,6 +146,10 @@ BilateralSmoothingResult SmoothBilateral(const FaceGraph& graph, const std::vect
     std::vector<double> clampedWeights; // c(|f^i(x) - f(y)|) w_x(y)
     for (std::size_t face = begin; face < end; ++face)
     {
+      if (share && share->Own[face] == 0)
+      {
+        continue;
+      }
       search.Run(static_cast<std::int64_t>(face), radius, options.MaxNeighbors, neighbors);
       const std::size_t count = neighbors.size();
       if (count == 0)

@@ -73,8 +73,10 @@
 #include "Errors.h"
 #include "Mesh/FaceGraph.h"
 #include "Parallel.h"
+#include "ProcessGroup.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <vector>
 
@@ -124,9 +126,34 @@ struct BilateralSmoothingResult
 /// The robust spread used to scale t: Q(0.98) - Q(0.02), or max - min when that is 0.
 double RobustSpread(const std::vector<double>& values);
 
-/// Smooths one value per face of `graph` (see the header comment).
+/// RobustSpread of the union of every process's `values` (each process passes its own faces'),
+/// the same on every process and equal to RobustSpread of all the values in one vector.
+/// Collective (ProcessGroup.h).
+double RobustSpreadOverProcesses(const std::vector<double>& values, const ProcessGroup& group);
+
+/**
+ * A distributed run's part of the surface: `graph` holds this process's faces and a halo of
+ * their neighbours (every face within the neighbourhood radius of one of its own), and the
+ * scales come from the whole surface instead of the graph. Only the faces with Own[f] != 0
+ * are smoothed (the others keep their value); with the whole surface's measures and a halo
+ * that wide, each is smoothed exactly as in a serial run on the whole surface.
+ */
+struct SmoothingShare
+{
+  /// One flag per face of the graph: 1 = smoothed here.
+  const std::vector<std::uint8_t>& Own;
+  /// FaceGraph::MeanEdgeLength of the whole surface.
+  double MeanEdgeLength = 0.0;
+  /// RobustSpread, minimum and maximum of the whole surface's values.
+  double Spread = 0.0;
+  double Minimum = 0.0;
+  double Maximum = 0.0;
+};
+
+/// Smooths one value per face of `graph` (see the header comment); with a `share`, only its
+/// own faces, scaled by its whole-surface measures.
 BilateralSmoothingResult SmoothBilateral(const FaceGraph& graph, const std::vector<double>& values,
   const BilateralSmoothingOptions& options = {}, const ParallelFor& parallelFor = SerialFor,
-  const ProgressCallback& progress = nullptr);
+  const ProgressCallback& progress = nullptr, const SmoothingShare* share = nullptr);
 
 } // namespace shapediameter

@@ -4,6 +4,8 @@
 #include "Mesh/FaceGraph.h"
 
 #include <chrono>
+#include <cmath>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -25,6 +27,50 @@ SmoothAndNormalizeResult AbortedResult()
   result.Aborted = true;
   return result;
 }
+
+/// The values of the faces flagged in `own` among [first, last).
+std::vector<double> OwnValues(const std::vector<double>& values, const std::vector<std::uint8_t>& own,
+  std::size_t first, std::size_t last)
+{
+  std::vector<double> kept;
+  for (std::size_t f = first; f < last; ++f)
+  {
+    if (own[f] != 0)
+    {
+      kept.push_back(values[f]);
+    }
+  }
+  return kept;
+}
+
+/// The whole surface's measures the smoothing scales by, from each process's own faces.
+/// Collective; throws before its first collective only.
+SmoothingShare WholeSurfaceMeasures(const SmoothAndNormalizeInput& input, const FaceShare& share)
+{
+  const std::vector<double> ownValues = OwnValues(input.FaceValues, share.Own, 0, share.Own.size());
+  for (const double value : ownValues)
+  {
+    if (!std::isfinite(value))
+    {
+      throw Error("non-finite value on a face of this process");
+    }
+  }
+  // Collectives from here on, in the same order on every process.
+  const double meanEdgeLength =
+    MeanEdgeLengthOverProcesses(input.Points, input.FaceOffsets, input.FaceConnectivity, share.Own, share.Group);
+  const auto [minimum, maximum] = RangeOverProcesses(ownValues, share.Group);
+  const double spread = RobustSpreadOverProcesses(ownValues, share.Group);
+  return SmoothingShare{ share.Own, meanEdgeLength, spread, std::isfinite(minimum) ? minimum : 0.0,
+    std::isfinite(maximum) ? maximum : 0.0 };
+}
+
+/// Whether any process aborted. Collective.
+bool AnyProcessAborted(bool aborted, const ProcessGroup& group)
+{
+  std::vector<std::int64_t> count{ aborted ? 1 : 0 };
+  group.SumInPlace(count);
+  return count[0] > 0;
+}
 } // namespace
 
 SmoothAndNormalizeResult SmoothAndNormalize(const SmoothAndNormalizeInput& input,
@@ -40,24 +86,46 @@ SmoothAndNormalizeResult SmoothAndNormalize(const SmoothAndNormalizeInput& input
   // The user-facing alpha range, narrower than NormalizeLogarithmic's own (Normalization.h);
   // checked before any work. The smoothing options are checked by SmoothBilateral.
   CheckRange(options.Normalization.Alpha, AlphaRange, "smooth and normalize: Alpha");
+  const FaceShare* share = input.Share;
+  if (share && share->Own.size() != faceCount)
+  {
+    throw Error("smooth and normalize: " + std::to_string(share->Own.size()) + " face flags for " +
+      std::to_string(faceCount) + " faces");
+  }
+  if (options.Normalization.UseGivenRange)
+  {
+    NormalizationRange({}, options.Normalization); // throws on a bad given range, before any work
+  }
   SmoothAndNormalizeResult result;
 
-  // 1. The dual graph.
+  // 1. The dual graph (and, on a share, the whole surface's measures).
   Clock::time_point start = Clock::now();
   result.Graph = SharedFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
   const FaceGraph& graph = *result.Graph;
+  std::optional<SmoothingShare> smoothingShare;
+  if (share)
+  {
+    smoothingShare.emplace(WholeSurfaceMeasures(input, *share));
+  }
   result.Timings.FaceGraphMs = MillisecondsSince(start);
-  if (progress && !progress(0.1))
+  // A process of a distributed run does not leave before the others know (they would wait).
+  const bool stopAfterGraph = progress && !progress(0.1);
+  if (stopAfterGraph && !share)
   {
     return AbortedResult();
   }
 
   // 2. The bilateral filter.
   start = Clock::now();
-  BilateralSmoothingResult smoothed =
-    SmoothBilateral(graph, input.FaceValues, options.Smoothing, parallelFor, SubProgress(progress, 0.1, 0.95));
+  BilateralSmoothingResult smoothed;
+  if (!stopAfterGraph)
+  {
+    smoothed = SmoothBilateral(graph, input.FaceValues, options.Smoothing, parallelFor,
+      SubProgress(progress, 0.1, 0.95), smoothingShare ? &*smoothingShare : nullptr);
+  }
   result.Timings.SmoothingMs = MillisecondsSince(start);
-  if (smoothed.Aborted)
+  const bool aborted = stopAfterGraph || smoothed.Aborted;
+  if (share ? AnyProcessAborted(aborted, share->Group) : aborted)
   {
     return AbortedResult();
   }
@@ -68,8 +136,27 @@ SmoothAndNormalizeResult SmoothAndNormalize(const SmoothAndNormalizeInput& input
   const auto begin = result.Smoothed.begin();
   const std::vector<double> normalizedValues(begin + static_cast<std::ptrdiff_t>(input.NormalizedFirst),
     begin + static_cast<std::ptrdiff_t>(input.NormalizedLast));
-  result.Normalized = NormalizeLogarithmic(normalizedValues, options.Normalization);
-  std::tie(result.RangeMinimum, result.RangeMaximum) = NormalizationRange(normalizedValues, options.Normalization);
+  NormalizationOptions normalization = options.Normalization;
+  if (share && !normalization.UseGivenRange)
+  {
+    // The whole surface's range, given to each process's normalisation (a constant field maps
+    // to 0 as in a serial run).
+    const auto [minimum, maximum] = RangeOverProcesses(
+      OwnValues(result.Smoothed, share->Own, input.NormalizedFirst, input.NormalizedLast), share->Group);
+    normalization.UseGivenRange = maximum > minimum;
+    normalization.RangeMinimum = maximum > minimum ? minimum : (std::isfinite(minimum) ? minimum : 0.0);
+    normalization.RangeMaximum = maximum > minimum ? maximum : normalization.RangeMinimum;
+    if (!normalization.UseGivenRange)
+    {
+      result.Normalized.assign(normalizedValues.size(), 0.0);
+      result.RangeMinimum = result.RangeMaximum = normalization.RangeMinimum;
+    }
+  }
+  if (!share || normalization.UseGivenRange)
+  {
+    result.Normalized = NormalizeLogarithmic(normalizedValues, normalization);
+    std::tie(result.RangeMinimum, result.RangeMaximum) = NormalizationRange(normalizedValues, normalization);
+  }
   result.Timings.NormalizationMs = MillisecondsSince(start);
   if (progress)
   {

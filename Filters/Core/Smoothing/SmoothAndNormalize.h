@@ -49,7 +49,9 @@
 //
 // Threading and determinism
 //   parallelFor runs the face graph and the smoothing; the result is bit-identical for any
-//   ParallelFor. progress receives [0, 1] (0.1 after the face graph, the smoothing in
+//   ParallelFor. With a FaceShare (distributed runs) every process must call it with its own
+//   share; bad input throws before the first collective, and an abort on one process aborts
+//   all (no process returns early without joining the others). progress receives [0, 1] (0.1 after the face graph, the smoothing in
 //   [0.1, 0.95], 1 at the end); returning false after the face graph or during the smoothing
 //   aborts: the result is then empty with Aborted = true.
 #pragma once
@@ -60,6 +62,7 @@
 #include "Mesh/MeshTypes.h"
 #include "Smoothing/Normalization.h"
 #include "Parallel.h"
+#include "ProcessGroup.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -78,6 +81,24 @@ struct SmoothAndNormalizeOptions
   NormalizationOptions Normalization;
 };
 
+/**
+ * A distributed run's part of the surface (SmoothAndNormalizeInput::Share): the input holds
+ * this process's own faces and a halo, every face within the smoothing's neighbourhood radius
+ * (NeighborhoodRadius x SpatialSigma x the whole surface's mean edge length, dual distance) of
+ * an own face, with the faces and points in the order of the whole surface (e.g. sorted by
+ * global id). Each process of `Group` calls SmoothAndNormalize with its own share at the same
+ * time: the mean edge length, the robust spread, the value range and the normalisation range
+ * are then the whole surface's (ProcessGroup.h), and each own face gets exactly the values a
+ * serial run on the whole surface gives it. Halo faces are read only; their results are
+ * meaningless (their own process computes them).
+ */
+struct FaceShare
+{
+  /// One flag per face of the input: 1 = this process's face.
+  const std::vector<std::uint8_t>& Own;
+  const ProcessGroup& Group;
+};
+
 /// What is smoothed and normalised; see the header comment.
 struct SmoothAndNormalizeInput
 {
@@ -88,6 +109,8 @@ struct SmoothAndNormalizeInput
   /// The faces [NormalizedFirst, NormalizedLast) are normalised.
   std::size_t NormalizedFirst = 0;
   std::size_t NormalizedLast = 0;
+  /// A distributed run's part of the surface (FaceShare); null: the input is the whole surface.
+  const FaceShare* Share = nullptr;
 };
 
 /// Wall-clock time of each step in ms (for benchmarks; not part of the result's meaning).

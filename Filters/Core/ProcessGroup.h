@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The processes of a distributed run, as the core sees them: a few collectives, no MPI.
+//
+// A core step that runs on one process's share of a surface (its own faces plus a halo of
+// neighbours, e.g. SmoothAndNormalize with a FaceShare) still needs measures of the whole
+// surface: a mean edge length, quantiles and the range of a field. It computes them from its
+// own faces and combines them over the processes with these collectives, which the VTK
+// adapter implements over ParaView's controller (Filters/DistributedSupport.cxx). A serial
+// run uses SingleProcess(), for which every collective is the identity.
+//
+// Contract: every process calls the same collectives in the same order, with vectors of the
+// same length (AllGather excepted). An implementation may throw shapediameter::Error from a
+// collective when another process stopped (bad input, an exception), so that every process
+// reports it instead of waiting.
+//
+// The helpers below give results that are identical on every process and equal, bit for bit,
+// to the same measure computed by one process over all the faces: exact sums (ExactSum),
+// minima, maxima and order statistics do not depend on how the values are split.
+#pragma once
+
+#include "ExactSum.h"
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace shapediameter
+{
+
+class ProcessGroup
+{
+public:
+  virtual ~ProcessGroup() = default;
+  /// Every process's `values`, concatenated in process order, on every process.
+  virtual std::vector<double> AllGather(const std::vector<double>& values) const = 0;
+  /// Element-wise sums over the processes, in place.
+  virtual void SumInPlace(std::vector<std::int64_t>& values) const = 0;
+  /// Element-wise maxima over the processes, in place.
+  virtual void MaxInPlace(std::vector<double>& values) const = 0;
+};
+
+/// The group of one process: every collective returns its input.
+const ProcessGroup& SingleProcess();
+
+/// The exact sum over the processes of each one's `local` sum, correctly rounded.
+double SumOverProcesses(const ExactSum& local, const ProcessGroup& group);
+
+/// The minimum and maximum of every process's `values` (+inf and -inf when there are none).
+std::pair<double, double> RangeOverProcesses(const std::vector<double>& values, const ProcessGroup& group);
+
+/**
+ * The values of the given ranks (0-based, each in [0, n) for n values in all) in the sorted
+ * union of every process's finite `values`: what std::nth_element would find in one vector of
+ * all of them. Found by bisection over the doubles' order (at most 64 rounds of one sum per
+ * rank asked), so that no process holds more than its own values.
+ */
+std::vector<double> OrderStatisticsOverProcesses(
+  std::vector<double> values, const std::vector<std::int64_t>& ranks, const ProcessGroup& group);
+
+} // namespace shapediameter

@@ -1,0 +1,440 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// ExactSum, the ProcessGroup collectives' helpers, and SmoothAndNormalize on processes' shares
+// of a surface: equal, bit for bit, to one process over the whole surface.
+//
+// The processes are threads here (ThreadGroup: a real implementation of the collectives with a
+// barrier); tests under MPI (ctest -R MPI) run the same code through ParaView's controller.
+#include "ExactSum.h"
+#include "Mesh/FaceGraph.h"
+#include "ProcessGroup.h"
+#include "Smoothing/BilateralSmoothing.h"
+#include "Smoothing/SmoothAndNormalize.h"
+#include "TestShapes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <condition_variable>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <numeric>
+#include <random>
+#include <thread>
+#include <vector>
+
+namespace
+{
+
+using namespace shapediameter;
+
+// ---- ExactSum
+
+TEST(ExactSum, IsCorrectlyRoundedWhereNaiveSumsAreNot)
+{
+  ExactSum tenths;
+  for (int i = 0; i < 10; ++i)
+  {
+    tenths.Add(0.1);
+  }
+  EXPECT_EQ(tenths.Rounded(), 1.0); // the naive sum gives 0.9999999999999999
+
+  ExactSum cancelling;
+  cancelling.Add(1e100);
+  cancelling.Add(1.0);
+  cancelling.Add(-1e100);
+  EXPECT_EQ(cancelling.Rounded(), 1.0); // the naive sum gives 0
+
+  // 1 + 2^-53 + 2^-106: above the half-way point, so it rounds up (round-half-even on the
+  // first two terms alone would round down).
+  ExactSum halfWay;
+  halfWay.Add(1.0);
+  halfWay.Add(0x1.0p-53);
+  halfWay.Add(0x1.0p-106);
+  EXPECT_EQ(halfWay.Rounded(), 1.0 + 0x1.0p-52);
+  EXPECT_EQ(ExactSum().Rounded(), 0.0);
+}
+
+TEST(ExactSum, DoesNotDependOnTheOrderOrTheGroupingOfTheTerms)
+{
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> length(1e-3, 2.0);
+  std::vector<double> terms(20000);
+  for (double& term : terms)
+  {
+    term = length(random);
+  }
+  ExactSum whole;
+  whole.Add(terms);
+  double naive = 0.0;
+  for (int trial = 0; trial < 5; ++trial)
+  {
+    std::shuffle(terms.begin(), terms.end(), random);
+    // Three groups summed apart, then merged through their partials.
+    ExactSum merged;
+    for (std::size_t begin : { std::size_t{ 0 }, std::size_t{ 7000 }, std::size_t{ 12345 } })
+    {
+      const std::size_t end = begin == 0 ? 7000 : (begin == 7000 ? 12345 : terms.size());
+      ExactSum part;
+      part.Add(std::vector<double>(terms.begin() + static_cast<std::ptrdiff_t>(begin),
+        terms.begin() + static_cast<std::ptrdiff_t>(end)));
+      merged.Add(part.Partials());
+    }
+    EXPECT_EQ(merged.Rounded(), whole.Rounded());
+    naive = std::accumulate(terms.begin(), terms.end(), 0.0);
+  }
+  // The exact sum is within half an ulp of the naive one's neighbourhood (a sanity check of
+  // the value itself, not of the order independence).
+  EXPECT_NEAR(whole.Rounded(), naive, 1e-9 * naive);
+}
+
+// ---- A group of threads
+
+/// The collectives for `size` threads, one ThreadGroup per thread (rank).
+class ThreadHub
+{
+public:
+  explicit ThreadHub(int size)
+    : Size(size)
+    , Slots(static_cast<std::size_t>(size))
+  {
+  }
+
+  /// Each rank's `mine`, all of them in rank order, to every rank.
+  std::vector<std::vector<double>> Exchange(int rank, std::vector<double> mine)
+  {
+    std::unique_lock<std::mutex> lock(this->Mutex);
+    this->Slots[static_cast<std::size_t>(rank)] = std::move(mine);
+    this->Wait(lock);
+    std::vector<std::vector<double>> all = this->Slots;
+    this->Wait(lock); // nobody overwrites a slot before every rank has read them
+    return all;
+  }
+
+  const int Size;
+
+private:
+  void Wait(std::unique_lock<std::mutex>& lock)
+  {
+    const long long generation = this->Generation;
+    if (++this->Arrived == this->Size)
+    {
+      this->Arrived = 0;
+      ++this->Generation;
+      this->Changed.notify_all();
+      return;
+    }
+    this->Changed.wait(lock, [&] { return this->Generation != generation; });
+  }
+
+  std::mutex Mutex;
+  std::condition_variable Changed;
+  int Arrived = 0;
+  long long Generation = 0;
+  std::vector<std::vector<double>> Slots;
+};
+
+class ThreadGroup final : public ProcessGroup
+{
+public:
+  ThreadGroup(ThreadHub& hub, int rank)
+    : Hub(hub)
+    , Rank(rank)
+  {
+  }
+  std::vector<double> AllGather(const std::vector<double>& values) const override
+  {
+    std::vector<double> all;
+    for (const auto& part : this->Hub.Exchange(this->Rank, values))
+    {
+      all.insert(all.end(), part.begin(), part.end());
+    }
+    return all;
+  }
+  void SumInPlace(std::vector<std::int64_t>& values) const override
+  {
+    const auto all = this->Hub.Exchange(this->Rank, std::vector<double>(values.begin(), values.end()));
+    for (std::size_t i = 0; i < values.size(); ++i)
+    {
+      values[i] = 0;
+      for (const auto& part : all)
+      {
+        values[i] += static_cast<std::int64_t>(part[i]); // small counts: exact in a double
+      }
+    }
+  }
+  void MaxInPlace(std::vector<double>& values) const override
+  {
+    const auto all = this->Hub.Exchange(this->Rank, values);
+    for (const auto& part : all)
+    {
+      for (std::size_t i = 0; i < values.size(); ++i)
+      {
+        values[i] = std::max(values[i], part[i]);
+      }
+    }
+  }
+
+private:
+  ThreadHub& Hub;
+  const int Rank;
+};
+
+/// Runs body(rank, group) on `size` threads at once.
+void OnThreads(int size, const std::function<void(int, const ProcessGroup&)>& body)
+{
+  ThreadHub hub(size);
+  std::vector<std::thread> threads;
+  for (int rank = 0; rank < size; ++rank)
+  {
+    threads.emplace_back([&, rank] { body(rank, ThreadGroup(hub, rank)); });
+  }
+  for (std::thread& thread : threads)
+  {
+    thread.join();
+  }
+}
+
+TEST(ProcessGroup, SingleProcessCollectivesAreTheIdentity)
+{
+  const ProcessGroup& single = SingleProcess();
+  std::vector<std::int64_t> counts{ 3, -4 };
+  single.SumInPlace(counts);
+  EXPECT_EQ(counts, (std::vector<std::int64_t>{ 3, -4 }));
+  std::vector<double> values{ 1.5, -2.0 };
+  single.MaxInPlace(values);
+  EXPECT_EQ(values, (std::vector<double>{ 1.5, -2.0 }));
+  EXPECT_EQ(single.AllGather(values), values);
+  EXPECT_EQ(OrderStatisticsOverProcesses({ 5.0, -1.0, 3.0, 3.0 }, { 0, 1, 2, 3 }, single),
+    (std::vector<double>{ -1.0, 3.0, 3.0, 5.0 }));
+}
+
+TEST(ProcessGroup, OrderStatisticsRangeAndSpreadEqualThoseOfAllTheValues)
+{
+  std::mt19937_64 random(5);
+  std::lognormal_distribution<double> sdf(0.0, 0.7);
+  std::vector<double> values(5003);
+  for (double& value : values)
+  {
+    value = sdf(random);
+  }
+  values[17] = values[18]; // ties
+  values[40] = -0.0;
+  values[41] = 0.0;
+  const std::vector<std::int64_t> ranks{ 0, 1, 100, 2500, 4902, 5002 };
+  std::vector<double> expected;
+  for (const std::int64_t rank : ranks)
+  {
+    std::vector<double> scratch(values);
+    std::nth_element(scratch.begin(), scratch.begin() + rank, scratch.end());
+    expected.push_back(scratch[static_cast<std::size_t>(rank)]);
+  }
+  const double expectedSpread = RobustSpread(values);
+  const auto [low, high] = std::minmax_element(values.begin(), values.end());
+  for (const int processes : { 1, 2, 3, 5 })
+  {
+    OnThreads(processes, [&](int rank, const ProcessGroup& group) {
+      // Uneven shares, one of them empty when there are five.
+      std::vector<double> mine;
+      for (std::size_t i = 0; i < values.size(); ++i)
+      {
+        if (static_cast<int>((i * 7) % static_cast<std::size_t>(processes == 5 ? 4 : processes)) == rank)
+        {
+          mine.push_back(values[i]);
+        }
+      }
+      const std::vector<double> found = OrderStatisticsOverProcesses(mine, ranks, group);
+      const double spread = RobustSpreadOverProcesses(mine, group);
+      const auto [minimum, maximum] = RangeOverProcesses(mine, group);
+      for (std::size_t i = 0; i < ranks.size(); ++i)
+      {
+        EXPECT_EQ(found[i], expected[i]) << "rank " << ranks[i] << " on " << processes << " processes";
+      }
+      EXPECT_EQ(spread, expectedSpread);
+      EXPECT_EQ(minimum, *low);
+      EXPECT_EQ(maximum, *high);
+    });
+  }
+}
+
+// ---- SmoothAndNormalize on shares
+
+/// One process's share of a surface: its faces and every face whose centre lies within
+/// `radius` of one of them, in the whole surface's order, with the points they use.
+struct Share
+{
+  PointMatrix Points;
+  std::vector<std::int64_t> Offsets{ 0 }, Connectivity;
+  std::vector<double> Values;
+  std::vector<std::uint8_t> Own;
+  std::vector<std::size_t> WholeFace; // per face of the share
+};
+
+Share MakeShare(const testshapes::TestMesh& mesh, const std::vector<double>& values, const FaceGraph& whole,
+  const std::vector<int>& owner, int rank, double radius)
+{
+  std::vector<std::size_t> own;
+  for (std::size_t f = 0; f < owner.size(); ++f)
+  {
+    if (owner[f] == rank)
+    {
+      own.push_back(f);
+    }
+  }
+  Share share;
+  std::map<std::int64_t, std::int64_t> pointIndex; // whole -> share, in whole order
+  for (std::size_t f = 0; f < owner.size(); ++f)
+  {
+    bool near = owner[f] == rank;
+    for (std::size_t k = 0; !near && k < own.size(); ++k)
+    {
+      near = (whole.Centers.row(static_cast<Eigen::Index>(f)) - whole.Centers.row(static_cast<Eigen::Index>(own[k])))
+               .norm() <= radius;
+    }
+    if (!near)
+    {
+      continue;
+    }
+    share.WholeFace.push_back(f);
+    share.Own.push_back(owner[f] == rank ? 1 : 0);
+    share.Values.push_back(values[f]);
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      pointIndex[mesh.Triangles(static_cast<Eigen::Index>(f), corner)] = 0;
+    }
+  }
+  std::int64_t next = 0;
+  share.Points.resize(static_cast<Eigen::Index>(pointIndex.size()), 3);
+  for (auto& [wholePoint, sharePoint] : pointIndex)
+  {
+    sharePoint = next;
+    share.Points.row(next++) = mesh.Points.row(wholePoint);
+  }
+  for (const std::size_t f : share.WholeFace)
+  {
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      share.Connectivity.push_back(pointIndex[mesh.Triangles(static_cast<Eigen::Index>(f), corner)]);
+    }
+    share.Offsets.push_back(static_cast<std::int64_t>(share.Connectivity.size()));
+  }
+  return share;
+}
+
+TEST(SmoothAndNormalizeOnShares, OwnFacesGetTheSerialValuesBitForBit)
+{
+  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
+  std::vector<double> values;
+  std::mt19937_64 random(3);
+  for (Eigen::Index f = 0; f < mesh.Faces(); ++f)
+  {
+    const double unit = static_cast<double>(random() >> 11) * 0x1.0p-53;
+    values.push_back((mesh.Points(mesh.Triangles(f, 0), 2) > 0.0 ? 1.0 : 0.6) * (1.0 + 0.1 * unit));
+  }
+  SmoothAndNormalizeOptions options;
+  options.Smoothing.NumberOfIterations = 4;
+  const SmoothAndNormalizeResult serial = SmoothAndNormalize(mesh.Points, mesh.Triangles, values, options);
+  const FaceGraph& whole = *serial.Graph;
+  const double radius = options.Smoothing.NeighborhoodRadius * options.Smoothing.SpatialSigma * whole.MeanEdgeLength;
+
+  for (const int processes : { 2, 3 })
+  {
+    // Slabs along z by face centre: compact pieces, as the reader's spatial split gives.
+    std::vector<int> owner(values.size());
+    for (std::size_t f = 0; f < owner.size(); ++f)
+    {
+      const double z = whole.Centers(static_cast<Eigen::Index>(f), 2);
+      owner[f] = std::min(processes - 1, static_cast<int>((z + 2.0) / 4.0 * processes));
+    }
+    std::vector<int> covered(values.size(), 0);
+    std::mutex coveredMutex;
+    OnThreads(processes, [&](int rank, const ProcessGroup& group) {
+      const Share share = MakeShare(mesh, values, whole, owner, rank, radius * 1.001);
+      const FaceShare faceShare{ share.Own, group };
+      const SmoothAndNormalizeResult result = SmoothAndNormalize(
+        SmoothAndNormalizeInput{ share.Points, share.Offsets, share.Connectivity, share.Values, 0,
+          share.Values.size(), &faceShare },
+        options);
+      ASSERT_FALSE(result.Aborted);
+      EXPECT_EQ(result.RangeMinimum, serial.RangeMinimum);
+      EXPECT_EQ(result.RangeMaximum, serial.RangeMaximum);
+      std::lock_guard<std::mutex> lock(coveredMutex);
+      for (std::size_t f = 0; f < share.WholeFace.size(); ++f)
+      {
+        if (share.Own[f])
+        {
+          const std::size_t w = share.WholeFace[f];
+          ++covered[w];
+          EXPECT_EQ(result.Smoothed[f], serial.Smoothed[w]) << "face " << w << ", " << processes << " processes";
+          EXPECT_EQ(result.Normalized[f], serial.Normalized[w]) << "face " << w;
+        }
+      }
+    });
+    EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](int n) { return n == 1; }));
+  }
+
+  // The test can fail: without its halo a share's border faces lose neighbours and change.
+  OnThreads(2, [&](int rank, const ProcessGroup& group) {
+    std::vector<int> owner(values.size());
+    for (std::size_t f = 0; f < owner.size(); ++f)
+    {
+      owner[f] = whole.Centers(static_cast<Eigen::Index>(f), 2) > 0.0 ? 1 : 0;
+    }
+    const Share share = MakeShare(mesh, values, whole, owner, rank, 0.0);
+    const FaceShare faceShare{ share.Own, group };
+    const SmoothAndNormalizeResult result = SmoothAndNormalize(
+      SmoothAndNormalizeInput{ share.Points, share.Offsets, share.Connectivity, share.Values, 0, share.Values.size(),
+        &faceShare },
+      options);
+    std::size_t differing = 0;
+    for (std::size_t f = 0; f < share.WholeFace.size(); ++f)
+    {
+      differing += result.Smoothed[f] != serial.Smoothed[share.WholeFace[f]] ? 1 : 0;
+    }
+    EXPECT_GT(differing, 0u);
+  });
+}
+
+TEST(SmoothAndNormalizeOnShares, MeanEdgeLengthOverProcessesIsTheWholeSurfaces)
+{
+  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
+  std::vector<std::int64_t> offsets, connectivity;
+  TriangleFaces(mesh.Triangles, offsets, connectivity);
+  const double serial = BuildFaceGraph(mesh.Points, mesh.Triangles).MeanEdgeLength;
+  OnThreads(3, [&](int rank, const ProcessGroup& group) {
+    std::vector<std::uint8_t> mine(static_cast<std::size_t>(mesh.Faces()), 0);
+    for (std::size_t f = static_cast<std::size_t>(rank); f < mine.size(); f += 3)
+    {
+      mine[f] = 1;
+    }
+    EXPECT_EQ(MeanEdgeLengthOverProcesses(mesh.Points, offsets, connectivity, mine, group), serial);
+  });
+}
+
+TEST(SmoothAndNormalizeOnShares, AnAbortOnOneProcessAbortsEvery)
+{
+  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
+  std::vector<double> values;
+  for (Eigen::Index f = 0; f < mesh.Faces(); ++f)
+  {
+    values.push_back(1.0 + 0.01 * static_cast<double>(f % 7));
+  }
+  std::vector<std::int64_t> offsets, connectivity;
+  TriangleFaces(mesh.Triangles, offsets, connectivity);
+  OnThreads(2, [&](int rank, const ProcessGroup& group) {
+    // Both hold the whole surface and own half of it: the halo is all the rest.
+    std::vector<std::uint8_t> own(values.size(), 0);
+    for (std::size_t f = static_cast<std::size_t>(rank); f < own.size(); f += 2)
+    {
+      own[f] = 1;
+    }
+    const FaceShare share{ own, group };
+    const ProgressCallback stopOnRankOne = [rank](double) { return rank != 1; };
+    const SmoothAndNormalizeResult result = SmoothAndNormalize(
+      SmoothAndNormalizeInput{ mesh.Points, offsets, connectivity, values, 0, values.size(), &share }, {}, SerialFor,
+      stopOnRankOne);
+    EXPECT_TRUE(result.Aborted) << "process " << rank;
+  });
+}
+
+} // namespace
