@@ -29,6 +29,27 @@ void vtkSDFSurfaceAlgorithm::KeepFaceGraph(std::shared_ptr<const shapediameter::
   this->KeptFaceGraph = this->GetReleaseDataFlag() ? nullptr : std::move(graph);
 }
 
+namespace
+{
+/// Points `slot` at `share` for the lifetime of this object (a distributed run's body).
+template <typename Share>
+class ActiveDuring
+{
+public:
+  ActiveDuring(const Share*& slot, const Share& share)
+    : Slot(slot)
+  {
+    slot = &share;
+  }
+  ~ActiveDuring() { this->Slot = nullptr; }
+  ActiveDuring(const ActiveDuring&) = delete;
+  ActiveDuring& operator=(const ActiveDuring&) = delete;
+
+private:
+  const Share*& Slot;
+};
+} // namespace
+
 int vtkSDFSurfaceAlgorithm::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -39,12 +60,7 @@ int vtkSDFSurfaceAlgorithm::RequestData(
     {
       return distributed::RunOnReplicatedSurface(this, inputVector, outputVector, { this->SurfacePort },
         [this](vtkInformationVector** in, vtkInformationVector* out, const distributed::ReplicatedShare& share) {
-          struct Deactivate
-          {
-            const distributed::ReplicatedShare*& Slot;
-            ~Deactivate() { this->Slot = nullptr; }
-          } deactivate{ this->ActiveShare };
-          this->ActiveShare = &share;
+          const ActiveDuring<distributed::ReplicatedShare> active(this->ActiveShare, share);
           return this->RequestData(nullptr, in, out);
         });
     }
@@ -54,12 +70,7 @@ int vtkSDFSurfaceAlgorithm::RequestData(
         { this->SurfacePort },
         [this](vtkPolyData* piece, const ProcessGroup& group) { return this->HaloRadius(piece, group); },
         [this](vtkInformationVector** in, vtkInformationVector* out, const distributed::HaloShare& share) {
-          struct Deactivate
-          {
-            const distributed::HaloShare*& Slot;
-            ~Deactivate() { this->Slot = nullptr; }
-          } deactivate{ this->ActiveHalo };
-          this->ActiveHalo = &share;
+          const ActiveDuring<distributed::HaloShare> active(this->ActiveHalo, share);
           return this->RequestData(nullptr, in, out);
         },
         [this] { return this->LastFailure; }, this->CellArraysRead());
