@@ -765,9 +765,10 @@ private:
   vtkMultiProcessController* Controller;
 };
 
-/// Each process's piece's own cells near every other process's cells, exchanged point to
-/// point in one global order of the pairs (deadlock-free with blocking sends); returns the
-/// non-empty pieces received.
+/// Each process's piece's own cells near every other process's cells (within `radius` of one
+/// of their centres, found through a voxel grid whose occupied voxels every process sends
+/// every other), exchanged point to point in one global order of the pairs (deadlock-free
+/// with blocking sends); returns the non-empty pieces received.
 std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
   vtkMultiProcessController* controller, vtkPolyData* local, double radius)
 {
@@ -776,17 +777,43 @@ std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
   std::vector<double> bounds = CellCenterBounds(local);
   std::vector<double> allBounds(6 * static_cast<std::size_t>(processes));
   controller->AllGather(bounds.data(), allBounds.data(), 6);
-  // The centres here and the face graph's may differ in the last bits.
+  const double infinity = std::numeric_limits<double>::infinity();
+  std::vector<double> whole{ infinity, -infinity, infinity, -infinity, infinity, -infinity };
   double largest = 0.0;
-  for (const double value : allBounds)
+  for (int r = 0; r < processes; ++r)
   {
-    largest = std::isfinite(value) ? std::max(largest, std::abs(value)) : largest;
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      const double low = allBounds[6 * r + 2 * axis], high = allBounds[6 * r + 2 * axis + 1];
+      if (low <= high)
+      {
+        whole[2 * axis] = std::min(whole[2 * axis], low);
+        whole[2 * axis + 1] = std::max(whole[2 * axis + 1], high);
+        largest = std::max({ largest, std::abs(low), std::abs(high) });
+      }
+    }
   }
-  const double reach = radius * (1.0 + 1e-9) + 1e-12 * largest;
+  // The centres here and the face graph's may differ in the last bits.
+  const VoxelGrid grid = VoxelGrid::Around(whole, radius * (1.0 + 1e-9) + 1e-12 * largest);
+  const std::vector<std::int64_t> cellVoxels = CellVoxels(local, grid);
+  std::vector<vtkIdType> occupied(cellVoxels.begin(), cellVoxels.end());
+  std::sort(occupied.begin(), occupied.end());
+  occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
+  vtkIdType count = static_cast<vtkIdType>(occupied.size());
+  std::vector<vtkIdType> counts(static_cast<std::size_t>(processes)), offsets(static_cast<std::size_t>(processes), 0);
+  controller->AllGather(&count, counts.data(), 1);
+  for (std::size_t r = 1; r < counts.size(); ++r)
+  {
+    offsets[r] = offsets[r - 1] + counts[r - 1];
+  }
+  std::vector<vtkIdType> allOccupied(static_cast<std::size_t>(std::max<vtkIdType>(offsets.back() + counts.back(), 1)));
+  occupied.resize(std::max<std::size_t>(occupied.size(), 1)); // a valid buffer even when empty
+  controller->AllGatherV(occupied.data(), allOccupied.data(), count, counts.data(), offsets.data());
   std::vector<vtkSmartPointer<vtkPolyData>> received;
   const auto send = [&](int other) {
-    const std::vector<double> otherBounds(allBounds.begin() + 6 * other, allBounds.begin() + 6 * other + 6);
-    vtkSmartPointer<vtkPolyData> near = ExtractPolygons(local, CellsNearBounds(local, otherBounds, reach));
+    const auto first = allOccupied.begin() + offsets[static_cast<std::size_t>(other)];
+    const std::vector<std::int64_t> voxels(first, first + counts[static_cast<std::size_t>(other)]);
+    vtkSmartPointer<vtkPolyData> near = ExtractPolygons(local, CellsNearVoxels(cellVoxels, voxels));
     controller->Send(near, other, HALO_TAG);
   };
   const auto receive = [&](int other) {

@@ -17,6 +17,7 @@
 #include "vtkPolyData.h"
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cstdint>
 #include <cstring>
@@ -575,25 +576,87 @@ std::vector<double> CellCenterBounds(vtkPolyData* piece)
   return bounds;
 }
 
-std::vector<vtkIdType> CellsNearBounds(vtkPolyData* piece, const std::vector<double>& bounds, double radius)
+VoxelGrid VoxelGrid::Around(const std::vector<double>& bounds, double distance)
 {
-  std::vector<vtkIdType> near;
+  VoxelGrid grid;
+  double longest = 0.0;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const bool valid = bounds[2 * axis] <= bounds[2 * axis + 1];
+    grid.Origin[axis] = valid ? bounds[2 * axis] : 0.0;
+    longest = valid ? std::max(longest, bounds[2 * axis + 1] - bounds[2 * axis]) : longest;
+  }
+  // At most 128 voxels along the longest side: few enough voxel keys to send every process.
+  grid.Size = std::max({ distance, longest / 128.0, std::numeric_limits<double>::min() });
+  return grid;
+}
+
+namespace
+{
+constexpr int VoxelBits = 21;
+constexpr std::int64_t VoxelMask = (std::int64_t{ 1 } << VoxelBits) - 1;
+
+/// Index (i, j, k) >= 0 packed into one key; the neighbours' keys differ by +-1 in a field.
+std::int64_t VoxelKey(std::int64_t i, std::int64_t j, std::int64_t k)
+{
+  return (i << (2 * VoxelBits)) | (j << VoxelBits) | k;
+}
+} // namespace
+
+std::vector<std::int64_t> CellVoxels(vtkPolyData* piece, const VoxelGrid& grid)
+{
+  std::vector<std::int64_t> keys(static_cast<std::size_t>(piece->GetNumberOfCells()));
   vtkNew<vtkIdList> corners;
   for (vtkIdType cell = 0; cell < piece->GetNumberOfCells(); ++cell)
   {
     double center[3];
     CellCenter(piece, cell, corners, center);
-    bool inside = true;
-    for (int axis = 0; inside && axis < 3; ++axis)
+    std::int64_t index[3];
+    for (int axis = 0; axis < 3; ++axis)
     {
-      inside = center[axis] >= bounds[2 * axis] - radius && center[axis] <= bounds[2 * axis + 1] + radius;
+      // +1: the neighbours of the first voxel keep non-negative indices.
+      const double position = std::floor((center[axis] - grid.Origin[axis]) / grid.Size) + 1.0;
+      index[axis] = static_cast<std::int64_t>(std::clamp(position, 1.0, static_cast<double>(VoxelMask - 1)));
     }
-    if (inside)
+    keys[static_cast<std::size_t>(cell)] = VoxelKey(index[0], index[1], index[2]);
+  }
+  return keys;
+}
+
+std::vector<vtkIdType> CellsNearVoxels(const std::vector<std::int64_t>& cellVoxels, const std::vector<std::int64_t>& voxels)
+{
+  std::vector<std::int64_t> own(cellVoxels);
+  std::sort(own.begin(), own.end());
+  own.erase(std::unique(own.begin(), own.end()), own.end());
+  std::vector<std::int64_t> near;
+  for (const std::int64_t key : own)
+  {
+    const std::int64_t i = key >> (2 * VoxelBits), j = (key >> VoxelBits) & VoxelMask, k = key & VoxelMask;
+    bool touches = false;
+    for (int di = -1; di <= 1 && !touches; ++di)
     {
-      near.push_back(cell);
+      for (int dj = -1; dj <= 1 && !touches; ++dj)
+      {
+        for (int dk = -1; dk <= 1 && !touches; ++dk)
+        {
+          touches = std::binary_search(voxels.begin(), voxels.end(), VoxelKey(i + di, j + dj, k + dk));
+        }
+      }
+    }
+    if (touches)
+    {
+      near.push_back(key);
     }
   }
-  return near;
+  std::vector<vtkIdType> cells;
+  for (std::size_t cell = 0; cell < cellVoxels.size(); ++cell)
+  {
+    if (std::binary_search(near.begin(), near.end(), cellVoxels[cell]))
+    {
+      cells.push_back(static_cast<vtkIdType>(cell));
+    }
+  }
+  return cells;
 }
 
 vtkSmartPointer<vtkPolyData> ExtractPolygons(vtkPolyData* piece, const std::vector<vtkIdType>& cells)

@@ -90,9 +90,25 @@ bool HasGlobalIds(vtkPolyData* piece);
 /// of the piece's cells; inverted (min > max) when it has none.
 std::vector<double> CellCenterBounds(vtkPolyData* piece);
 
-/// The piece's cells whose centre lies within `radius` (per axis) of `bounds`: a superset of
-/// the cells within that distance of any cell centre inside the box.
-std::vector<vtkIdType> CellsNearBounds(vtkPolyData* piece, const std::vector<double>& bounds, double radius);
+/// Cubic voxels over space, the same on every process, for finding the cells near another
+/// process's cells without sending all of them: two centres within Size of each other lie in
+/// the same or neighbouring voxels.
+struct VoxelGrid
+{
+  double Origin[3] = { 0.0, 0.0, 0.0 };
+  double Size = 1.0;
+  /// A grid over `bounds` (CellCenterBounds of every process, combined) whose voxels are at
+  /// least `distance` wide, and at most 128 along the bounds' longest side.
+  static VoxelGrid Around(const std::vector<double>& bounds, double distance);
+};
+
+/// Per cell of the piece: the key of the voxel holding its centre.
+std::vector<std::int64_t> CellVoxels(vtkPolyData* piece, const VoxelGrid& grid);
+
+/// The piece's cells (given their CellVoxels) whose voxel is, or touches, one of `voxels`
+/// (sorted keys, e.g. another process's occupied voxels): a superset of the cells whose centre
+/// lies within grid.Size of a centre in those voxels.
+std::vector<vtkIdType> CellsNearVoxels(const std::vector<std::int64_t>& cellVoxels, const std::vector<std::int64_t>& voxels);
 
 /// The piece's polygons `cells` with the points they use, as a polydata with the piece's cell
 /// and point arrays on them.

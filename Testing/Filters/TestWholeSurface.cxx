@@ -19,7 +19,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
+#include <set>
 #include <vector>
 
 using namespace shapediameter::distributed;
@@ -379,12 +382,38 @@ TEST(WholeSurface, HaloSelectionAndExtractionKeepIdsAndArrays)
   const std::vector<double> none = CellCenterBounds(vtkNew<vtkPolyData>());
   EXPECT_GT(none[0], none[1]);
 
-  // A box around x in [0, 0.5]: within 0.1, only the centre at x 1/3; within 0.2 also the one
-  // at 2/3; the far ones (x 4/3, 5/3) only from 0.84 on.
-  const std::vector<double> left{ 0.0, 0.5, 0.0, 1.0, 0.0, 0.0 };
-  EXPECT_EQ(CellsNearBounds(piece, left, 0.1), (std::vector<vtkIdType>{ 1 }));
-  EXPECT_EQ(CellsNearBounds(piece, left, 0.2), (std::vector<vtkIdType>{ 0, 1 }));
-  EXPECT_EQ(CellsNearBounds(piece, left, 1.2).size(), 4u);
+  // Voxels of 0.5 from the box's corner: the centres at x 1/3 and 2/3 (y 2/3 and 1/3) lie in
+  // voxels (0, 1) and (1, 0), the ones at x 4/3 and 5/3 in (2, 1) and (3, 0).
+  const VoxelGrid grid = VoxelGrid::Around({ 0.0, 2.0, 0.0, 1.0, 0.0, 0.0 }, 0.5);
+  EXPECT_EQ(grid.Size, 0.5);
+  EXPECT_EQ(VoxelGrid::Around({ 0.0, 256.0, 0.0, 1.0, 0.0, 0.0 }, 0.5).Size, 2.0); // at most 128 along
+  const std::vector<std::int64_t> voxels = CellVoxels(piece, grid);
+  ASSERT_EQ(voxels.size(), 4u);
+  EXPECT_EQ(std::set<std::int64_t>(voxels.begin(), voxels.end()).size(), 4u);
+  // Near the first centre's voxel: itself and the second (a neighbour), not the two far ones.
+  EXPECT_EQ(CellsNearVoxels(voxels, { voxels[1] }), (std::vector<vtkIdType>{ 0, 1 }));
+  EXPECT_EQ(CellsNearVoxels(voxels, { voxels[2] }), (std::vector<vtkIdType>{ 2, 3 }));
+  EXPECT_TRUE(CellsNearVoxels(voxels, {}).empty());
+  // Every pair of centres within the voxel size is found, whatever the voxel boundaries.
+  for (const double size : { 0.35, 0.5, 0.9 })
+  {
+    const VoxelGrid fine = VoxelGrid::Around({ -0.1, 2.0, 0.0, 1.0, 0.0, 0.0 }, size);
+    const std::vector<std::int64_t> keys = CellVoxels(piece, fine);
+    for (std::size_t a = 0; a < keys.size(); ++a)
+    {
+      const std::vector<vtkIdType> near = CellsNearVoxels(keys, { keys[a] });
+      const double centers[4][2] = { { 2 / 3.0, 1 / 3.0 }, { 1 / 3.0, 2 / 3.0 }, { 5 / 3.0, 1 / 3.0 }, { 4 / 3.0, 2 / 3.0 } };
+      for (std::size_t b = 0; b < keys.size(); ++b)
+      {
+        const double distance = std::hypot(centers[a][0] - centers[b][0], centers[a][1] - centers[b][1]);
+        if (distance <= size)
+        {
+          EXPECT_TRUE(std::find(near.begin(), near.end(), static_cast<vtkIdType>(b)) != near.end())
+            << "centres " << a << " and " << b << " at " << distance << ", voxels of " << size;
+        }
+      }
+    }
+  }
 
   const auto extracted = ExtractPolygons(piece, { 1, 3 });
   ASSERT_EQ(extracted->GetNumberOfCells(), 2);
