@@ -326,10 +326,20 @@ void CopyCommonArrays(const std::vector<vtkPolyData*>& pieces, const std::vector
     }
   }
   target->CopyAllocate(list, static_cast<vtkIdType>(source.size()));
-  for (std::size_t w = 0; w < source.size(); ++w)
+  // Runs of whole elements that come from consecutive elements of one piece are copied at once
+  // (a tuple at a time through the field list cost most of the assembly).
+  for (std::size_t begin = 0; begin < source.size();)
   {
-    const auto& [r, id] = source[w];
-    target->CopyData(list, getAttributes(pieces[r]), listIndex[static_cast<std::size_t>(r)], id, static_cast<vtkIdType>(w));
+    const auto& [r, id] = source[begin];
+    std::size_t end = begin + 1;
+    while (end < source.size() && source[end].first == r &&
+      source[end].second == id + static_cast<vtkIdType>(end - begin))
+    {
+      ++end;
+    }
+    target->CopyData(list, getAttributes(pieces[r]), listIndex[static_cast<std::size_t>(r)],
+      static_cast<vtkIdType>(begin), static_cast<vtkIdType>(end - begin), id);
+    begin = end;
   }
   target->RemoveArray(vtkDataSetAttributes::GhostArrayName());
 }
@@ -586,8 +596,9 @@ VoxelGrid VoxelGrid::Around(const std::vector<double>& bounds, double distance)
     grid.Origin[axis] = valid ? bounds[2 * axis] : 0.0;
     longest = valid ? std::max(longest, bounds[2 * axis + 1] - bounds[2 * axis]) : longest;
   }
-  // At most 128 voxels along the longest side: few enough voxel keys to send every process.
-  grid.Size = std::max({ distance, longest / 128.0, std::numeric_limits<double>::min() });
+  // At most 512 voxels along the longest side: a surface then occupies a few million voxels at
+  // most, few enough keys to send every process, and the halo stays thin against a piece.
+  grid.Size = std::max({ distance, longest / 512.0, std::numeric_limits<double>::min() });
   return grid;
 }
 

@@ -98,7 +98,7 @@ struct VoxelGrid
   double Origin[3] = { 0.0, 0.0, 0.0 };
   double Size = 1.0;
   /// A grid over `bounds` (CellCenterBounds of every process, combined) whose voxels are at
-  /// least `distance` wide, and at most 128 along the bounds' longest side.
+  /// least `distance` wide, and at most 512 along the bounds' longest side.
   static VoxelGrid Around(const std::vector<double>& bounds, double distance);
 };
 

@@ -386,7 +386,7 @@ TEST(WholeSurface, HaloSelectionAndExtractionKeepIdsAndArrays)
   // voxels (0, 1) and (1, 0), the ones at x 4/3 and 5/3 in (2, 1) and (3, 0).
   const VoxelGrid grid = VoxelGrid::Around({ 0.0, 2.0, 0.0, 1.0, 0.0, 0.0 }, 0.5);
   EXPECT_EQ(grid.Size, 0.5);
-  EXPECT_EQ(VoxelGrid::Around({ 0.0, 256.0, 0.0, 1.0, 0.0, 0.0 }, 0.5).Size, 2.0); // at most 128 along
+  EXPECT_EQ(VoxelGrid::Around({ 0.0, 1024.0, 0.0, 1.0, 0.0, 0.0 }, 0.5).Size, 2.0); // at most 512 along
   const std::vector<std::int64_t> voxels = CellVoxels(piece, grid);
   ASSERT_EQ(voxels.size(), 4u);
   EXPECT_EQ(std::set<std::int64_t>(voxels.begin(), voxels.end()).size(), 4u);
