@@ -774,7 +774,8 @@ std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
 {
   const int rank = controller->GetLocalProcessId();
   const int processes = controller->GetNumberOfProcesses();
-  std::vector<double> bounds = CellCenterBounds(local);
+  const std::vector<double> centers = CellCenters(local);
+  std::vector<double> bounds = CenterBounds(centers);
   std::vector<double> allBounds(6 * static_cast<std::size_t>(processes));
   controller->AllGather(bounds.data(), allBounds.data(), 6);
   const double infinity = std::numeric_limits<double>::infinity();
@@ -795,7 +796,7 @@ std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
   }
   // The centres here and the face graph's may differ in the last bits.
   const VoxelGrid grid = VoxelGrid::Around(whole, radius * (1.0 + 1e-9) + 1e-12 * largest);
-  const std::vector<std::int64_t> cellVoxels = CellVoxels(local, grid);
+  const std::vector<std::int64_t> cellVoxels = CellVoxels(centers, grid);
   std::vector<vtkIdType> occupied(cellVoxels.begin(), cellVoxels.end());
   std::sort(occupied.begin(), occupied.end());
   occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());

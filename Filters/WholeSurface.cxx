@@ -544,44 +544,41 @@ bool HasGlobalIds(vtkPolyData* piece)
     IdArray(piece->GetPointData(), "GlobalPointIds", piece->GetNumberOfPoints());
 }
 
-namespace
+std::vector<double> CellCenters(vtkPolyData* piece)
 {
-/// The mean of the cell's corners (the origin for a cell without corners).
-void CellCenter(vtkPolyData* piece, vtkIdType cell, vtkIdList* corners, double center[3])
-{
-  piece->GetCellPoints(cell, corners);
-  center[0] = center[1] = center[2] = 0.0;
-  const vtkIdType n = corners->GetNumberOfIds();
-  for (vtkIdType k = 0; k < n; ++k)
+  std::vector<double> centers(3 * static_cast<std::size_t>(piece->GetNumberOfCells()), 0.0);
+  for (vtkIdType cell = 0; cell < piece->GetNumberOfCells(); ++cell)
   {
-    double point[3];
-    piece->GetPoint(corners->GetId(k), point);
-    for (int axis = 0; axis < 3; ++axis)
+    vtkIdType count = 0;
+    const vtkIdType* corners = nullptr;
+    piece->GetCellPoints(cell, count, corners);
+    double* center = &centers[3 * static_cast<std::size_t>(cell)];
+    for (vtkIdType k = 0; k < count; ++k)
     {
-      center[axis] += point[axis];
+      double point[3];
+      piece->GetPoint(corners[k], point);
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        center[axis] += point[axis];
+      }
+    }
+    for (int axis = 0; count > 0 && axis < 3; ++axis)
+    {
+      center[axis] /= static_cast<double>(count);
     }
   }
-  for (int axis = 0; n > 0 && axis < 3; ++axis)
-  {
-    center[axis] /= static_cast<double>(n);
-  }
+  return centers;
 }
-} // namespace
 
-std::vector<double> CellCenterBounds(vtkPolyData* piece)
+std::vector<double> CenterBounds(const std::vector<double>& centers)
 {
   const double infinity = std::numeric_limits<double>::infinity();
   std::vector<double> bounds{ infinity, -infinity, infinity, -infinity, infinity, -infinity };
-  vtkNew<vtkIdList> corners;
-  for (vtkIdType cell = 0; cell < piece->GetNumberOfCells(); ++cell)
+  for (std::size_t i = 0; i < centers.size(); ++i)
   {
-    double center[3];
-    CellCenter(piece, cell, corners, center);
-    for (int axis = 0; axis < 3; ++axis)
-    {
-      bounds[2 * axis] = std::min(bounds[2 * axis], center[axis]);
-      bounds[2 * axis + 1] = std::max(bounds[2 * axis + 1], center[axis]);
-    }
+    const std::size_t axis = i % 3;
+    bounds[2 * axis] = std::min(bounds[2 * axis], centers[i]);
+    bounds[2 * axis + 1] = std::max(bounds[2 * axis + 1], centers[i]);
   }
   return bounds;
 }
@@ -614,22 +611,19 @@ std::int64_t VoxelKey(std::int64_t i, std::int64_t j, std::int64_t k)
 }
 } // namespace
 
-std::vector<std::int64_t> CellVoxels(vtkPolyData* piece, const VoxelGrid& grid)
+std::vector<std::int64_t> CellVoxels(const std::vector<double>& centers, const VoxelGrid& grid)
 {
-  std::vector<std::int64_t> keys(static_cast<std::size_t>(piece->GetNumberOfCells()));
-  vtkNew<vtkIdList> corners;
-  for (vtkIdType cell = 0; cell < piece->GetNumberOfCells(); ++cell)
+  std::vector<std::int64_t> keys(centers.size() / 3);
+  for (std::size_t cell = 0; cell < keys.size(); ++cell)
   {
-    double center[3];
-    CellCenter(piece, cell, corners, center);
     std::int64_t index[3];
     for (int axis = 0; axis < 3; ++axis)
     {
       // +1: the neighbours of the first voxel keep non-negative indices.
-      const double position = std::floor((center[axis] - grid.Origin[axis]) / grid.Size) + 1.0;
+      const double position = std::floor((centers[3 * cell + axis] - grid.Origin[axis]) / grid.Size) + 1.0;
       index[axis] = static_cast<std::int64_t>(std::clamp(position, 1.0, static_cast<double>(VoxelMask - 1)));
     }
-    keys[static_cast<std::size_t>(cell)] = VoxelKey(index[0], index[1], index[2]);
+    keys[cell] = VoxelKey(index[0], index[1], index[2]);
   }
   return keys;
 }

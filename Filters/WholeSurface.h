@@ -86,9 +86,13 @@ void ApplyResult(vtkPolyData* input, vtkPolyData* result, vtkDataObject* output)
 /// any set of pieces' cells and points as the whole surface orders them.
 bool HasGlobalIds(vtkPolyData* piece);
 
-/// The bounding box (xmin, xmax, ymin, ymax, zmin, zmax) of the centres (mean of the corners)
-/// of the piece's cells; inverted (min > max) when it has none.
-std::vector<double> CellCenterBounds(vtkPolyData* piece);
+/// The centre (mean of the corners; the origin without corners) of each of the piece's cells,
+/// x y z per cell.
+std::vector<double> CellCenters(vtkPolyData* piece);
+
+/// The bounding box (xmin, xmax, ymin, ymax, zmin, zmax) of CellCenters; inverted (min > max)
+/// when there are none.
+std::vector<double> CenterBounds(const std::vector<double>& centers);
 
 /// Cubic voxels over space, the same on every process, for finding the cells near another
 /// process's cells without sending all of them: two centres within Size of each other lie in
@@ -97,13 +101,13 @@ struct VoxelGrid
 {
   double Origin[3] = { 0.0, 0.0, 0.0 };
   double Size = 1.0;
-  /// A grid over `bounds` (CellCenterBounds of every process, combined) whose voxels are at
+  /// A grid over `bounds` (CenterBounds of every process, combined) whose voxels are at
   /// least `distance` wide, and at most 512 along the bounds' longest side.
   static VoxelGrid Around(const std::vector<double>& bounds, double distance);
 };
 
-/// Per cell of the piece: the key of the voxel holding its centre.
-std::vector<std::int64_t> CellVoxels(vtkPolyData* piece, const VoxelGrid& grid);
+/// Per cell (CellCenters): the key of the voxel holding its centre.
+std::vector<std::int64_t> CellVoxels(const std::vector<double>& centers, const VoxelGrid& grid);
 
 /// The piece's cells (given their CellVoxels) whose voxel is, or touches, one of `voxels`
 /// (sorted keys, e.g. another process's occupied voxels): a superset of the cells whose centre

@@ -375,11 +375,15 @@ TEST(WholeSurface, HaloSelectionAndExtractionKeepIdsAndArrays)
   const auto piece = Piece(mesh, { 2, 3, 4, 5 }, true);
   EXPECT_TRUE(HasGlobalIds(piece));
   EXPECT_FALSE(HasGlobalIds(Piece(mesh, { 2, 3 }, false)));
-  const std::vector<double> bounds = CellCenterBounds(piece);
+  const std::vector<double> centers = CellCenters(piece);
+  ASSERT_EQ(centers.size(), 12u);
+  EXPECT_NEAR(centers[0], 2.0 / 3.0, 1e-15);
+  EXPECT_NEAR(centers[1], 1.0 / 3.0, 1e-15);
+  const std::vector<double> bounds = CenterBounds(centers);
   EXPECT_NEAR(bounds[0], 1.0 / 3.0, 1e-15);
   EXPECT_NEAR(bounds[1], 5.0 / 3.0, 1e-15);
   EXPECT_EQ(bounds[4], 0.0);
-  const std::vector<double> none = CellCenterBounds(vtkNew<vtkPolyData>());
+  const std::vector<double> none = CenterBounds(CellCenters(vtkNew<vtkPolyData>()));
   EXPECT_GT(none[0], none[1]);
 
   // Voxels of 0.5 from the box's corner: the centres at x 1/3 and 2/3 (y 2/3 and 1/3) lie in
@@ -387,7 +391,7 @@ TEST(WholeSurface, HaloSelectionAndExtractionKeepIdsAndArrays)
   const VoxelGrid grid = VoxelGrid::Around({ 0.0, 2.0, 0.0, 1.0, 0.0, 0.0 }, 0.5);
   EXPECT_EQ(grid.Size, 0.5);
   EXPECT_EQ(VoxelGrid::Around({ 0.0, 1024.0, 0.0, 1.0, 0.0, 0.0 }, 0.5).Size, 2.0); // at most 512 along
-  const std::vector<std::int64_t> voxels = CellVoxels(piece, grid);
+  const std::vector<std::int64_t> voxels = CellVoxels(centers, grid);
   ASSERT_EQ(voxels.size(), 4u);
   EXPECT_EQ(std::set<std::int64_t>(voxels.begin(), voxels.end()).size(), 4u);
   // Near the first centre's voxel: itself and the second (a neighbour), not the two far ones.
@@ -398,7 +402,7 @@ TEST(WholeSurface, HaloSelectionAndExtractionKeepIdsAndArrays)
   for (const double size : { 0.35, 0.5, 0.9 })
   {
     const VoxelGrid fine = VoxelGrid::Around({ -0.1, 2.0, 0.0, 1.0, 0.0, 0.0 }, size);
-    const std::vector<std::int64_t> keys = CellVoxels(piece, fine);
+    const std::vector<std::int64_t> keys = CellVoxels(centers, fine);
     for (std::size_t a = 0; a < keys.size(); ++a)
     {
       const std::vector<vtkIdType> near = CellsNearVoxels(keys, { keys[a] });
