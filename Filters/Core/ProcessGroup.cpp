@@ -68,39 +68,52 @@ std::vector<double> OrderStatisticsOverProcesses(
   std::vector<std::uint64_t> keys(values.size());
   std::transform(values.begin(), values.end(), keys.begin(), Key);
   std::sort(keys.begin(), keys.end());
-  // For each rank r: the smallest key K with at least r + 1 keys <= K, by bisection on [low, high].
+  // For each rank r: the smallest key K with at least r + 1 keys <= K, inside [low, high]. Each
+  // round splits every open interval into Buckets and counts, over the processes, the keys up
+  // to each bucket's end: 8 rounds narrow 2^64 keys to one.
+  constexpr std::uint64_t Buckets = 256;
   const std::size_t count = ranks.size();
   std::vector<std::uint64_t> low(count, 0), high(count, std::numeric_limits<std::uint64_t>::max());
-  std::vector<std::int64_t> atMost(count);
-  for (int round = 0; round < 64; ++round)
+  const auto bucketEnd = [&](std::size_t i, std::uint64_t bucket) {
+    const std::uint64_t width = (high[i] - low[i]) / Buckets + 1;
+    const unsigned __int128 end = static_cast<unsigned __int128>(low[i]) +
+      static_cast<unsigned __int128>(bucket + 1) * width - 1;
+    return end >= high[i] ? high[i] : static_cast<std::uint64_t>(end);
+  };
+  for (;;)
   {
+    // Every process takes the same decisions (the sums are the same everywhere), so all of
+    // them leave the loop in the same round.
+    std::vector<std::int64_t> atMost(count * Buckets + 1, 0);
     bool open = false;
     for (std::size_t i = 0; i < count; ++i)
     {
-      const std::uint64_t middle = low[i] + (high[i] - low[i]) / 2;
-      atMost[i] = std::upper_bound(keys.begin(), keys.end(), middle) - keys.begin();
       open = open || low[i] < high[i];
+      for (std::uint64_t b = 0; b < Buckets && low[i] < high[i]; ++b)
+      {
+        atMost[i * Buckets + b] = std::upper_bound(keys.begin(), keys.end(), bucketEnd(i, b)) - keys.begin();
+      }
     }
-    // Every process takes the same decisions (the sums are the same everywhere), so all of
-    // them leave the loop in the same round.
-    std::vector<std::int64_t> sums(atMost);
-    sums.push_back(open ? 1 : 0);
-    group.SumInPlace(sums);
-    if (sums.back() == 0)
+    atMost.back() = open ? 1 : 0;
+    group.SumInPlace(atMost);
+    if (atMost.back() == 0)
     {
       break;
     }
     for (std::size_t i = 0; i < count; ++i)
     {
-      const std::uint64_t middle = low[i] + (high[i] - low[i]) / 2;
-      if (sums[i] >= ranks[i] + 1)
+      if (low[i] == high[i])
       {
-        high[i] = middle;
+        continue;
       }
-      else
+      std::uint64_t b = 0;
+      while (b + 1 < Buckets && atMost[i * Buckets + b] < ranks[i] + 1)
       {
-        low[i] = middle + 1;
+        ++b;
       }
+      const std::uint64_t end = bucketEnd(i, b);
+      low[i] = b == 0 ? low[i] : bucketEnd(i, b - 1) + 1;
+      high[i] = end;
     }
   }
   std::vector<double> result(count);

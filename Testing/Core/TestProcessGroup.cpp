@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <condition_variable>
 #include <functional>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <numeric>
@@ -207,6 +208,24 @@ TEST(ProcessGroup, SingleProcessCollectivesAreTheIdentity)
   EXPECT_EQ(single.AllGather(values), values);
   EXPECT_EQ(OrderStatisticsOverProcesses({ 5.0, -1.0, 3.0, 3.0 }, { 0, 1, 2, 3 }, single),
     (std::vector<double>{ -1.0, 3.0, 3.0, 5.0 }));
+}
+
+TEST(ProcessGroup, OrderStatisticsCoverTheWholeRangeOfDoubles)
+{
+  const double largest = std::numeric_limits<double>::max();
+  const std::vector<double> values{ largest, -largest, 1.0, -1e-300, 5e-324, 0.0, 1.0, -2.5, 1e300 };
+  std::vector<double> sorted(values);
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<std::int64_t> ranks(values.size());
+  std::iota(ranks.begin(), ranks.end(), 0);
+  OnThreads(3, [&](int rank, const ProcessGroup& group) {
+    std::vector<double> mine;
+    for (std::size_t i = static_cast<std::size_t>(rank); i < values.size(); i += 3)
+    {
+      mine.push_back(values[i]);
+    }
+    EXPECT_EQ(OrderStatisticsOverProcesses(mine, ranks, group), sorted);
+  });
 }
 
 TEST(ProcessGroup, OrderStatisticsRangeAndSpreadEqualThoseOfAllTheValues)
