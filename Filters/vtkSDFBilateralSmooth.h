@@ -45,6 +45,13 @@
  * Faces without neighbours keep their value; several components, non-manifold edges and
  * open boundaries are handled by the face graph.
  *
+ * Distributed runs (pvbatch / pvserver under MPI): each process smooths its own faces with
+ * a halo of the other processes' faces within the neighbourhood radius, and the mean edge
+ * length, the robust spread and the normalisation range are those of the whole surface
+ * (combined over the processes); the results equal a serial run's bit for bit. Pieces without
+ * global ids (the SDF OFF Reader provides them) or with cells other than polygons are smoothed
+ * once on process 0 instead (docs/distributed.md).
+ *
  * Deviations: the paper gives no values for the neighbourhood, σ and t; ours are relative
  * to mesh resolution and SDF spread so they transfer to unseen meshes.
  */
