@@ -41,10 +41,9 @@ namespace
 constexpr int RESULT_TAG = 592008;
 constexpr int STATUS_TAG = 592007;
 constexpr int GATHER_TAG = 592006;
-constexpr int REPLICA_TAG = 592010; // and the next one
 constexpr int BARRIER_TAG = 592012;
 constexpr int FAILURE_TAG = 592013; // and the next one
-constexpr int HALO_TAG = 592020;
+constexpr int EXCHANGE_TAG = 592020;
 constexpr int STATE_TAG = 592021;
 
 vtkMultiProcessController* Controller()
@@ -196,6 +195,41 @@ std::vector<vtkSmartPointer<vtkPolyData>> GatherPieces(vtkMultiProcessController
     controller->Send(local, 0, GATHER_TAG);
   }
   return gathered;
+}
+
+/// Every other process's polydata, `outgoing(r)` sent to each process r: point to point, in
+/// one global order of the pairs (deadlock-free with blocking sends: the lowest unfinished
+/// pair always has both its processes waiting for it). Indexed by process; this process's
+/// own entry is null.
+std::vector<vtkSmartPointer<vtkPolyData>> ExchangeWithEveryProcess(
+  vtkMultiProcessController* controller, const std::function<vtkSmartPointer<vtkPolyData>(int)>& outgoing)
+{
+  const int rank = controller->GetLocalProcessId();
+  const int processes = controller->GetNumberOfProcesses();
+  std::vector<vtkSmartPointer<vtkPolyData>> received(static_cast<std::size_t>(processes));
+  const auto send = [&](int other) { controller->Send(outgoing(other), other, EXCHANGE_TAG); };
+  const auto receive = [&](int other) {
+    auto piece = vtkSmartPointer<vtkPolyData>::New();
+    controller->Receive(piece, other, EXCHANGE_TAG);
+    received[static_cast<std::size_t>(other)] = piece;
+  };
+  for (int a = 0; a < processes; ++a)
+  {
+    for (int b = a + 1; b < processes; ++b)
+    {
+      if (rank == a)
+      {
+        send(b);
+        receive(b);
+      }
+      else if (rank == b)
+      {
+        receive(a);
+        send(a);
+      }
+    }
+  }
+  return received;
 }
 
 /// What process 0's serial run produced: one output per port (empty unless Ran).
@@ -476,15 +510,16 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
   }
   const auto start = std::chrono::steady_clock::now();
 
-  // 1. The whole surface and the owners on process 0; the others sleep until it is ready.
+  // 1. and 2. Every piece to every process; each assembles the whole surface and its owners.
   WholeSurface whole;
   std::vector<int> owner;
   int ready = 1;
-  if (rank == 0)
   {
-    const std::vector<vtkSmartPointer<vtkPolyData>> gathered = GatherPieces(controller, local);
+    std::vector<vtkSmartPointer<vtkPolyData>> exchanged = ExchangeWithEveryProcess(controller,
+      [&](int) { return vtkSmartPointer<vtkPolyData>(local.GetPointer()); });
+    exchanged[static_cast<std::size_t>(rank)] = local.GetPointer();
     std::vector<vtkPolyData*> pieces;
-    for (const auto& piece : gathered)
+    for (const auto& piece : exchanged)
     {
       pieces.push_back(piece.GetPointer());
     }
@@ -505,18 +540,12 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
     }
     catch (const std::exception& error)
     {
-      vtkErrorWithObjectMacro(algorithm, "Distributed run failed on process 0: " << error.what());
+      vtkErrorWithObjectMacro(algorithm, "Distributed run failed on process " << rank << ": " << error.what());
       ready = 0;
     }
-    for (int r = 1; r < processes; ++r)
-    {
-      controller->Send(&ready, 1, r, STATUS_TAG);
-    }
-  }
-  else
-  {
-    GatherPieces(controller, local);
-    ready = WaitForStatus(controller);
+    int everyone = ready;
+    controller->AllReduce(&ready, &everyone, 1, vtkCommunicator::MIN_OP);
+    ready = everyone;
   }
   // Each process's own cells of the body's `outputs` (none: the process keeps its input), no
   // exchange; outputs other than the scattered ports stay on process 0.
@@ -554,29 +583,10 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
   }
   const double assembleSeconds = Seconds(start);
 
-  // 2. Every process: the whole surface, the owners, its own cells' and points' places.
-  controller->Broadcast(whole.Mesh, 0);
-  owner.resize(static_cast<std::size_t>(whole.Mesh->GetNumberOfCells()));
-  if (!owner.empty())
-  {
-    controller->Broadcast(owner.data(), static_cast<vtkIdType>(owner.size()), 0);
-  }
-  if (rank == 0)
-  {
-    for (int r = 1; r < processes; ++r)
-    {
-      SendSized(controller, whole.CellToWhole[static_cast<std::size_t>(r)], r, REPLICA_TAG);
-      SendSized(controller, whole.PointToWhole[static_cast<std::size_t>(r)], r, REPLICA_TAG);
-    }
-    cellToWhole = whole.CellToWhole[0];
-    pointToWhole = whole.PointToWhole[0];
-  }
-  else
-  {
-    cellToWhole = ReceiveSized<std::vector<vtkIdType>>(controller, REPLICA_TAG);
-    pointToWhole = ReceiveSized<std::vector<vtkIdType>>(controller, REPLICA_TAG);
-  }
-  const double shareSeconds = Seconds(start) - assembleSeconds;
+  cellToWhole = whole.CellToWhole[static_cast<std::size_t>(rank)];
+  pointToWhole = whole.PointToWhole[static_cast<std::size_t>(rank)];
+  whole.CellToWhole.clear();
+  whole.PointToWhole.clear();
 
   // 3. The body on the whole surface, every process its own cells.
   ReplicatedShare share;
@@ -609,7 +619,7 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
     bool aborted = algorithm->GetAbortExecute() != 0;
     CombineAcrossProcesses(controller, aborted ? Arrival::Aborted : Arrival::Stopped, noValues, noCounts, aborted);
   }
-  const double bodySeconds = Seconds(start) - assembleSeconds - shareSeconds;
+  const double bodySeconds = Seconds(start) - assembleSeconds;
 
   // 4. Each process's own cells.
   keepOwnCells(outputs);
@@ -620,9 +630,9 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
   {
     std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName() << " replicated on " << processes
               << " processes: " << whole.Mesh->GetNumberOfCells() << " cells (by " << ToString(whole.Cells)
-              << ", points by " << ToString(whole.Points) << "); gather and build " << assembleSeconds
-              << " s, share " << shareSeconds << " s, body " << bodySeconds << " s, local results "
-              << Seconds(start) - assembleSeconds - shareSeconds - bodySeconds << " s" << std::endl;
+              << ", points by " << ToString(whole.Points) << "); exchange and build " << assembleSeconds
+              << " s, body " << bodySeconds << " s, local results "
+              << Seconds(start) - assembleSeconds - bodySeconds << " s" << std::endl;
   }
   return lowest;
 }
@@ -767,8 +777,8 @@ private:
 
 /// Each process's piece's own cells near every other process's cells (within `radius` of one
 /// of their centres, found through a voxel grid whose occupied voxels every process sends
-/// every other), exchanged point to point in one global order of the pairs (deadlock-free
-/// with blocking sends); returns the non-empty pieces received.
+/// every other), exchanged with every process; returns what each process sent (indexed by
+/// process; this process's entry is null).
 std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
   vtkMultiProcessController* controller, vtkPolyData* local, double radius)
 {
@@ -810,37 +820,11 @@ std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
   std::vector<vtkIdType> allOccupied(static_cast<std::size_t>(std::max<vtkIdType>(offsets.back() + counts.back(), 1)));
   occupied.resize(std::max<std::size_t>(occupied.size(), 1)); // a valid buffer even when empty
   controller->AllGatherV(occupied.data(), allOccupied.data(), count, counts.data(), offsets.data());
-  std::vector<vtkSmartPointer<vtkPolyData>> received;
-  const auto send = [&](int other) {
+  std::vector<vtkSmartPointer<vtkPolyData>> received = ExchangeWithEveryProcess(controller, [&](int other) {
     const auto first = allOccupied.begin() + offsets[static_cast<std::size_t>(other)];
     const std::vector<std::int64_t> voxels(first, first + counts[static_cast<std::size_t>(other)]);
-    vtkSmartPointer<vtkPolyData> near = ExtractPolygons(local, CellsNearVoxels(cellVoxels, voxels));
-    controller->Send(near, other, HALO_TAG);
-  };
-  const auto receive = [&](int other) {
-    auto piece = vtkSmartPointer<vtkPolyData>::New();
-    controller->Receive(piece, other, HALO_TAG);
-    if (piece->GetNumberOfCells() > 0)
-    {
-      received.push_back(piece);
-    }
-  };
-  for (int a = 0; a < processes; ++a)
-  {
-    for (int b = a + 1; b < processes; ++b)
-    {
-      if (rank == a)
-      {
-        send(b);
-        receive(b);
-      }
-      else if (rank == b)
-      {
-        receive(a);
-        send(a);
-      }
-    }
-  }
+    return ExtractPolygons(local, CellsNearVoxels(cellVoxels, voxels));
+  });
   return received;
 }
 } // namespace
@@ -887,11 +871,18 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
 
   // 2. and 3. The halo, and this process's cells with it in the whole surface's order.
   start = std::chrono::steady_clock::now();
-  std::vector<vtkSmartPointer<vtkPolyData>> received = ExchangeHalos(controller, local, haloRadius);
+  // 10 % wider than the radius: a cell that several processes hold (RedistributeDataSet's
+  // "assign to all regions") counted once per process in the radius's mean edge length.
+  std::vector<vtkSmartPointer<vtkPolyData>> received = ExchangeHalos(controller, local, 1.1 * haloRadius);
   std::vector<vtkPolyData*> pieces{ local.GetPointer() };
-  for (const auto& piece : received)
+  std::vector<int> pieceProcess{ rank };
+  for (int r = 0; r < static_cast<int>(received.size()); ++r)
   {
-    pieces.push_back(piece.GetPointer());
+    if (received[static_cast<std::size_t>(r)] && received[static_cast<std::size_t>(r)]->GetNumberOfCells() > 0)
+    {
+      pieces.push_back(received[static_cast<std::size_t>(r)].GetPointer());
+      pieceProcess.push_back(r);
+    }
   }
   const ControllerGroup group(controller);
   int outcome = Succeeded;
@@ -909,6 +900,19 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
     for (const vtkIdType cell : surface.CellToWhole[0])
     {
       share.Own[static_cast<std::size_t>(cell)] = 1;
+    }
+    // A cell a lower process also holds is counted there (it reaches this process in that
+    // process's halo: it lies within the radius of itself).
+    share.Counted = share.Own;
+    for (std::size_t k = 1; k < pieces.size(); ++k)
+    {
+      for (const vtkIdType cell : surface.CellToWhole[k])
+      {
+        if (pieceProcess[k] < rank && cell >= 0)
+        {
+          share.Counted[static_cast<std::size_t>(cell)] = 0;
+        }
+      }
     }
     exchangeSeconds = Seconds(start);
     start = std::chrono::steady_clock::now();

@@ -125,18 +125,19 @@ using ReplicatedBody = std::function<int(
  * filters whose per-cell work needs the whole surface only to read it (the SDF's rays).
  * Collective.
  *
- * 1. As RunOnWholeSurface: the pieces go to process 0, which assembles the whole surface in
- *    the original order (AssembleWholeSurface) and finds each cell's owner.
- * 2. Process 0 sends every process the whole surface, the owners, and where its own cells
- *    and points are in the whole surface (no process other than 0 holds more than its own
- *    piece until then).
+ * 1. Every process sends its piece to every other (point to point, in one global order of
+ *    the pairs).
+ * 2. Every process assembles the whole surface in the original order (AssembleWholeSurface,
+ *    the same on every process), finds each cell's owner and where its own cells and points
+ *    are in it, and drops the other pieces. The processes agree that every assembly succeeded
+ *    (else each reports its error and keeps its input).
  * 3. Every process runs `body` on the whole surface; the body calls ReplicatedShare::Combine
  *    once (a process that stops before it joins it from here, as stopped).
  * 4. Every process keeps its own cells of the result (LocalResult), with no further exchange;
  *    outputs other than `scatteredPorts` stay on process 0.
  *
  * Memory: every process holds the whole surface and the filter's working set on it (as a
- * serial run), process 0 also the pieces while it assembles them. Returns the lowest status.
+ * serial run), and the pieces while it assembles them. Returns the lowest status.
  */
 int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const ReplicatedBody& body);
@@ -149,6 +150,10 @@ struct HaloShare
 {
   /// Per cell of the body's input: 1 for this process's own cells, 0 for the halo.
   std::vector<std::uint8_t> Own;
+  /// Per cell: 1 for the own cells this process counts in whole-surface measures: all of
+  /// them, except the cells a lower process holds too (RedistributeDataSet's "assign to all
+  /// regions"), which that process counts.
+  std::vector<std::uint8_t> Counted;
   /// The processes, for the whole surface's measures (collectives; never null in a body).
   const ProcessGroup* Group = nullptr;
 };

@@ -290,21 +290,30 @@ struct Share
 };
 
 Share MakeShare(const testshapes::TestMesh& mesh, const std::vector<double>& values, const FaceGraph& whole,
+  const std::function<bool(std::size_t)>& owns, double radius);
+
+Share MakeShare(const testshapes::TestMesh& mesh, const std::vector<double>& values, const FaceGraph& whole,
   const std::vector<int>& owner, int rank, double radius)
 {
+  return MakeShare(mesh, values, whole, [&](std::size_t f) { return owner[f] == rank; }, radius);
+}
+
+Share MakeShare(const testshapes::TestMesh& mesh, const std::vector<double>& values, const FaceGraph& whole,
+  const std::function<bool(std::size_t)>& owns, double radius)
+{
   std::vector<std::size_t> own;
-  for (std::size_t f = 0; f < owner.size(); ++f)
+  for (std::size_t f = 0; f < values.size(); ++f)
   {
-    if (owner[f] == rank)
+    if (owns(f))
     {
       own.push_back(f);
     }
   }
   Share share;
   std::map<std::int64_t, std::int64_t> pointIndex; // whole -> share, in whole order
-  for (std::size_t f = 0; f < owner.size(); ++f)
+  for (std::size_t f = 0; f < values.size(); ++f)
   {
-    bool near = owner[f] == rank;
+    bool near = owns(f);
     for (std::size_t k = 0; !near && k < own.size(); ++k)
     {
       near = (whole.Centers.row(static_cast<Eigen::Index>(f)) - whole.Centers.row(static_cast<Eigen::Index>(own[k])))
@@ -315,7 +324,7 @@ Share MakeShare(const testshapes::TestMesh& mesh, const std::vector<double>& val
       continue;
     }
     share.WholeFace.push_back(f);
-    share.Own.push_back(owner[f] == rank ? 1 : 0);
+    share.Own.push_back(owns(f) ? 1 : 0);
     share.Values.push_back(values[f]);
     for (int corner = 0; corner < 3; ++corner)
     {
@@ -412,6 +421,59 @@ TEST(SmoothAndNormalizeOnShares, OwnFacesGetTheSerialValuesBitForBit)
     }
     EXPECT_GT(differing, 0u);
   });
+}
+
+TEST(SmoothAndNormalizeOnShares, FacesSeveralProcessesOwnAreCountedOnce)
+{
+  // RedistributeDataSet's "assign to all regions": faces near the cut belong to both processes;
+  // both smooth them, only the lower one counts them in the whole surface's measures.
+  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
+  std::vector<double> values;
+  for (Eigen::Index f = 0; f < mesh.Faces(); ++f)
+  {
+    values.push_back(1.0 + 0.05 * static_cast<double>((f * 7919) % 13) + (mesh.Points(mesh.Triangles(f, 0), 2) > 0 ? 0.5 : 0.0));
+  }
+  SmoothAndNormalizeOptions options;
+  const SmoothAndNormalizeResult serial = SmoothAndNormalize(mesh.Points, mesh.Triangles, values, options);
+  const FaceGraph& whole = *serial.Graph;
+  const double radius = options.Smoothing.NeighborhoodRadius * options.Smoothing.SpatialSigma * whole.MeanEdgeLength;
+  const auto z = [&](std::size_t f) { return whole.Centers(static_cast<Eigen::Index>(f), 2); };
+  for (const bool countOnce : { true, false })
+  {
+    std::vector<std::size_t> differing(2, 0);
+    OnThreads(2, [&](int rank, const ProcessGroup& group) {
+      const auto owns = [&](std::size_t f) { return rank == 0 ? z(f) <= 0.3 : z(f) >= -0.3; };
+      const Share share = MakeShare(mesh, values, whole, owns, radius * 1.001);
+      std::vector<std::uint8_t> counted(share.Own);
+      for (std::size_t f = 0; f < counted.size(); ++f)
+      {
+        counted[f] = rank == 1 && countOnce && z(share.WholeFace[f]) <= 0.3 ? 0 : counted[f];
+      }
+      const FaceShare faceShare{ share.Own, group, &counted };
+      const SmoothAndNormalizeResult result = SmoothAndNormalize(
+        SmoothAndNormalizeInput{ share.Points, share.Offsets, share.Connectivity, share.Values, 0,
+          share.Values.size(), &faceShare },
+        options);
+      for (std::size_t f = 0; f < share.WholeFace.size(); ++f)
+      {
+        if (share.Own[f])
+        {
+          differing[static_cast<std::size_t>(rank)] += result.Smoothed[f] != serial.Smoothed[share.WholeFace[f]] ||
+              result.Normalized[f] != serial.Normalized[share.WholeFace[f]]
+            ? 1
+            : 0;
+        }
+      }
+    });
+    if (countOnce)
+    {
+      EXPECT_EQ(differing, (std::vector<std::size_t>{ 0, 0 }));
+    }
+    else
+    {
+      EXPECT_GT(differing[0] + differing[1], 0u); // counted twice, the measures change
+    }
+  }
 }
 
 TEST(SmoothAndNormalizeOnShares, MeanEdgeLengthOverProcessesIsTheWholeSurfaces)

@@ -47,7 +47,13 @@ std::vector<double> OwnValues(const std::vector<double>& values, const std::vect
 /// Collective; throws before its first collective only.
 SmoothingShare WholeSurfaceMeasures(const SmoothAndNormalizeInput& input, const FaceShare& share)
 {
-  const std::vector<double> ownValues = OwnValues(input.FaceValues, share.Own, 0, share.Own.size());
+  const std::vector<std::uint8_t>& counted = share.Counted ? *share.Counted : share.Own;
+  if (counted.size() != share.Own.size())
+  {
+    throw Error("smooth and normalize: " + std::to_string(counted.size()) + " counted-face flags for " +
+      std::to_string(share.Own.size()) + " faces");
+  }
+  const std::vector<double> ownValues = OwnValues(input.FaceValues, counted, 0, counted.size());
   for (const double value : ownValues)
   {
     if (!std::isfinite(value))
@@ -57,7 +63,7 @@ SmoothingShare WholeSurfaceMeasures(const SmoothAndNormalizeInput& input, const 
   }
   // Collectives from here on, in the same order on every process.
   const double meanEdgeLength =
-    MeanEdgeLengthOverProcesses(input.Points, input.FaceOffsets, input.FaceConnectivity, share.Own, share.Group);
+    MeanEdgeLengthOverProcesses(input.Points, input.FaceOffsets, input.FaceConnectivity, counted, share.Group);
   const auto [minimum, maximum] = RangeOverProcesses(ownValues, share.Group);
   const double spread = RobustSpreadOverProcesses(ownValues, share.Group);
   return SmoothingShare{ share.Own, meanEdgeLength, spread, std::isfinite(minimum) ? minimum : 0.0,

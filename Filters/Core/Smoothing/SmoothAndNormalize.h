@@ -94,9 +94,12 @@ struct SmoothAndNormalizeOptions
  */
 struct FaceShare
 {
-  /// One flag per face of the input: 1 = this process's face.
+  /// One flag per face of the input: 1 = this process's face (smoothed and normalised here).
   const std::vector<std::uint8_t>& Own;
   const ProcessGroup& Group;
+  /// One flag per face: 1 = counted in the whole surface's measures by this process. A face
+  /// that several processes own must be counted by one of them only; null: Own.
+  const std::vector<std::uint8_t>* Counted = nullptr;
 };
 
 /// What is smoothed and normalised; see the header comment.
