@@ -782,7 +782,6 @@ private:
 std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
   vtkMultiProcessController* controller, vtkPolyData* local, double radius)
 {
-  const int rank = controller->GetLocalProcessId();
   const int processes = controller->GetNumberOfProcesses();
   const std::vector<double> centers = CellCenters(local);
   std::vector<double> bounds = CenterBounds(centers);
