@@ -58,6 +58,16 @@ vtkSmartPointer<vtkCellArray> ReorientedPolygons(
   }
   return polygons;
 }
+/// The rows `rows` of `triangles`.
+TriangleMatrix OwnTriangles(const TriangleMatrix& triangles, const std::vector<std::int64_t>& rows)
+{
+  TriangleMatrix own(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t k = 0; k < rows.size(); ++k)
+  {
+    own.row(static_cast<Eigen::Index>(k)) = triangles.row(static_cast<Eigen::Index>(rows[k]));
+  }
+  return own;
+}
 } // namespace
 
 vtkShapeDiameterFilter::vtkShapeDiameterFilter()
@@ -145,10 +155,36 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
   options.Mode = this->Mode == ADAPTIVE ? ShapeDiameterMode::Adaptive : ShapeDiameterMode::Exact;
   options.Tolerance = this->Tolerance;
   options.IgnoreBuriedFaces = this->IgnoreBuriedFaces != 0;
+  // Replicated distributed run (CanRunReplicated): the whole surface on every process, each
+  // casting from the triangles of its own cells only (`ownTriangles`, their origins alone: 81
+  // bytes per triangle). Every origin's result depends on that origin alone, so the combined
+  // values are the serial ones.
+  std::vector<std::int64_t> ownTriangles;
+  if (request.Share)
+  {
+    for (std::size_t cell = 0; cell + 1 < surface.CellFirstTriangle.size(); ++cell)
+    {
+      for (std::int64_t t = surface.CellFirstTriangle[cell]; request.Share->Owned[cell] && t < surface.CellFirstTriangle[cell + 1]; ++t)
+      {
+        ownTriangles.push_back(t);
+      }
+    }
+  }
   // MakeVertexOrigins normalises the area-weighted normals, and skips zero ones.
-  RayOrigins origins = this->PerPoint
-    ? MakeVertexOrigins(surface.Points, AreaWeightedVertexNormals(surface.Points, surface.Triangles))
-    : MakeFaceOrigins(surface.Points, surface.Triangles);
+  RayOrigins origins;
+  if (this->PerPoint)
+  {
+    origins = MakeVertexOrigins(surface.Points, AreaWeightedVertexNormals(surface.Points, surface.Triangles));
+  }
+  else if (request.Share)
+  {
+    origins = MakeFaceOrigins(surface.Points, OwnTriangles(surface.Triangles, ownTriangles));
+    std::copy(ownTriangles.begin(), ownTriangles.end(), origins.SourceTriangles.begin());
+  }
+  else
+  {
+    origins = MakeFaceOrigins(surface.Points, surface.Triangles);
+  }
   PointAdjacency pointAdjacency;
   if (this->PerPoint)
   {
@@ -160,25 +196,20 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
     origins.NeighborOffsets = this->PerPoint ? pointAdjacency.Offsets : triangleAdjacency().Offsets;
     origins.Neighbors = this->PerPoint ? pointAdjacency.Neighbors : triangleAdjacency().Neighbors;
   }
-  if (request.Share)
-  {
-    // Replicated distributed run (CanRunReplicated): the whole surface on every process, each
-    // casting from the triangles of its own cells; every origin's result depends on that
-    // origin alone, so the combined values are the serial ones.
-    origins.Skip.resize(static_cast<std::size_t>(surface.Triangles.rows()), 0);
-    for (std::size_t cell = 0; cell + 1 < surface.CellFirstTriangle.size(); ++cell)
-    {
-      if (!request.Share->Owned[cell])
-      {
-        std::fill(origins.Skip.begin() + surface.CellFirstTriangle[cell],
-          origins.Skip.begin() + surface.CellFirstTriangle[cell + 1], std::uint8_t{ 1 });
-      }
-    }
-  }
   ShapeDiameterResult result = ComputeShapeDiameter(
     caster, origins, options, parallelFor, adapter::MakeProgress(this, 0.1, 0.9));
   if (request.Share)
   {
+    // Every triangle of the whole surface, 0 but on this process's own (x + 0 is exact).
+    std::vector<double> values(static_cast<std::size_t>(surface.Triangles.rows()), 0.0);
+    std::vector<int> validRays(values.size(), 0);
+    for (std::size_t k = 0; k < ownTriangles.size() && !result.Values.empty(); ++k)
+    {
+      values[static_cast<std::size_t>(ownTriangles[k])] = result.Values[k];
+      validRays[static_cast<std::size_t>(ownTriangles[k])] = result.ValidRays[k];
+    }
+    result.Values.swap(values);
+    result.ValidRays.swap(validRays);
     request.Share->Combine(result.Values, result.ValidRays, result.Aborted);
   }
   if (result.Aborted)
