@@ -24,8 +24,9 @@ identical, the fitted mixture identical, the skeleton (nodes, radii, polylines) 
 projected point cloud identical.
 
 Prints one line per check and a closing line 'N passed, N failed'; exit status 1 on any failure.
-Set SHAPEDIAMETER_DISTRIBUTED_TIMING=1 to get the per-filter gather/build/serial/scatter
-times from the module on stderr.
+Rank 0's module prints how each filter ran (SHAPEDIAMETER_DISTRIBUTED_TIMING, set by this script
+on rank 0) on stderr, which the script captures to check that the smoothing ran with a halo on
+the reader's pieces, and then prints.
 """
 import argparse
 import os
