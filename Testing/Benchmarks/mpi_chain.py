@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """Wall time and memory of the chain per stage under MPI (pvbatch), for docs/distributed.md.
 
-    mpiexec --bind-to none -n N pvbatch Testing/Benchmarks/mpi_chain.py MESH.off [--threads 1] [--repeats 3] [--memory]
+    mpiexec --bind-to none -n N pvbatch Testing/Benchmarks/mpi_chain.py MESH.off [--threads 1] [--repeats 3]
+            [--memory] [--cpu]
 
 The chain SDF OFF Reader -> Shape Diameter -> SDF Bilateral Smooth -> SDF GMM Partition ->
 SDF Skeleton runs through the plugin's proxies on all ranks (the reader's spatial pieces), every
@@ -18,6 +19,12 @@ only) and appends it to a file per rank in a temporary directory; rank 0 prints 
 rank (MB: baseline, VmHWM after each stage, VmHWM - baseline after the reader and after the
 chain) and the same as a list of dicts on a line starting with 'MEMORY '. VmHWM is the process's
 high-water mark, so the figure after a stage is the peak of everything up to that stage.
+
+--cpu (one repeat): the same probes also read every rank's CPU time (user + system, all its
+threads); rank 0 prints each rank's CPU seconds in each stage beside the stage's wall time, and
+for the ranks other than 0 the CPU they used while the partition and the skeleton ran on rank 0
+(waiting, sending their piece and receiving their results) as a share of the chain's wall time
+(issue 41's waiting bar: <= 10 %), on a line starting with 'CPU '.
 """
 import argparse
 import os
@@ -34,6 +41,8 @@ parser.add_argument("--threads", type=int, default=1)
 parser.add_argument("--repeats", type=int, default=3)
 parser.add_argument("--memory", action="store_true",
                     help="one repeat; per-rank VmRSS before the reader and VmHWM after each stage")
+parser.add_argument("--cpu", action="store_true",
+                    help="one repeat; per-rank CPU time in each stage, and the waiting ranks' share")
 args = parser.parse_args()
 
 controller = vtkMultiProcessController.GetGlobalController()
@@ -42,7 +51,8 @@ simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], ns=vars(simple))
 
 stages = ("read", "sdf", "smooth", "partition", "skeleton")
 
-# Runs on every rank (the source is updated on all of them); appends "label rss hwm" in kB.
+# Runs on every rank (the source is updated on all of them); appends "label rss hwm cpu" (kB,
+# kB, seconds of CPU of the whole process).
 PROBE_SCRIPT = """
 import os
 from vtkmodules.vtkParallelCore import vtkMultiProcessController
@@ -50,8 +60,11 @@ controller = vtkMultiProcessController.GetGlobalController()
 rank = controller.GetLocalProcessId() if controller is not None else 0
 status = dict(line.split(":", 1) for line in open("/proc/self/status") if ":" in line)
 kilobytes = lambda key: int(status[key].split()[0])
+# Not sum(): the programmable source's namespace has VTK's MPI-aware numpy_interface sum,
+# which adds the value over all ranks.
+cpu = os.times()
 with open(os.path.join(%r, "rank%%d.txt" %% rank), "a") as readings:
-    readings.write("%%s %%d %%d\\n" %% (%r, kilobytes("VmRSS"), kilobytes("VmHWM")))
+    readings.write("%%s %%d %%d %%.3f\\n" %% (%r, kilobytes("VmRSS"), kilobytes("VmHWM"), cpu.user + cpu.system))
 """
 
 
@@ -68,14 +81,15 @@ def probe(directory, label):
 
 
 def read_probes(directory, timeout=60.0):
-    """{rank: {label: (rss_kB, hwm_kB)}} once every rank has written its last reading."""
+    """{rank: {label: (rss_kB, hwm_kB, cpu_s)}} once every rank has written its last reading."""
     deadline = time.time() + timeout
     while True:
         ranks = {}
         for rank in range(processes):
             path = os.path.join(directory, "rank%d.txt" % rank)
             lines = open(path).read().splitlines() if os.path.exists(path) else []
-            ranks[rank] = {label: (int(rss), int(hwm)) for label, rss, hwm in (line.split() for line in lines)}
+            ranks[rank] = {label: (int(rss), int(hwm), float(cpu)) for label, rss, hwm, cpu in
+                           (line.split() for line in lines)}
         if all(stages[-1] in readings for readings in ranks.values()) or time.time() > deadline:
             return ranks
         time.sleep(0.2)
@@ -103,31 +117,60 @@ def report_memory(ranks):
     print("MEMORY %r" % {"ranks": processes, "threads": args.threads, "per_rank": rows}, flush=True)
 
 
+def report_cpu(ranks, seconds):
+    """Each rank's CPU seconds per stage (between the probes around it) beside the wall time."""
+    rows = []
+    for rank, readings in sorted(ranks.items()):
+        if "baseline" not in readings or stages[-1] not in readings:
+            print("rank %d: readings missing (%s)" % (rank, ", ".join(readings)), flush=True)
+            continue
+        labels = ("baseline",) + stages
+        row = {"rank": rank}
+        row.update({stage: readings[stage][2] - readings[labels[i]][2] for i, stage in enumerate(stages)})
+        rows.append(row)
+    chain_wall = sum(seconds[stage] for stage in stages)
+    on_rank_0 = ("partition", "skeleton")
+    print("| rank | " + " | ".join("CPU in %s (wall %.2f s)" % (s, seconds[s]) for s in stages) +
+          " | CPU in partition + skeleton / chain wall |", flush=True)
+    print("|---:|" + "---:|" * (len(stages) + 1))
+    for row in rows:
+        waiting = sum(row[stage] for stage in on_rank_0) / chain_wall
+        row["waiting_share"] = waiting
+        print("| %d | " % row["rank"] + " | ".join("%.2f s" % row[s] for s in stages) +
+              " | %.1f %% |" % (100.0 * waiting), flush=True)
+    print("CPU %r" % {"ranks": processes, "threads": args.threads, "wall": seconds, "per_rank": rows}, flush=True)
+
+
 def main():
     fastest = {}
-    for repeat in range(1 if args.memory else args.repeats):
+    probing = args.memory or args.cpu
+    for repeat in range(1 if probing else args.repeats):
         reader = simple.SDFOFFReader(FileName=args.mesh)
         sdf = simple.ShapeDiameter(Input=reader, NumberOfThreads=args.threads)
         smooth = simple.SDFBilateralSmooth(Input=sdf, NumberOfThreads=args.threads)
         partition = simple.SDFGMMPartition(Input=smooth, NumberOfThreads=args.threads)
         skeleton = simple.SDFSkeleton(Input=partition, NumberOfThreads=args.threads)
-        directory = tempfile.mkdtemp(prefix="mpi_chain_memory_") if args.memory else None
-        if args.memory:
+        directory = tempfile.mkdtemp(prefix="mpi_chain_memory_") if probing else None
+        if probing:
             probe(directory, "baseline")
         seconds = {}
         for name, proxy in zip(stages, (reader, sdf, smooth, partition, skeleton)):
             start = time.perf_counter()
             proxy.UpdatePipeline()
             seconds[name] = time.perf_counter() - start
-            if args.memory:
+            if probing:
                 probe(directory, name)
         seconds["chain"] = sum(seconds[name] for name in stages)
         print("ranks %d, threads %d, repeat %d: %s" % (processes, args.threads, repeat,
               ", ".join("%s %.3f s" % item for item in seconds.items())), flush=True)
         for name, value in seconds.items():
             fastest[name] = min(fastest.get(name, value), value)
-        if args.memory:
-            report_memory(read_probes(directory))
+        if probing:
+            readings = read_probes(directory)
+            if args.memory:
+                report_memory(readings)
+            if args.cpu:
+                report_cpu(readings, seconds)
             shutil.rmtree(directory, ignore_errors=True)
         for proxy in (skeleton, partition, smooth, sdf, reader):
             simple.Delete(proxy)
