@@ -644,7 +644,10 @@ enum Outcome : int
 {
   Succeeded = 0,
   Aborted = 1,
-  Failed = 2
+  Failed = 2,
+  /// The halo was narrower than the body's neighbourhood (HaloTooNarrowError): run on the
+  /// whole surface instead.
+  HaloTooNarrow = 3
 };
 
 /// The processes' states, combined.
@@ -775,12 +778,18 @@ private:
   vtkMultiProcessController* Controller;
 };
 
+/// What each process sent (indexed by process; this process's entry is null), and the
+/// distance around each own cell centre within which every cell centre arrived.
+struct Halo
+{
+  std::vector<vtkSmartPointer<vtkPolyData>> Received;
+  double Width = 0.0;
+};
+
 /// Each process's piece's own cells near every other process's cells (within `radius` of one
 /// of their centres, found through a voxel grid whose occupied voxels every process sends
-/// every other), exchanged with every process; returns what each process sent (indexed by
-/// process; this process's entry is null).
-std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
-  vtkMultiProcessController* controller, vtkPolyData* local, double radius)
+/// every other), exchanged with every process.
+Halo ExchangeHalos(vtkMultiProcessController* controller, vtkPolyData* local, double radius)
 {
   const int processes = controller->GetNumberOfProcesses();
   const std::vector<double> centers = CellCenters(local);
@@ -804,7 +813,8 @@ std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
     }
   }
   // The centres here and the face graph's may differ in the last bits.
-  const VoxelGrid grid = VoxelGrid::Around(whole, radius * (1.0 + 1e-9) + 1e-12 * largest);
+  const double rounding = 1e-9 * radius + 1e-12 * largest;
+  const VoxelGrid grid = VoxelGrid::Around(whole, radius + rounding);
   const std::vector<std::int64_t> cellVoxels = CellVoxels(centers, grid);
   std::vector<vtkIdType> occupied(cellVoxels.begin(), cellVoxels.end());
   std::sort(occupied.begin(), occupied.end());
@@ -819,12 +829,15 @@ std::vector<vtkSmartPointer<vtkPolyData>> ExchangeHalos(
   std::vector<vtkIdType> allOccupied(static_cast<std::size_t>(std::max<vtkIdType>(offsets.back() + counts.back(), 1)));
   occupied.resize(std::max<std::size_t>(occupied.size(), 1)); // a valid buffer even when empty
   controller->AllGatherV(occupied.data(), allOccupied.data(), count, counts.data(), offsets.data());
-  std::vector<vtkSmartPointer<vtkPolyData>> received = ExchangeWithEveryProcess(controller, [&](int other) {
+  Halo halo;
+  halo.Received = ExchangeWithEveryProcess(controller, [&](int other) {
     const auto first = allOccupied.begin() + offsets[static_cast<std::size_t>(other)];
     const std::vector<std::int64_t> voxels(first, first + counts[static_cast<std::size_t>(other)]);
     return ExtractPolygons(local, CellsNearVoxels(cellVoxels, voxels));
   });
-  return received;
+  // Two centres within the voxel size lie in the same or neighbouring voxels.
+  halo.Width = grid.Size - rounding;
+  return halo;
 }
 } // namespace
 
@@ -872,7 +885,8 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
   start = std::chrono::steady_clock::now();
   // 10 % wider than the radius: a cell that several processes hold (RedistributeDataSet's
   // "assign to all regions") counted once per process in the radius's mean edge length.
-  std::vector<vtkSmartPointer<vtkPolyData>> received = ExchangeHalos(controller, local, 1.1 * haloRadius);
+  Halo halo = ExchangeHalos(controller, local, 1.1 * haloRadius);
+  std::vector<vtkSmartPointer<vtkPolyData>>& received = halo.Received;
   std::vector<vtkPolyData*> pieces{ local.GetPointer() };
   std::vector<int> pieceProcess{ rank };
   for (int r = 0; r < static_cast<int>(received.size()); ++r)
@@ -895,6 +909,7 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
     received.clear();
     HaloShare share;
     share.Group = &group;
+    share.Width = halo.Width;
     share.Own.assign(static_cast<std::size_t>(surface.Mesh->GetNumberOfCells()), 0);
     for (const vtkIdType cell : surface.CellToWhole[0])
     {
@@ -927,12 +942,20 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
       outcome = Aborted;
     }
   }
+  catch (const HaloTooNarrowError&)
+  {
+    outcome = HaloTooNarrow;
+  }
   catch (const std::exception& error)
   {
     vtkErrorWithObjectMacro(algorithm, "Distributed run failed on process " << rank << ": " << error.what());
     outcome = Failed;
   }
   const int highest = group.Finish(outcome);
+  if (highest == HaloTooNarrow)
+  {
+    return std::nullopt; // every process: the caller runs on the whole surface
+  }
   if (highest == Failed && outcome != Failed)
   {
     vtkErrorWithObjectMacro(algorithm, "Another process of the distributed run failed (its own error says "

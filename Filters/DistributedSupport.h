@@ -154,6 +154,10 @@ struct HaloShare
   /// them, except the cells a lower process holds too (RedistributeDataSet's "assign to all
   /// regions"), which that process counts.
   std::vector<std::uint8_t> Counted;
+  /// Every cell whose centre lies within this distance of an own cell's centre is in the
+  /// input. A body that finds it needs more throws HaloTooNarrowError (ProcessGroup.h) on
+  /// every process, and the run falls back to the whole surface (the result is empty).
+  double Width = 0.0;
   /// The processes, for the whole surface's measures (collectives; never null in a body).
   const ProcessGroup* Group = nullptr;
 };
@@ -181,6 +185,8 @@ using HaloBody =
  * 3. Each process assembles its cells and those it received in the whole surface's order
  *    (AssembleWholeSurface: by global ids), and runs `body` on them. Only the cell arrays in
  *    `cellArrays` (all when empty) travel.
+ *    The halo is 10 % wider than `radius`; a body that finds it too narrow once it knows the
+ *    whole surface's measures (HaloShare::Width) makes every process return empty, as in 1.
  * 4. Each process keeps its own cells of the result on the `scatteredPorts`; the other ports
  *    are emptied. When the body failed or aborted on any process, every process keeps its
  *    input, and those that did not fail themselves report that another one did.

@@ -103,7 +103,7 @@ bool vtkSDFBilateralSmooth::ExecuteSurface(const shapediameter::adapter::Surface
   std::optional<FaceShare> share;
   if (request.Halo)
   {
-    share.emplace(FaceShare{ request.Halo->Own, *request.Halo->Group, &request.Halo->Counted });
+    share.emplace(FaceShare{ request.Halo->Own, *request.Halo->Group, &request.Halo->Counted, request.Halo->Width });
   }
   const SmoothAndNormalizeResult result = SmoothAndNormalize(
     SmoothAndNormalizeInput{ points, offsets, connectivity, values, static_cast<std::size_t>(first),

@@ -2,6 +2,7 @@
 #include "vtkSDFSurfaceAlgorithm.h"
 
 #include "DistributedSupport.h"
+#include "ProcessGroup.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
 
@@ -110,6 +111,11 @@ int vtkSDFSurfaceAlgorithm::RequestData(
       this->PassThrough(input, outputVector);
       return 1;
     }
+  }
+  // Not bad input: a halo run's request to run on the whole surface (DistributedSupport.h).
+  catch (const HaloTooNarrowError&)
+  {
+    throw;
   }
   // Bad input found by a filter's body and by the core alike (shapediameter::Error, Errors.h);
   // what() is the reason as the user reads it after "Cannot <task>: ".

@@ -4,8 +4,9 @@
 // Every core step signals input it cannot process (bad options, inconsistent sizes, non-finite
 // values, malformed files) by throwing shapediameter::Error; what() is a one-line reason, prefixed
 // by the step ("partition: ...", "skeleton: ..."). The VTK filters catch it once and report
-// "Cannot <task>: <reason>" (vtkSDFSurfaceAlgorithm). The only subclass is OFFParseError, which
-// also carries the input line.
+// "Cannot <task>: <reason>" (vtkSDFSurfaceAlgorithm). Subclasses: OFFParseError, which also
+// carries the input line, and HaloTooNarrowError (ProcessGroup.h), which is not bad input but a
+// request to a distributed run to fall back to the whole surface.
 //
 // A parameter's valid range is stated once, as a Range constant next to its option in the step's
 // options header; the step's Validate*Options checks it with CheckRange, and the filter's

@@ -18,6 +18,7 @@
 // minima, maxima and order statistics do not depend on how the values are split.
 #pragma once
 
+#include "Errors.h"
 #include "ExactSum.h"
 
 #include <cstdint>
@@ -37,6 +38,18 @@ public:
   virtual void SumInPlace(std::vector<std::int64_t>& values) const = 0;
   /// Element-wise maxima over the processes, in place.
   virtual void MaxInPlace(std::vector<double>& values) const = 0;
+};
+
+/**
+ * Thrown, on every process at the same point, by a step run on shares of a surface when the
+ * shares' halo turns out narrower than the neighbourhood the step needs (the width is known
+ * exactly only from whole-surface measures): the caller must run the step on the whole surface
+ * instead. Not bad input: callers that report errors let it through.
+ */
+class HaloTooNarrowError : public Error
+{
+public:
+  using Error::Error;
 };
 
 /// The group of one process: every collective returns its input.

@@ -476,6 +476,40 @@ TEST(SmoothAndNormalizeOnShares, FacesSeveralProcessesOwnAreCountedOnce)
   }
 }
 
+TEST(SmoothAndNormalizeOnShares, AHaloNarrowerThanTheRadiusThrowsOnEveryProcess)
+{
+  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
+  const std::vector<double> values(static_cast<std::size_t>(mesh.Faces()), 1.0);
+  const SmoothAndNormalizeOptions options;
+  const FaceGraph whole = BuildFaceGraph(mesh.Points, mesh.Triangles);
+  const double radius = options.Smoothing.NeighborhoodRadius * (options.Smoothing.SpatialSigma * whole.MeanEdgeLength);
+  for (const double width : { 0.99 * radius, 1.01 * radius })
+  {
+    std::vector<int> threw(2, 0);
+    OnThreads(2, [&](int rank, const ProcessGroup& group) {
+      std::vector<int> owner(values.size());
+      for (std::size_t f = 0; f < owner.size(); ++f)
+      {
+        owner[f] = whole.Centers(static_cast<Eigen::Index>(f), 2) > 0.0 ? 1 : 0;
+      }
+      const Share share = MakeShare(mesh, values, whole, owner, rank, width);
+      FaceShare faceShare{ share.Own, group };
+      faceShare.HaloWidth = width;
+      try
+      {
+        SmoothAndNormalize(SmoothAndNormalizeInput{ share.Points, share.Offsets, share.Connectivity, share.Values, 0,
+                             share.Values.size(), &faceShare },
+          options);
+      }
+      catch (const HaloTooNarrowError&)
+      {
+        threw[static_cast<std::size_t>(rank)] = 1;
+      }
+    });
+    EXPECT_EQ(threw, (std::vector<int>(2, width < radius ? 1 : 0))) << "halo width " << width << ", radius " << radius;
+  }
+}
+
 TEST(SmoothAndNormalizeOnShares, MeanEdgeLengthOverProcessesIsTheWholeSurfaces)
 {
   const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);

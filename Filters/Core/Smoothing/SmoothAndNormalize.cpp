@@ -44,8 +44,10 @@ std::vector<double> OwnValues(const std::vector<double>& values, const std::vect
 }
 
 /// The whole surface's measures the smoothing scales by, from each process's own faces.
-/// Collective; throws before its first collective only.
-SmoothingShare WholeSurfaceMeasures(const SmoothAndNormalizeInput& input, const FaceShare& share)
+/// Collective; throws bad input before its first collective only, and HaloTooNarrowError on
+/// every process at once.
+SmoothingShare WholeSurfaceMeasures(
+  const SmoothAndNormalizeInput& input, const FaceShare& share, const BilateralSmoothingOptions& options)
 {
   const std::vector<std::uint8_t>& counted = share.Counted ? *share.Counted : share.Own;
   if (counted.size() != share.Own.size())
@@ -64,6 +66,13 @@ SmoothingShare WholeSurfaceMeasures(const SmoothAndNormalizeInput& input, const 
   // Collectives from here on, in the same order on every process.
   const double meanEdgeLength =
     MeanEdgeLengthOverProcesses(input.Points, input.FaceOffsets, input.FaceConnectivity, counted, share.Group);
+  // As SmoothBilateral scales it; the same on every process.
+  const double radius = options.NeighborhoodRadius * (options.SpatialSigma * meanEdgeLength);
+  if (share.HaloWidth > 0.0 && radius > share.HaloWidth)
+  {
+    throw HaloTooNarrowError("smooth and normalize: the neighbourhood radius " + std::to_string(radius) +
+      " exceeds the halo's width " + std::to_string(share.HaloWidth));
+  }
   const auto [minimum, maximum] = RangeOverProcesses(ownValues, share.Group);
   const double spread = RobustSpreadOverProcesses(ownValues, share.Group);
   return SmoothingShare{ share.Own, meanEdgeLength, spread, std::isfinite(minimum) ? minimum : 0.0,
@@ -111,7 +120,7 @@ SmoothAndNormalizeResult SmoothAndNormalize(const SmoothAndNormalizeInput& input
   std::optional<SmoothingShare> smoothingShare;
   if (share)
   {
-    smoothingShare.emplace(WholeSurfaceMeasures(input, *share));
+    smoothingShare.emplace(WholeSurfaceMeasures(input, *share, options.Smoothing));
   }
   result.Timings.FaceGraphMs = MillisecondsSince(start);
   // A process of a distributed run does not leave before the others know (they would wait).

@@ -100,6 +100,10 @@ struct FaceShare
   /// One flag per face: 1 = counted in the whole surface's measures by this process. A face
   /// that several processes own must be counted by one of them only; null: Own.
   const std::vector<std::uint8_t>* Counted = nullptr;
+  /// The distance around the own faces the halo covers, when known (0: not checked). A
+  /// neighbourhood radius above it, known once the whole surface's mean edge length is,
+  /// throws HaloTooNarrowError on every process.
+  double HaloWidth = 0.0;
 };
 
 /// What is smoothed and normalised; see the header comment.
