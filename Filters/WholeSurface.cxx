@@ -667,48 +667,20 @@ std::vector<vtkIdType> CellsNearVoxels(const std::vector<std::int64_t>& cellVoxe
 vtkSmartPointer<vtkPolyData> ExtractPolygons(vtkPolyData* piece, const std::vector<vtkIdType>& cells)
 {
   auto extracted = vtkSmartPointer<vtkPolyData>::New();
-  std::vector<vtkIdType> newPoint(static_cast<std::size_t>(piece->GetNumberOfPoints()), -1);
-  std::vector<vtkIdType> usedPoints;
-  vtkNew<vtkCellArray> polygons;
-  vtkNew<vtkIdList> corners;
-  for (const vtkIdType cell : cells)
-  {
-    piece->GetCellPoints(cell, corners);
-    for (vtkIdType k = 0; k < corners->GetNumberOfIds(); ++k)
-    {
-      vtkIdType& mapped = newPoint[static_cast<std::size_t>(corners->GetId(k))];
-      if (mapped < 0)
-      {
-        mapped = static_cast<vtkIdType>(usedPoints.size());
-        usedPoints.push_back(corners->GetId(k));
-      }
-      corners->SetId(k, mapped);
-    }
-    polygons->InsertNextCell(corners);
-  }
+  // CopyCells makes float points unless the output has points of the input's type already.
   vtkNew<vtkPoints> points;
   points->SetDataType(piece->GetPoints() ? piece->GetPoints()->GetDataType() : VTK_DOUBLE);
-  points->SetNumberOfPoints(static_cast<vtkIdType>(usedPoints.size()));
-  for (std::size_t p = 0; p < usedPoints.size(); ++p)
-  {
-    points->SetPoint(static_cast<vtkIdType>(p), piece->GetPoint(usedPoints[p]));
-  }
   extracted->SetPoints(points);
-  extracted->SetPolys(polygons);
-  vtkCellData* cellData = extracted->GetCellData();
-  cellData->CopyGlobalIdsOn(); // ids are labels: VTK does not copy them unless asked
-  cellData->CopyAllocate(piece->GetCellData(), static_cast<vtkIdType>(cells.size()));
-  for (std::size_t c = 0; c < cells.size(); ++c)
-  {
-    cellData->CopyData(piece->GetCellData(), cells[c], static_cast<vtkIdType>(c));
-  }
-  vtkPointData* pointData = extracted->GetPointData();
-  pointData->CopyGlobalIdsOn();
-  pointData->CopyAllocate(piece->GetPointData(), static_cast<vtkIdType>(usedPoints.size()));
-  for (std::size_t p = 0; p < usedPoints.size(); ++p)
-  {
-    pointData->CopyData(piece->GetPointData(), usedPoints[p], static_cast<vtkIdType>(p));
-  }
+  extracted->AllocateEstimate(static_cast<vtkIdType>(cells.size()), 3);
+  extracted->GetCellData()->CopyGlobalIdsOn(); // ids are labels: VTK does not copy them unless asked
+  extracted->GetCellData()->CopyAllocate(piece->GetCellData(), static_cast<vtkIdType>(cells.size()));
+  extracted->GetPointData()->CopyGlobalIdsOn();
+  extracted->GetPointData()->CopyAllocate(piece->GetPointData());
+  vtkNew<vtkIdList> ids;
+  ids->SetNumberOfIds(static_cast<vtkIdType>(cells.size()));
+  std::copy(cells.begin(), cells.end(), ids->GetPointer(0));
+  // The points each cell uses, once, in order of first use.
+  extracted->CopyCells(piece, ids);
   return extracted;
 }
 
