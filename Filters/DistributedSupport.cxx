@@ -141,27 +141,38 @@ Container ReceiveSized(vtkMultiProcessController* controller, int tag)
   return items;
 }
 
-/// A barrier whose waiting processes sleep (SleepingReceive), before a collective that would
-/// otherwise spin while the slowest process is still computing.
-void SleepingBarrier(vtkMultiProcessController* controller)
+/// Every process's `value` to process 0, which combines them (`combine` gets them in process
+/// order) and sends the result back: a collective whose waiting processes sleep
+/// (SleepingReceive) instead of spinning while the slowest process is still computing.
+int SleepingCombine(vtkMultiProcessController* controller, int value, int tag,
+  const std::function<int(const std::vector<int>&)>& combine)
 {
-  int token = 1;
+  int combined = 0;
   if (controller->GetLocalProcessId() == 0)
   {
+    std::vector<int> values{ value };
     for (int r = 1; r < controller->GetNumberOfProcesses(); ++r)
     {
-      SleepingReceive(controller, r, BARRIER_TAG);
+      values.push_back(SleepingReceive(controller, r, tag));
     }
+    combined = combine(values);
     for (int r = 1; r < controller->GetNumberOfProcesses(); ++r)
     {
-      controller->Send(&token, 1, r, BARRIER_TAG);
+      controller->Send(&combined, 1, r, tag);
     }
   }
   else
   {
-    controller->Send(&token, 1, 0, BARRIER_TAG);
-    SleepingReceive(controller, 0, BARRIER_TAG);
+    controller->Send(&value, 1, 0, tag);
+    combined = SleepingReceive(controller, 0, tag);
   }
+  return combined;
+}
+
+/// A barrier whose waiting processes sleep, before a collective that would otherwise spin.
+void SleepingBarrier(vtkMultiProcessController* controller)
+{
+  SleepingCombine(controller, 1, BARRIER_TAG, [](const std::vector<int>&) { return 1; });
 }
 
 double Seconds(std::chrono::steady_clock::time_point start)
@@ -659,33 +670,21 @@ struct GroupState
 };
 
 /// Every process's outcome and whether it has ended, combined on every process through
-/// process 0; the waiting processes sleep (SleepingReceive).
+/// process 0; the waiting processes sleep.
 GroupState ExchangeStates(vtkMultiProcessController* controller, int outcome, bool ended)
 {
-  int combined = 0;
-  if (controller->GetLocalProcessId() == 0)
-  {
-    int highest = outcome;
-    bool all = ended, any = ended;
-    for (int r = 1; r < controller->GetNumberOfProcesses(); ++r)
-    {
-      const int code = SleepingReceive(controller, r, STATE_TAG);
-      highest = std::max(highest, code / 2);
-      all = all && code % 2 == 1;
-      any = any || code % 2 == 1;
-    }
-    combined = highest * 4 + (all ? 2 : 0) + (any ? 1 : 0);
-    for (int r = 1; r < controller->GetNumberOfProcesses(); ++r)
-    {
-      controller->Send(&combined, 1, r, STATE_TAG);
-    }
-  }
-  else
-  {
-    int code = outcome * 2 + (ended ? 1 : 0);
-    controller->Send(&code, 1, 0, STATE_TAG);
-    combined = SleepingReceive(controller, 0, STATE_TAG);
-  }
+  const int combined = SleepingCombine(controller, outcome * 2 + (ended ? 1 : 0), STATE_TAG,
+    [](const std::vector<int>& codes) {
+      int highest = Succeeded;
+      bool all = true, any = false;
+      for (const int code : codes)
+      {
+        highest = std::max(highest, code / 2);
+        all = all && code % 2 == 1;
+        any = any || code % 2 == 1;
+      }
+      return highest * 4 + (all ? 2 : 0) + (any ? 1 : 0);
+    });
   return GroupState{ combined / 4, (combined / 2) % 2 == 1, combined % 2 == 1 };
 }
 
