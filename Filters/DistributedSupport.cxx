@@ -31,6 +31,7 @@
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <numeric>
 #include <string>
 #include <thread>
 
@@ -537,17 +538,9 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
     try
     {
       whole = AssembleWholeSurface(pieces);
-      owner.assign(static_cast<std::size_t>(whole.Mesh->GetNumberOfCells()), -1);
-      for (int r = 0; r < processes; ++r)
-      {
-        for (const vtkIdType cell : whole.CellToWhole[static_cast<std::size_t>(r)])
-        {
-          if (cell >= 0 && owner[static_cast<std::size_t>(cell)] < 0)
-          {
-            owner[static_cast<std::size_t>(cell)] = r;
-          }
-        }
-      }
+      std::vector<int> processOfPiece(static_cast<std::size_t>(processes));
+      std::iota(processOfPiece.begin(), processOfPiece.end(), 0);
+      owner = LowestHolders(whole, processOfPiece);
     }
     catch (const std::exception& error)
     {
@@ -916,16 +909,11 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
     }
     // A cell a lower process also holds is counted there (it reaches this process in that
     // process's halo: it lies within the radius of itself).
-    share.Counted = share.Own;
-    for (std::size_t k = 1; k < pieces.size(); ++k)
+    const std::vector<int> holders = LowestHolders(surface, pieceProcess);
+    share.Counted.resize(share.Own.size());
+    for (std::size_t c = 0; c < share.Own.size(); ++c)
     {
-      for (const vtkIdType cell : surface.CellToWhole[k])
-      {
-        if (pieceProcess[k] < rank && cell >= 0)
-        {
-          share.Counted[static_cast<std::size_t>(cell)] = 0;
-        }
-      }
+      share.Counted[c] = share.Own[c] && holders[c] == rank ? 1 : 0;
     }
     exchangeSeconds = Seconds(start);
     start = std::chrono::steady_clock::now();

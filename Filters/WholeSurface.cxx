@@ -516,6 +516,24 @@ WholeSurface AssembleWholeSurface(const std::vector<vtkPolyData*>& pieces)
   return whole;
 }
 
+std::vector<int> LowestHolders(const WholeSurface& whole, const std::vector<int>& pieceProcess)
+{
+  std::vector<int> holder(static_cast<std::size_t>(whole.Mesh->GetNumberOfCells()), -1);
+  for (std::size_t k = 0; k < whole.CellToWhole.size(); ++k)
+  {
+    for (const vtkIdType cell : whole.CellToWhole[k])
+    {
+      if (cell < 0)
+      {
+        continue;
+      }
+      int& lowest = holder[static_cast<std::size_t>(cell)];
+      lowest = lowest < 0 ? pieceProcess[k] : std::min(lowest, pieceProcess[k]);
+    }
+  }
+  return holder;
+}
+
 vtkSmartPointer<vtkPolyData> LocalResult(vtkPolyData* piece, vtkPolyData* wholeInput, vtkPolyData* wholeOutput,
   const std::vector<vtkIdType>& cellToWhole, const std::vector<vtkIdType>& pointToWhole)
 {

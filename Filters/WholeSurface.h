@@ -69,6 +69,13 @@ struct WholeSurface
 WholeSurface AssembleWholeSurface(const std::vector<vtkPolyData*>& pieces);
 
 /**
+ * Per cell of `whole`: the lowest process among those whose piece holds it (the cell's owner
+ * when several pieces hold it, e.g. RedistributeDataSet's "assign to all regions"); -1 for
+ * none. `pieceProcess` gives the process of each piece AssembleWholeSurface got.
+ */
+std::vector<int> LowestHolders(const WholeSurface& whole, const std::vector<int>& pieceProcess);
+
+/**
  * What one process gets back from the filter's output on the whole surface: the piece's
  * geometry, the arrays the filter made (those of `wholeOutput` not passed through from
  * `wholeInput`) on the piece's cells and points, the whole output's field data, and the

@@ -368,6 +368,16 @@ TEST(WholeSurface, ApplyResultKeepsTheInputWhenNothingCameBack)
   EXPECT_NE(local->GetCellData()->GetArray("Value"), nullptr);
 }
 
+TEST(WholeSurface, LowestHolderOwnsACellSeveralPiecesHold)
+{
+  const auto mesh = Mesh();
+  // Triangle 3 is in pieces of processes 2 and 1; an empty piece of process 0.
+  const WholeSurface whole = AssembleWholeSurface(
+    { Piece(mesh, { 2, 3 }, true), Piece(mesh, { 3, 4, 5 }, true), vtkSmartPointer<vtkPolyData>::New() });
+  EXPECT_EQ(LowestHolders(whole, { 2, 1, 0 }), (std::vector<int>{ 2, 1, 1, 1 }));
+  EXPECT_EQ(LowestHolders(whole, { 0, 1, 2 }), (std::vector<int>{ 0, 0, 1, 1 }));
+}
+
 TEST(WholeSurface, HaloSelectionAndExtractionKeepIdsAndArrays)
 {
   const auto mesh = Mesh();
