@@ -73,8 +73,10 @@ double vtkSDFBilateralSmooth::HaloRadius(vtkPolyData* piece, const shapediameter
   const std::vector<std::uint8_t> own(offsets.empty() ? 0 : offsets.size() - 1, 1);
   const double meanEdgeLength =
     MeanEdgeLengthOverProcesses(adapter::PointsOf(piece), offsets, connectivity, own, group);
-  // As SmoothBilateral scales them.
-  return this->NeighborhoodRadius * (this->SpatialSigma * meanEdgeLength);
+  BilateralSmoothingOptions smoothing;
+  smoothing.NeighborhoodRadius = this->NeighborhoodRadius;
+  smoothing.SpatialSigma = this->SpatialSigma;
+  return NeighborhoodRadiusOf(smoothing, meanEdgeLength);
 }
 
 bool vtkSDFBilateralSmooth::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)

@@ -120,8 +120,9 @@ BilateralSmoothingResult SmoothBilateral(const FaceGraph& graph, const std::vect
   const double spread = share ? share->Spread : RobustSpread(values);
   // No difference exceeds max - min, so a larger t is the same t (and stays finite).
   result.RangeThreshold = std::min(options.RangeThreshold * spread, maximum - minimum);
-  result.SpatialSigma = options.SpatialSigma * (share ? share->MeanEdgeLength : graph.MeanEdgeLength);
-  result.NeighborhoodRadius = options.NeighborhoodRadius * result.SpatialSigma;
+  const double meanEdgeLength = share ? share->MeanEdgeLength : graph.MeanEdgeLength;
+  result.SpatialSigma = options.SpatialSigma * meanEdgeLength;
+  result.NeighborhoodRadius = NeighborhoodRadiusOf(options, meanEdgeLength);
   if (faceCount == 0 || spread == 0.0 || options.NumberOfIterations == 0 || options.MaxNeighbors == 0 ||
     !(result.SpatialSigma > 0.0))
   {

@@ -126,6 +126,14 @@ struct BilateralSmoothingResult
 /// The robust spread used to scale t: Q(0.98) - Q(0.02), or max - min when that is 0.
 double RobustSpread(const std::vector<double>& values);
 
+/// The absolute neighbourhood radius the options give on a surface of this mean edge length:
+/// NeighborhoodRadius x (SpatialSigma x meanEdgeLength), as SmoothBilateral uses it (the halo
+/// of a distributed run is sized and checked with the same number).
+inline double NeighborhoodRadiusOf(const BilateralSmoothingOptions& options, double meanEdgeLength)
+{
+  return options.NeighborhoodRadius * (options.SpatialSigma * meanEdgeLength);
+}
+
 /// RobustSpread of the union of every process's `values` (each process passes its own faces'),
 /// the same on every process and equal to RobustSpread of all the values in one vector.
 /// Collective (ProcessGroup.h).

@@ -66,8 +66,7 @@ SmoothingShare WholeSurfaceMeasures(
   // Collectives from here on, in the same order on every process.
   const double meanEdgeLength =
     MeanEdgeLengthOverProcesses(input.Points, input.FaceOffsets, input.FaceConnectivity, counted, share.Group);
-  // As SmoothBilateral scales it; the same on every process.
-  const double radius = options.NeighborhoodRadius * (options.SpatialSigma * meanEdgeLength);
+  const double radius = NeighborhoodRadiusOf(options, meanEdgeLength); // the same on every process
   if (share.HaloWidth > 0.0 && radius > share.HaloWidth)
   {
     throw HaloTooNarrowError("smooth and normalize: the neighbourhood radius " + std::to_string(radius) +
