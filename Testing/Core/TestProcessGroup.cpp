@@ -510,6 +510,30 @@ TEST(SmoothAndNormalizeOnShares, AHaloNarrowerThanTheRadiusThrowsOnEveryProcess)
   }
 }
 
+TEST(SmoothAndNormalizeOnShares, AConstantFieldNormalizesToZeroAsInASerialRun)
+{
+  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
+  const std::vector<double> values(static_cast<std::size_t>(mesh.Faces()), 0.75);
+  const SmoothAndNormalizeResult serial = SmoothAndNormalize(mesh.Points, mesh.Triangles, values);
+  const FaceGraph& whole = *serial.Graph;
+  const double radius = NeighborhoodRadiusOf(BilateralSmoothingOptions{}, whole.MeanEdgeLength);
+  OnThreads(2, [&](int rank, const ProcessGroup& group) {
+    std::vector<int> owner(values.size());
+    for (std::size_t f = 0; f < owner.size(); ++f)
+    {
+      owner[f] = whole.Centers(static_cast<Eigen::Index>(f), 2) > 0.0 ? 1 : 0;
+    }
+    const Share share = MakeShare(mesh, values, whole, owner, rank, radius * 1.001);
+    const FaceShare faceShare{ share.Own, group };
+    const SmoothAndNormalizeResult result = SmoothAndNormalize(SmoothAndNormalizeInput{ share.Points, share.Offsets,
+      share.Connectivity, share.Values, 0, share.Values.size(), &faceShare });
+    EXPECT_EQ(result.RangeMinimum, serial.RangeMinimum);
+    EXPECT_EQ(result.RangeMaximum, serial.RangeMaximum);
+    EXPECT_EQ(result.RangeMinimum, 0.75);
+    EXPECT_TRUE(std::all_of(result.Normalized.begin(), result.Normalized.end(), [](double v) { return v == 0.0; }));
+  });
+}
+
 TEST(SmoothAndNormalizeOnShares, MeanEdgeLengthOverProcessesIsTheWholeSurfaces)
 {
   const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);

@@ -151,22 +151,23 @@ SmoothAndNormalizeResult SmoothAndNormalize(const SmoothAndNormalizeInput& input
   const std::vector<double> normalizedValues(begin + static_cast<std::ptrdiff_t>(input.NormalizedFirst),
     begin + static_cast<std::ptrdiff_t>(input.NormalizedLast));
   NormalizationOptions normalization = options.Normalization;
+  bool constant = false; // over the whole surface: every face maps to 0, as in a serial run
   if (share && !normalization.UseGivenRange)
   {
-    // The whole surface's range, given to each process's normalisation (a constant field maps
-    // to 0 as in a serial run).
+    // The whole surface's range, given to each process's normalisation.
     const auto [minimum, maximum] = RangeOverProcesses(
       OwnValues(result.Smoothed, share->Own, input.NormalizedFirst, input.NormalizedLast), share->Group);
-    normalization.UseGivenRange = maximum > minimum;
-    normalization.RangeMinimum = maximum > minimum ? minimum : (std::isfinite(minimum) ? minimum : 0.0);
-    normalization.RangeMaximum = maximum > minimum ? maximum : normalization.RangeMinimum;
-    if (!normalization.UseGivenRange)
-    {
-      result.Normalized.assign(normalizedValues.size(), 0.0);
-      result.RangeMinimum = result.RangeMaximum = normalization.RangeMinimum;
-    }
+    constant = !(maximum > minimum);
+    normalization.UseGivenRange = !constant;
+    normalization.RangeMinimum = std::isfinite(minimum) ? minimum : 0.0; // no face anywhere: 0
+    normalization.RangeMaximum = constant ? normalization.RangeMinimum : maximum;
   }
-  if (!share || normalization.UseGivenRange)
+  if (constant)
+  {
+    result.Normalized.assign(normalizedValues.size(), 0.0);
+    result.RangeMinimum = result.RangeMaximum = normalization.RangeMinimum;
+  }
+  else
   {
     result.Normalized = NormalizeLogarithmic(normalizedValues, normalization);
     std::tie(result.RangeMinimum, result.RangeMaximum) = NormalizationRange(normalizedValues, normalization);
