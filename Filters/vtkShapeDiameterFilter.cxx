@@ -164,9 +164,12 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
   {
     for (std::size_t cell = 0; cell + 1 < surface.CellFirstTriangle.size(); ++cell)
     {
-      for (std::int64_t t = surface.CellFirstTriangle[cell]; request.Share->Owned[cell] && t < surface.CellFirstTriangle[cell + 1]; ++t)
+      if (request.Share->Owned[cell])
       {
-        ownTriangles.push_back(t);
+        for (std::int64_t t = surface.CellFirstTriangle[cell]; t < surface.CellFirstTriangle[cell + 1]; ++t)
+        {
+          ownTriangles.push_back(t);
+        }
       }
     }
   }
