@@ -46,6 +46,8 @@ constexpr int BARRIER_TAG = 592012;
 constexpr int FAILURE_TAG = 592013; // and the next one
 constexpr int EXCHANGE_TAG = 592020;
 constexpr int STATE_TAG = 592021;
+constexpr int GATHER_ON_FIRST_TAG = 592022;    // and the next one
+constexpr int SCATTER_FROM_FIRST_TAG = 592024; // and the next one
 
 vtkMultiProcessController* Controller()
 {
@@ -662,6 +664,30 @@ struct GroupState
   bool AnyEnded = false;
 };
 
+/// `values` to process `to`, their count first (vtkCommunicator splits sends above 2^31 bytes).
+void SendDoubles(vtkMultiProcessController* controller, const std::vector<double>& values, int to, int tag)
+{
+  vtkIdType count = static_cast<vtkIdType>(values.size());
+  controller->Send(&count, 1, to, tag);
+  if (count > 0)
+  {
+    controller->Send(values.data(), count, to, tag + 1);
+  }
+}
+
+/// What SendDoubles sent from process `from`.
+std::vector<double> ReceiveDoubles(vtkMultiProcessController* controller, int from, int tag)
+{
+  vtkIdType count = 0;
+  controller->Receive(&count, 1, from, tag);
+  std::vector<double> values(static_cast<std::size_t>(std::max<vtkIdType>(count, 0)));
+  if (count > 0)
+  {
+    controller->Receive(values.data(), count, from, tag + 1);
+  }
+  return values;
+}
+
 /// Every process's outcome and whether it has ended, combined on every process through
 /// process 0; the waiting processes sleep.
 GroupState ExchangeStates(vtkMultiProcessController* controller, int outcome, bool ended)
@@ -737,6 +763,39 @@ public:
     std::vector<double> maxima(values.size());
     this->Controller->AllReduce(values.data(), maxima.data(), static_cast<vtkIdType>(values.size()), vtkCommunicator::MAX_OP);
     values.swap(maxima);
+  }
+
+  int Rank() const override { return this->Controller->GetLocalProcessId(); }
+
+  std::vector<std::vector<double>> GatherOnFirst(const std::vector<double>& values) const override
+  {
+    this->Proceed();
+    const int processes = this->Controller->GetNumberOfProcesses();
+    if (this->Rank() != 0)
+    {
+      SendDoubles(this->Controller, values, 0, GATHER_ON_FIRST_TAG);
+      return {};
+    }
+    std::vector<std::vector<double>> all{ values };
+    for (int r = 1; r < processes; ++r)
+    {
+      all.push_back(ReceiveDoubles(this->Controller, r, GATHER_ON_FIRST_TAG));
+    }
+    return all;
+  }
+
+  std::vector<double> ScatterFromFirst(const std::function<std::vector<double>(int)>& part) const override
+  {
+    this->Proceed();
+    if (this->Rank() != 0)
+    {
+      return ReceiveDoubles(this->Controller, 0, SCATTER_FROM_FIRST_TAG);
+    }
+    for (int r = 1; r < this->Controller->GetNumberOfProcesses(); ++r)
+    {
+      SendDoubles(this->Controller, part(r), r, SCATTER_FROM_FIRST_TAG);
+    }
+    return part(0);
   }
 
   /// This process's part is over with `outcome`; returns the highest outcome of all, once
@@ -898,8 +957,9 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
   try
   {
     surface = AssembleWholeSurface(pieces);
-    received.clear();
     HaloShare share;
+    share.GlobalIds = WholeGlobalCellIds(surface, pieces);
+    received.clear();
     share.Group = &group;
     share.Width = halo.Width;
     share.Own.assign(static_cast<std::size_t>(surface.Mesh->GetNumberOfCells()), 0);
@@ -962,6 +1022,10 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
         result ? LocalResult(local, surface.Mesh, result, surface.CellToWhole[0], surface.PointToWhole[0])
                : vtkSmartPointer<vtkPolyData>::New(),
         real);
+    }
+    else if (real && rank == 0 && highest == Succeeded && !outputs.empty())
+    {
+      real->ShallowCopy(outputs[static_cast<std::size_t>(port)]); // whole-surface outputs (a histogram)
     }
     else if (real)
     {

@@ -154,6 +154,8 @@ struct HaloShare
   /// them, except the cells a lower process holds too (RedistributeDataSet's "assign to all
   /// regions"), which that process counts.
   std::vector<std::uint8_t> Counted;
+  /// Per cell: its global id (the whole surface's cells are in the order of these ids).
+  std::vector<std::int64_t> GlobalIds;
   /// Every cell whose centre lies within this distance of an own cell's centre is in the
   /// input. A body that finds it needs more throws HaloTooNarrowError (ProcessGroup.h) on
   /// every process, and the run falls back to the whole surface (the result is empty).
@@ -188,7 +190,8 @@ using HaloBody =
  *    The halo is 10 % wider than `radius`; a body that finds it too narrow once it knows the
  *    whole surface's measures (HaloShare::Width) makes every process return empty, as in 1.
  * 4. Each process keeps its own cells of the result on the `scatteredPorts`; the other ports
- *    are emptied. When the body failed or aborted on any process, every process keeps its
+ *    keep process 0's body output there (a whole-surface result such as the partition's
+ *    histogram) and are emptied elsewhere. When the body failed or aborted on any process, every process keeps its
  *    input, and those that did not fail themselves report that another one did.
  *
  * A process that fails (bad input, an exception) makes the others' collectives throw instead

@@ -562,6 +562,24 @@ bool HasGlobalIds(vtkPolyData* piece)
     IdArray(piece->GetPointData(), "GlobalPointIds", piece->GetNumberOfPoints());
 }
 
+std::vector<std::int64_t> WholeGlobalCellIds(const WholeSurface& whole, const std::vector<vtkPolyData*>& pieces)
+{
+  std::vector<std::int64_t> ids(static_cast<std::size_t>(whole.Mesh->GetNumberOfCells()), -1);
+  for (std::size_t r = 0; r < pieces.size() && r < whole.CellToWhole.size(); ++r)
+  {
+    vtkDataArray* pieceIds = IdArray(pieces[r]->GetCellData(), "GlobalCellIds", pieces[r]->GetNumberOfCells());
+    for (std::size_t c = 0; pieceIds && c < whole.CellToWhole[r].size(); ++c)
+    {
+      if (whole.CellToWhole[r][c] >= 0)
+      {
+        ids[static_cast<std::size_t>(whole.CellToWhole[r][c])] =
+          static_cast<std::int64_t>(pieceIds->GetComponent(static_cast<vtkIdType>(c), 0));
+      }
+    }
+  }
+  return ids;
+}
+
 std::vector<double> CellCenters(vtkPolyData* piece)
 {
   std::vector<double> centers(3 * static_cast<std::size_t>(piece->GetNumberOfCells()), 0.0);

@@ -10,6 +10,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkType.h"
 
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -92,6 +93,10 @@ void ApplyResult(vtkPolyData* input, vtkPolyData* result, vtkDataObject* output)
 /// else the reader's `GlobalCellIds` and `GlobalPointIds`): AssembleWholeSurface then orders
 /// any set of pieces' cells and points as the whole surface orders them.
 bool HasGlobalIds(vtkPolyData* piece);
+
+/// Per cell of `whole`, assembled from `pieces` that all have global ids (HasGlobalIds): its
+/// global cell id.
+std::vector<std::int64_t> WholeGlobalCellIds(const WholeSurface& whole, const std::vector<vtkPolyData*>& pieces);
 
 /// The centre (mean of the corners; the origin without corners) of each of the piece's cells,
 /// x y z per cell.

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFGMMPartition.h"
 
+#include "DistributedSupport.h"
+#include "Partition/DistributedPartition.h"
 #include "Partition/Partition.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
@@ -20,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 vtkStandardNewMacro(vtkSDFGMMPartition);
@@ -155,6 +158,14 @@ std::vector<std::string> vtkSDFGMMPartition::CellArraysRead()
   return this->WithSelectedArray({ vtkSDFBilateralSmooth::NORMALIZED_ARRAY_NAME });
 }
 
+double vtkSDFGMMPartition::HaloRadius(vtkPolyData* piece, const shapediameter::ProcessGroup& group)
+{
+  using namespace shapediameter;
+  std::vector<std::int64_t> offsets, connectivity;
+  adapter::PolygonCells(piece, offsets, connectivity);
+  return HaloWidthForAdjacency(adapter::PointsOf(piece), offsets, connectivity, group);
+}
+
 bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)
 {
   using namespace shapediameter;
@@ -198,14 +209,24 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
   options.HistogramBins = this->HistogramBins;
   options.Refinement.Enabled = this->RefineParts;
   options.Refinement.MinimumAreaShare = this->RefinementMinimumArea;
-  const PartitionResult result =
-    PartitionBySDF(PartitionInput{ points, offsets, connectivity, faceValues, modelInput ? &model : nullptr },
-      options, request.Parallel, adapter::MakeProgress(this, 0.0, 1.0));
+  std::optional<PartitionShare> share;
+  if (request.Halo)
+  {
+    if (first != 0 || last != input->GetNumberOfCells())
+    {
+      throw Error("a distributed share with cells other than polygons."); // RunOnHaloSurface rules them out
+    }
+    share.emplace(PartitionShare{ request.Halo->GlobalIds, request.Halo->Own, *request.Halo->Group });
+  }
+  const PartitionResult result = PartitionBySDF(
+    PartitionInput{ points, offsets, connectivity, faceValues, modelInput ? &model : nullptr, share ? &*share : nullptr },
+    options, request.Parallel, adapter::MakeProgress(this, 0.0, 1.0));
   if (result.Aborted)
   {
     return false;
   }
-  this->KeepFaceGraph(result.Graph);
+  // A halo run's graph is of this process's part only: no later filter gets the same surface.
+  this->KeepFaceGraph(request.Halo ? nullptr : result.Graph);
 
   const int clusterCount = result.Model.ComponentCount();
   const vtkIdType cellCount = input->GetNumberOfCells();

@@ -266,6 +266,11 @@ protected:
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
   /// The selected normalised SDF array and its default, SDFNormalized.
   std::vector<std::string> CellArraysRead() override;
+  /// Distributed runs build each process's own rows of the dual graph with a halo of its
+  /// neighbours' faces; process 0 partitions the graph (Partition/DistributedPartition.h).
+  bool CanRunWithHalo() const override { return true; }
+  /// Twice the largest distance from a face's centre to its corners (HaloWidthForAdjacency).
+  double HaloRadius(vtkPolyData* piece, const shapediameter::ProcessGroup& group) override;
 
   int NumberOfClusters;
   int MaximumClusters;

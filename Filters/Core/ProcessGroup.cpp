@@ -15,6 +15,15 @@ public:
   std::vector<double> AllGather(const std::vector<double>& values) const override { return values; }
   void SumInPlace(std::vector<std::int64_t>&) const override {}
   void MaxInPlace(std::vector<double>&) const override {}
+  int Rank() const override { return 0; }
+  std::vector<std::vector<double>> GatherOnFirst(const std::vector<double>& values) const override
+  {
+    return { values };
+  }
+  std::vector<double> ScatterFromFirst(const std::function<std::vector<double>(int)>& part) const override
+  {
+    return part(0);
+  }
 };
 
 /// The doubles' order as unsigned integers: a < b (finite, -0 before +0) iff Key(a) < Key(b).

@@ -22,6 +22,7 @@
 #include "ExactSum.h"
 
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -38,6 +39,18 @@ public:
   virtual void SumInPlace(std::vector<std::int64_t>& values) const = 0;
   /// Element-wise maxima over the processes, in place.
   virtual void MaxInPlace(std::vector<double>& values) const = 0;
+  /// This process's index, in [0, number of processes); 0 is the first process.
+  virtual int Rank() const = 0;
+  /// On the first process, every process's `values` (one entry per process, in process
+  /// order); an empty list on the others. For a step that must see the whole surface's data
+  /// in one place (the partition's graph cut).
+  virtual std::vector<std::vector<double>> GatherOnFirst(const std::vector<double>& values) const = 0;
+  /**
+   * Each process's part of a result the first process computed: the first process calls
+   * `part(r)` for every process r, one at a time (so that it never holds all the parts at
+   * once), and every process returns its own part. `part` is not called on the others.
+   */
+  virtual std::vector<double> ScatterFromFirst(const std::function<std::vector<double>(int process)>& part) const = 0;
 };
 
 /**

@@ -6,6 +6,8 @@
 // barrier); tests under MPI (ctest -R MPI) run the same code through ParaView's controller.
 #include "ExactSum.h"
 #include "Mesh/FaceGraph.h"
+#include "Partition/DistributedPartition.h"
+#include "Partition/Partition.h"
 #include "ProcessGroup.h"
 #include "Smoothing/BilateralSmoothing.h"
 #include "Smoothing/SmoothAndNormalize.h"
@@ -140,13 +142,13 @@ class ThreadGroup final : public ProcessGroup
 public:
   ThreadGroup(ThreadHub& hub, int rank)
     : Hub(hub)
-    , Rank(rank)
+    , Index(rank)
   {
   }
   std::vector<double> AllGather(const std::vector<double>& values) const override
   {
     std::vector<double> all;
-    for (const auto& part : this->Hub.Exchange(this->Rank, values))
+    for (const auto& part : this->Hub.Exchange(this->Index, values))
     {
       all.insert(all.end(), part.begin(), part.end());
     }
@@ -154,7 +156,7 @@ public:
   }
   void SumInPlace(std::vector<std::int64_t>& values) const override
   {
-    const auto all = this->Hub.Exchange(this->Rank, std::vector<double>(values.begin(), values.end()));
+    const auto all = this->Hub.Exchange(this->Index, std::vector<double>(values.begin(), values.end()));
     for (std::size_t i = 0; i < values.size(); ++i)
     {
       values[i] = 0;
@@ -166,7 +168,7 @@ public:
   }
   void MaxInPlace(std::vector<double>& values) const override
   {
-    const auto all = this->Hub.Exchange(this->Rank, values);
+    const auto all = this->Hub.Exchange(this->Index, values);
     for (const auto& part : all)
     {
       for (std::size_t i = 0; i < values.size(); ++i)
@@ -176,9 +178,41 @@ public:
     }
   }
 
+  int Rank() const override { return this->Index; }
+  std::vector<std::vector<double>> GatherOnFirst(const std::vector<double>& values) const override
+  {
+    auto all = this->Hub.Exchange(this->Index, values);
+    return this->Index == 0 ? all : std::vector<std::vector<double>>{};
+  }
+  std::vector<double> ScatterFromFirst(const std::function<std::vector<double>(int)>& part) const override
+  {
+    std::vector<double> flat; // on the first thread: each part's length, then the part
+    if (this->Index == 0)
+    {
+      for (int r = 0; r < this->Hub.Size; ++r)
+      {
+        const std::vector<double> one = part(r);
+        flat.push_back(static_cast<double>(one.size()));
+        flat.insert(flat.end(), one.begin(), one.end());
+      }
+    }
+    const std::vector<double> all = this->Hub.Exchange(this->Index, flat)[0];
+    std::size_t at = 0;
+    for (int r = 0;; ++r)
+    {
+      const auto length = static_cast<std::size_t>(all[at]);
+      if (r == this->Index)
+      {
+        return std::vector<double>(all.begin() + static_cast<std::ptrdiff_t>(at + 1),
+          all.begin() + static_cast<std::ptrdiff_t>(at + 1 + length));
+      }
+      at += 1 + length;
+    }
+  }
+
 private:
   ThreadHub& Hub;
-  const int Rank;
+  const int Index;
 };
 
 /// Runs body(rank, group) on `size` threads at once.
@@ -574,6 +608,138 @@ TEST(SmoothAndNormalizeOnShares, AnAbortOnOneProcessAbortsEvery)
       stopOnRankOne);
     EXPECT_TRUE(result.Aborted) << "process " << rank;
   });
+}
+
+
+// ---- PartitionBySDF on shares
+
+/// Values of two thicknesses (the capsule's upper and lower halves) with some noise.
+std::vector<double> TwoThicknesses(const testshapes::TestMesh& mesh)
+{
+  std::vector<double> values;
+  std::mt19937_64 random(5);
+  for (Eigen::Index f = 0; f < mesh.Faces(); ++f)
+  {
+    const double unit = static_cast<double>(random() >> 11) * 0x1.0p-53;
+    values.push_back((mesh.Points(mesh.Triangles(f, 0), 2) > 0.0 ? 0.8 : 0.3) + 0.05 * unit);
+  }
+  return values;
+}
+
+/// PartitionBySDF on `share` with the thread group.
+PartitionResult PartitionShareOf(const Share& share, const ProcessGroup& group)
+{
+  const std::vector<std::int64_t> ids(share.WholeFace.begin(), share.WholeFace.end());
+  const PartitionShare partitionShare{ ids, share.Own, group };
+  const Eigen::Map<const Eigen::VectorXd> values(share.Values.data(), static_cast<Eigen::Index>(share.Values.size()));
+  return PartitionBySDF(
+    PartitionInput{ share.Points, share.Offsets, share.Connectivity, values, nullptr, &partitionShare });
+}
+
+/// Every own face of `share` has the serial partition's results; returns how many faces it checked.
+void ExpectSerialPartition(const PartitionResult& serial, const PartitionResult& result, const Share& share)
+{
+  ASSERT_FALSE(result.Aborted);
+  EXPECT_EQ(result.Model.Means, serial.Model.Means);
+  EXPECT_EQ(result.Model.Sigmas, serial.Model.Sigmas);
+  EXPECT_EQ(result.Model.Weights, serial.Model.Weights);
+  EXPECT_EQ(result.Energy, serial.Energy);
+  EXPECT_EQ(result.LabelBands, serial.LabelBands);
+  EXPECT_EQ(result.Segments.Area, serial.Segments.Area);
+  ASSERT_EQ(result.Levels.size(), serial.Levels.size());
+  for (std::size_t f = 0; f < share.WholeFace.size(); ++f)
+  {
+    if (!share.Own[f])
+    {
+      continue;
+    }
+    const std::size_t w = share.WholeFace[f];
+    EXPECT_EQ(result.Labels[f], serial.Labels[w]) << "face " << w;
+    EXPECT_EQ(result.Bands[f], serial.Bands[w]) << "face " << w;
+    EXPECT_EQ(result.Segments.Segment[f], serial.Segments.Segment[w]) << "face " << w;
+    for (std::size_t level = 0; level < serial.Levels.size(); ++level)
+    {
+      EXPECT_EQ(result.Levels[level][f], serial.Levels[level][w]) << "face " << w;
+    }
+    for (Eigen::Index c = 0; c < serial.Probabilities.cols(); ++c)
+    {
+      EXPECT_EQ(result.Probabilities(static_cast<Eigen::Index>(f), c),
+        serial.Probabilities(static_cast<Eigen::Index>(w), c)) << "face " << w;
+    }
+  }
+}
+
+TEST(PartitionOnShares, OwnFacesGetTheSerialPartitionBitForBit)
+{
+  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
+  const std::vector<double> values = TwoThicknesses(mesh);
+  const Eigen::Map<const Eigen::VectorXd> wholeValues(values.data(), static_cast<Eigen::Index>(values.size()));
+  const PartitionResult serial = PartitionBySDF(mesh.Points, mesh.Triangles, wholeValues);
+  ASSERT_GE(serial.Model.ComponentCount(), 2);
+  ASSERT_GE(serial.Segments.SegmentCount(), 2); // the test can fail: there is a boundary to cut
+  const FaceGraph& whole = *serial.Graph;
+  std::vector<std::int64_t> offsets, connectivity;
+  TriangleFaces(mesh.Triangles, offsets, connectivity);
+  const double width = HaloWidthForAdjacency(mesh.Points, offsets, connectivity, SingleProcess());
+  EXPECT_GT(width, 0.0);
+
+  for (const int processes : { 2, 3 })
+  {
+    std::vector<int> owner(values.size());
+    for (std::size_t f = 0; f < owner.size(); ++f)
+    {
+      owner[f] = std::min(processes - 1, static_cast<int>((whole.Centers(static_cast<Eigen::Index>(f), 2) + 2.0) / 4.0 * processes));
+    }
+    std::vector<int> covered(values.size(), 0);
+    std::mutex coveredMutex;
+    OnThreads(processes, [&](int rank, const ProcessGroup& group) {
+      const Share share = MakeShare(mesh, values, whole, owner, rank, width * 1.001);
+      const PartitionResult result = PartitionShareOf(share, group);
+      std::lock_guard<std::mutex> lock(coveredMutex);
+      ExpectSerialPartition(serial, result, share);
+      EXPECT_EQ(result.Histogram.Counts, rank == 0 ? serial.Histogram.Counts : std::vector<double>{});
+      for (std::size_t f = 0; f < share.WholeFace.size(); ++f)
+      {
+        covered[share.WholeFace[f]] += share.Own[f];
+      }
+    });
+    EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](int n) { return n == 1; }));
+  }
+
+  // Faces both processes own (RedistributeDataSet's "assign to all regions"): the same results on both.
+  OnThreads(2, [&](int rank, const ProcessGroup& group) {
+    const auto owns = [&](std::size_t f) {
+      const double z = whole.Centers(static_cast<Eigen::Index>(f), 2);
+      return rank == 0 ? z < 0.2 : z > -0.2;
+    };
+    const Share share = MakeShare(mesh, values, whole, owns, width * 1.001);
+    ExpectSerialPartition(serial, PartitionShareOf(share, group), share);
+  });
+}
+
+TEST(PartitionOnShares, AHaloThatMissesANeighbourThrowsOnEveryProcess)
+{
+  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
+  const std::vector<double> values = TwoThicknesses(mesh);
+  const FaceGraph whole = BuildFaceGraph(mesh.Points, mesh.Triangles);
+  for (const bool oneSided : { false, true })
+  {
+    std::vector<int> thrown(2, 0);
+    OnThreads(2, [&](int rank, const ProcessGroup& group) {
+      const auto owns = [&](std::size_t f) { return (whole.Centers(static_cast<Eigen::Index>(f), 2) > 0.0) == (rank == 1); };
+      // No halo at all, or (one-sided) a halo on process 1 only: both miss, or one misses, the other.
+      const Share share = MakeShare(mesh, values, whole, owns, oneSided && rank == 1 ? 10.0 : 0.0);
+      try
+      {
+        PartitionShareOf(share, group);
+      }
+      catch (const HaloTooNarrowError&)
+      {
+        thrown[static_cast<std::size_t>(rank)] = 1;
+      }
+    });
+    EXPECT_EQ(thrown, (std::vector<int>{ 1, 1 })) << (oneSided ? "one-sided" : "no halo");
+  }
 }
 
 } // namespace

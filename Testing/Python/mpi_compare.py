@@ -25,8 +25,8 @@ projected point cloud identical.
 
 Prints one line per check and a closing line 'N passed, N failed'; exit status 1 on any failure.
 Rank 0's module prints how each filter ran (SHAPEDIAMETER_DISTRIBUTED_TIMING, set by this script
-on rank 0) on stderr, which the script captures to check that the smoothing ran with a halo on
-the reader's pieces, and then prints.
+on rank 0) on stderr, which the script captures to check that the smoothing and the partition ran
+with a halo on the reader's pieces, and then prints.
 """
 import argparse
 import os
@@ -119,6 +119,8 @@ distributed_seconds = time.perf_counter() - start
 if timing_report is not None and args.split != "redistribute":
     check("vtkSDFBilateralSmooth with a halo" in timing_report,
           "the smoothing ran on each rank's own faces with a halo (the reader's global ids), not on rank 0")
+    check("vtkSDFGMMPartition with a halo" in timing_report,
+          "the partition's dual graph was built on each rank's own faces with a halo, not on rank 0")
 
 
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "Partition/Partition.h"
 
+#include "Partition/DistributedPartition.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,19 +31,23 @@ PartitionResult AbortedResult()
 }
 
 /// Step 2: the mixture of the clusters, fitted as the options say.
-GaussianMixtureModel FitClusterModel(ValuesView values, const FaceGraph& graph, const PartitionOptions& options)
+GaussianMixtureModel FitClusterModel(ValuesView values, const std::vector<double>& faceAreas, const PartitionOptions& options)
 {
   if (options.ClusterModel == PartitionClusterModel::DensityModes)
   {
     DensityModesOptions modes = options.Modes;
     modes.MaximumModes = options.NumberOfClusters > 0 ? options.NumberOfClusters : options.MaximumClusters;
-    const Eigen::Map<const Eigen::VectorXd> areas(graph.Areas.data(), static_cast<Eigen::Index>(graph.Areas.size()));
+    const Eigen::Map<const Eigen::VectorXd> areas(faceAreas.data(), static_cast<Eigen::Index>(faceAreas.size()));
     return FitDensityModes(values, areas, modes).Model;
   }
   return options.NumberOfClusters == 0
     ? FitGaussianMixtureBic(values, 2, options.MaximumClusters, options.Mixture).Model
     : FitGaussianMixture(values, options.NumberOfClusters, options.Mixture);
 }
+
+PartitionResult PartitionOnGraph(const DualGraphView& view, const std::vector<double>& areas, ValuesView faceValues,
+  const GaussianMixtureModel* familyModel, const PartitionOptions& options, const ParallelFor& parallelFor,
+  const ProgressCallback& progress);
 
 /// The refinement's options with the partition's own energy and cut.
 PartRefinementOptions RefinementOptions(const PartitionOptions& options)
@@ -71,7 +77,7 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
 {
   ValidatePartitionOptions(options);
   const std::size_t faceCount = input.FaceOffsets.empty() ? 0 : input.FaceOffsets.size() - 1;
-  if (faceCount == 0)
+  if (faceCount == 0 && !input.Share)
   {
     throw Error("partition: no faces");
   }
@@ -80,22 +86,62 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
     throw Error("partition: " + std::to_string(input.FaceValues.size()) + " values for " +
       std::to_string(faceCount) + " faces");
   }
-  PartitionResult result;
+  if (input.Share)
+  {
+    return PartitionOverProcesses(input, *input.Share, options, parallelFor, progress);
+  }
   Clock::time_point start = Clock::now();
 
   // 1. The dual graph.
-  result.Graph = SharedFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
-  const FaceGraph& graph = *result.Graph;
-  result.Timings.FaceGraphMs = Lap(start);
+  std::shared_ptr<const FaceGraph> graph =
+    SharedFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
+  const double faceGraphMs = Lap(start);
   if (progress && !progress(0.1))
   {
     return AbortedResult();
   }
+  PartitionResult result = PartitionOnGraph(
+    MakeDualGraphView(*graph), graph->Areas, input.FaceValues, input.FamilyModel, options, parallelFor, progress);
+  result.Graph = std::move(graph);
+  result.Timings.FaceGraphMs = faceGraphMs;
+  return result;
+}
+
+PartitionResult PartitionOnDualGraph(const DualGraphView& view, ValuesView faceValues,
+  const GaussianMixtureModel* familyModel, const PartitionOptions& options, const ParallelFor& parallelFor,
+  const ProgressCallback& progress)
+{
+  ValidatePartitionOptions(options);
+  if (view.FaceCount == 0)
+  {
+    throw Error("partition: no faces");
+  }
+  if (static_cast<std::size_t>(faceValues.size()) != view.FaceCount)
+  {
+    throw Error("partition: " + std::to_string(faceValues.size()) + " values for " +
+      std::to_string(view.FaceCount) + " faces");
+  }
+  if (!view.FaceArea)
+  {
+    throw Error("partition: the dual graph has no face areas");
+  }
+  const std::vector<double> areas(view.FaceArea, view.FaceArea + view.FaceCount);
+  return PartitionOnGraph(view, areas, faceValues, familyModel, options, parallelFor, progress);
+}
+
+namespace
+{
+PartitionResult PartitionOnGraph(const DualGraphView& view, const std::vector<double>& areas, ValuesView faceValues,
+  const GaussianMixtureModel* familyModel, const PartitionOptions& options, const ParallelFor& parallelFor,
+  const ProgressCallback& progress)
+{
+  PartitionResult result;
+  Clock::time_point start = Clock::now();
 
   // 2. The cluster model, 3. the soft partition.
-  result.Model = input.FamilyModel ? *input.FamilyModel : FitClusterModel(input.FaceValues, graph, options);
+  result.Model = familyModel ? *familyModel : FitClusterModel(faceValues, areas, options);
   result.Timings.ClusterModelMs = Lap(start);
-  result.Probabilities = ComputePosteriors(result.Model, input.FaceValues, parallelFor);
+  result.Probabilities = ComputePosteriors(result.Model, faceValues, parallelFor);
   result.Timings.PosteriorsMs = Lap(start);
   if (progress && !progress(0.2))
   {
@@ -103,7 +149,6 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
   }
 
   // 4. The energy; the graph is checked here once, for the energy and the segments.
-  const DualGraphView view = MakeDualGraphView(graph);
   ValidateDualGraph(view, options.Energy.GeometricWeights, parallelFor);
   const PartitionEnergy energy =
     BuildPartitionEnergyOnValidGraph(result.Probabilities, view, options.Energy, parallelFor);
@@ -123,7 +168,7 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
 
   // 6. The hierarchy of the bands and their segments.
   result.Bands = std::move(result.Labels);
-  result.Segments = FindConnectedSegmentsOnValidGraph(view, result.Bands, graph.Areas);
+  result.Segments = FindConnectedSegmentsOnValidGraph(view, result.Bands, areas);
   for (int level = 1; level < result.Model.ComponentCount(); ++level)
   {
     result.Levels.push_back(HierarchyLevel(result.Bands, level));
@@ -134,10 +179,10 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
   if (options.Refinement.Enabled)
   {
     PartRefinementResult fine = RefineParts(
-      view, input.FaceValues, result.Bands, result.Segments, RefinementOptions(options), parallelFor);
+      view, faceValues, result.Bands, result.Segments, RefinementOptions(options), parallelFor);
     result.Labels = std::move(fine.Labels);
     result.LabelBands = std::move(fine.LabelBand);
-    result.Segments = FindConnectedSegmentsOnValidGraph(view, result.Labels, graph.Areas);
+    result.Segments = FindConnectedSegmentsOnValidGraph(view, result.Labels, areas);
   }
   else
   {
@@ -150,7 +195,7 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
   result.Timings.RefinementMs = Lap(start);
 
   // 8. The histogram with the fitted densities.
-  result.Histogram = MixtureHistogram(result.Model, input.FaceValues, options.HistogramBins);
+  result.Histogram = MixtureHistogram(result.Model, faceValues, options.HistogramBins);
   result.Timings.HistogramMs = Lap(start);
   if (progress)
   {
@@ -158,6 +203,7 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
   }
   return result;
 }
+} // namespace
 
 PartitionResult PartitionBySDF(PointsView points, TrianglesView triangles, ValuesView faceValues,
   const PartitionOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress)

@@ -132,6 +132,8 @@ inline constexpr Range<int> MaximumClustersRange{ 2, 16 };
 /// HistogramBins.
 inline constexpr Range<int> HistogramBinsRange{ 4, 4096 };
 
+struct PartitionShare; // Partition/DistributedPartition.h
+
 /// What is partitioned; see the header comment.
 struct PartitionInput
 {
@@ -140,6 +142,11 @@ struct PartitionInput
   const std::vector<std::int64_t>& FaceConnectivity;
   ValuesView FaceValues;
   const GaussianMixtureModel* FamilyModel = nullptr;
+  /// Distributed runs: the faces are this process's share of a surface split over processes
+  /// (its own faces and a halo around them); the result is the partition of the whole
+  /// surface, on the own faces (Partition/DistributedPartition.h). nullptr: the faces are the
+  /// whole surface.
+  const PartitionShare* Share = nullptr;
 };
 
 /// The histogram of the values and the mixture's densities over the same bins (the paper's
@@ -211,6 +218,17 @@ void ValidatePartitionOptions(const PartitionOptions& options);
 
 /// The SDF partition of section 4. See the header comment for inputs and guarantees.
 PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptions& options = {},
+  const ParallelFor& parallelFor = SerialFor, const ProgressCallback& progress = {});
+
+/**
+ * Steps 2 to 8 on a dual graph that is already built (step 1 of PartitionBySDF): the
+ * partition of the faces of `graph`, one value each. PartitionBySDF builds the graph from
+ * polygons; a distributed run assembles it from the rows every process computed for its own
+ * faces (Partition/DistributedPartition.h). Validates the graph (ValidateDualGraph). The result
+ * has no Graph and no FaceGraphMs; progress as PartitionBySDF's, from 0.1.
+ */
+PartitionResult PartitionOnDualGraph(const DualGraphView& graph, ValuesView faceValues,
+  const GaussianMixtureModel* familyModel, const PartitionOptions& options = {},
   const ParallelFor& parallelFor = SerialFor, const ProgressCallback& progress = {});
 
 /// Convenience: a triangle mesh.

@@ -1,0 +1,513 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Partition/DistributedPartition.h"
+
+#include "Mesh/FaceGraph.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace shapediameter
+{
+namespace
+{
+/// Global ids travel as doubles: exact below 2^53.
+constexpr double IdLimit = 9007199254740992.0;
+
+/// The dual-graph rows of a process's own faces, field by field, as the collectives carry them.
+struct OwnRows
+{
+  std::vector<double> Ids, Values, Areas, Degrees;
+  std::vector<double> Neighbors, NormalAngles, EdgeLengths, Concave;
+  /// Per side of an own face that no other face of the share has: the face's id, then the
+  /// side's two corners (lexicographically ordered, so both faces of a side give the same).
+  std::vector<double> OpenSides;
+};
+
+/// Appends the open sides of face f (sides no neighbour in the share has) to `openSides`.
+void AddOpenSides(const PartitionInput& input, const FaceGraph& graph, std::size_t f, double id,
+  std::vector<double>& openSides)
+{
+  const auto corners = [&](std::size_t face) {
+    return std::make_pair(input.FaceConnectivity.begin() + input.FaceOffsets[face],
+      input.FaceConnectivity.begin() + input.FaceOffsets[face + 1]);
+  };
+  const auto [begin, end] = corners(f);
+  const auto count = end - begin;
+  for (std::ptrdiff_t i = 0; i < count; ++i)
+  {
+    const std::int64_t a = begin[i], b = begin[(i + 1) % count];
+    if (a == b)
+    {
+      continue;
+    }
+    bool shared = false;
+    for (auto e = graph.NeighborBegin(static_cast<std::int64_t>(f)); !shared && e < graph.NeighborEnd(static_cast<std::int64_t>(f)); ++e)
+    {
+      const auto [first, last] = corners(static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)]));
+      shared = std::find(first, last, a) != last && std::find(first, last, b) != last;
+    }
+    if (!shared)
+    {
+      Eigen::RowVector3d p = input.Points.row(static_cast<Eigen::Index>(a));
+      Eigen::RowVector3d q = input.Points.row(static_cast<Eigen::Index>(b));
+      if (std::lexicographical_compare(q.data(), q.data() + 3, p.data(), p.data() + 3))
+      {
+        std::swap(p, q);
+      }
+      openSides.insert(openSides.end(), { id, p[0], p[1], p[2], q[0], q[1], q[2] });
+    }
+  }
+}
+
+OwnRows RowsOfOwnFaces(const PartitionInput& input, const FaceGraph& graph, const PartitionShare& share)
+{
+  OwnRows rows;
+  const ValuesView& values = input.FaceValues;
+  for (std::size_t f = 0; f < graph.FaceCount(); ++f)
+  {
+    if (!share.Own[f])
+    {
+      continue;
+    }
+    AddOpenSides(input, graph, f, static_cast<double>(share.GlobalIds[f]), rows.OpenSides);
+    rows.Ids.push_back(static_cast<double>(share.GlobalIds[f]));
+    rows.Values.push_back(values[static_cast<Eigen::Index>(f)]);
+    rows.Areas.push_back(graph.Areas[f]);
+    const auto begin = static_cast<std::size_t>(graph.NeighborBegin(static_cast<std::int64_t>(f)));
+    const auto end = static_cast<std::size_t>(graph.NeighborEnd(static_cast<std::int64_t>(f)));
+    rows.Degrees.push_back(static_cast<double>(end - begin));
+    for (std::size_t e = begin; e < end; ++e)
+    {
+      rows.Neighbors.push_back(static_cast<double>(share.GlobalIds[static_cast<std::size_t>(graph.Neighbors[e])]));
+      rows.NormalAngles.push_back(graph.NormalAngles[e]);
+      rows.EdgeLengths.push_back(graph.SharedEdgeLengths[e]);
+      rows.Concave.push_back(graph.Concave[e]);
+    }
+  }
+  return rows;
+}
+
+/// On the first process: the whole surface's dual graph, assembled from every process's rows.
+struct WholeGraph
+{
+  /// The distinct global ids, increasing: face w of the whole graph has id Ids[w].
+  std::vector<std::int64_t> Ids;
+  std::vector<std::int64_t> Offsets, Neighbors;
+  std::vector<double> NormalAngles, EdgeLengths, Areas, Values;
+  std::vector<std::uint8_t> Concave;
+  /// Per process, per own face in its order: the face's index in the whole graph, and whether
+  /// this copy's rows are the ones used (a face several processes own: the lowest one's).
+  std::vector<std::vector<std::int64_t>> ProcessFaces;
+  std::vector<std::vector<std::uint8_t>> ProcessRowUsed;
+  /// A missing adjacency found (empty: none): every process then throws HaloTooNarrowError.
+  std::string HaloProblem;
+
+  DualGraphView View() const
+  {
+    DualGraphView view;
+    view.Offsets = this->Offsets.data();
+    view.Neighbors = this->Neighbors.data();
+    view.NormalAngle = this->NormalAngles.data();
+    view.Concave = this->Concave.data();
+    view.EdgeLength = this->EdgeLengths.data();
+    view.FaceArea = this->Areas.data();
+    view.FaceCount = this->Areas.size();
+    return view;
+  }
+};
+
+/// The whole graph's faces from every process's own ids (the first gather).
+void OrderFaces(const std::vector<std::vector<double>>& processIds, WholeGraph& whole)
+{
+  struct Entry
+  {
+    std::int64_t Id;
+    std::size_t Process, Row;
+  };
+  std::vector<Entry> entries;
+  for (std::size_t p = 0; p < processIds.size(); ++p)
+  {
+    for (std::size_t i = 0; i < processIds[p].size(); ++i)
+    {
+      entries.push_back(Entry{ static_cast<std::int64_t>(processIds[p][i]), p, i });
+    }
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.Id != b.Id ? a.Id < b.Id : a.Process < b.Process;
+  });
+  whole.ProcessFaces.resize(processIds.size());
+  whole.ProcessRowUsed.resize(processIds.size());
+  for (std::size_t p = 0; p < processIds.size(); ++p)
+  {
+    whole.ProcessFaces[p].resize(processIds[p].size());
+    whole.ProcessRowUsed[p].assign(processIds[p].size(), 0);
+  }
+  for (const Entry& entry : entries)
+  {
+    const bool first = whole.Ids.empty() || whole.Ids.back() != entry.Id;
+    if (first)
+    {
+      whole.Ids.push_back(entry.Id);
+    }
+    whole.ProcessFaces[entry.Process][entry.Row] = static_cast<std::int64_t>(whole.Ids.size()) - 1;
+    whole.ProcessRowUsed[entry.Process][entry.Row] = first ? 1 : 0;
+  }
+}
+
+/// Per-face values of the used rows, in the whole graph's order.
+std::vector<double> WholeFaceField(const std::vector<std::vector<double>>& processValues, const WholeGraph& whole)
+{
+  std::vector<double> field(whole.Ids.size(), 0.0);
+  for (std::size_t p = 0; p < processValues.size(); ++p)
+  {
+    for (std::size_t i = 0; i < processValues[p].size(); ++i)
+    {
+      if (whole.ProcessRowUsed[p][i])
+      {
+        field[static_cast<std::size_t>(whole.ProcessFaces[p][i])] = processValues[p][i];
+      }
+    }
+  }
+  return field;
+}
+
+/// Per-adjacency values of the used rows, in the whole graph's CSR order; `convert` maps a
+/// gathered value to the stored one.
+template <typename T, typename Convert>
+std::vector<T> WholeEntryField(const std::vector<std::vector<double>>& processValues,
+  const std::vector<std::vector<double>>& processDegrees, const WholeGraph& whole, const Convert& convert)
+{
+  std::vector<T> field(static_cast<std::size_t>(whole.Offsets.back()));
+  for (std::size_t p = 0; p < processValues.size(); ++p)
+  {
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < processDegrees[p].size(); ++i)
+    {
+      const auto degree = static_cast<std::size_t>(processDegrees[p][i]);
+      if (whole.ProcessRowUsed[p][i])
+      {
+        const auto to = static_cast<std::size_t>(whole.Offsets[static_cast<std::size_t>(whole.ProcessFaces[p][i])]);
+        for (std::size_t k = 0; k < degree; ++k)
+        {
+          field[to + k] = convert(processValues[p][at + k]);
+        }
+      }
+      at += degree;
+    }
+  }
+  return field;
+}
+
+/// Every adjacency must be listed by both faces: a face's neighbour that a process's halo
+/// missed would silently change its row. Returns what is wrong (empty: nothing).
+std::string CheckSymmetric(const WholeGraph& whole)
+{
+  for (std::size_t f = 0; f < whole.Ids.size(); ++f)
+  {
+    for (auto e = whole.Offsets[f]; e < whole.Offsets[f + 1]; ++e)
+    {
+      const auto g = static_cast<std::size_t>(whole.Neighbors[static_cast<std::size_t>(e)]);
+      const auto first = whole.Neighbors.begin() + whole.Offsets[g];
+      const auto last = whole.Neighbors.begin() + whole.Offsets[g + 1];
+      if (!std::binary_search(first, last, static_cast<std::int64_t>(f)))
+      {
+        return "partition: face " + std::to_string(whole.Ids[g]) + " does not list its neighbour " +
+          std::to_string(whole.Ids[f]) + " (the halo of its process was too narrow)";
+      }
+    }
+  }
+  return {};
+}
+
+/// Two faces whose shares both lack the other: they share a side that each reports open.
+/// Returns what is wrong (empty: nothing).
+std::string CheckOpenSides(const std::vector<std::vector<double>>& processSides)
+{
+  using Side = std::array<double, 7>; // corners first, then the face id
+  std::vector<Side> sides;
+  for (const std::vector<double>& part : processSides)
+  {
+    for (std::size_t at = 0; at + 7 <= part.size(); at += 7)
+    {
+      sides.push_back(Side{ part[at + 1], part[at + 2], part[at + 3], part[at + 4], part[at + 5], part[at + 6], part[at] });
+    }
+  }
+  std::sort(sides.begin(), sides.end());
+  for (std::size_t i = 1; i < sides.size(); ++i)
+  {
+    if (std::equal(sides[i].begin(), sides[i].begin() + 6, sides[i - 1].begin()) && sides[i][6] != sides[i - 1][6])
+    {
+      return "partition: faces " + std::to_string(static_cast<std::int64_t>(sides[i - 1][6])) + " and " +
+        std::to_string(static_cast<std::int64_t>(sides[i][6])) +
+        " share a side but neither process saw the other (the halo was too narrow)";
+    }
+  }
+  return {};
+}
+
+/// Steps 1 and 2 of the header: every process's rows to the first process, assembled there.
+/// Each gathered field is freed once converted (the first process never holds two at once).
+WholeGraph GatherWholeGraph(const OwnRows& rows, const ProcessGroup& group)
+{
+  WholeGraph whole;
+  const bool first = group.Rank() == 0;
+  if (first)
+  {
+    OrderFaces(group.GatherOnFirst(rows.Ids), whole);
+    whole.Values = WholeFaceField(group.GatherOnFirst(rows.Values), whole);
+    whole.Areas = WholeFaceField(group.GatherOnFirst(rows.Areas), whole);
+  }
+  else
+  {
+    for (const std::vector<double>* field : { &rows.Ids, &rows.Values, &rows.Areas })
+    {
+      group.GatherOnFirst(*field);
+    }
+  }
+  const std::vector<std::vector<double>> openSides = group.GatherOnFirst(rows.OpenSides);
+  if (first)
+  {
+    whole.HaloProblem = CheckOpenSides(openSides);
+  }
+  const std::vector<std::vector<double>> degrees = group.GatherOnFirst(rows.Degrees);
+  if (!first)
+  {
+    for (const std::vector<double>* field : { &rows.Neighbors, &rows.NormalAngles, &rows.EdgeLengths, &rows.Concave })
+    {
+      group.GatherOnFirst(*field);
+    }
+    return whole;
+  }
+  const std::vector<double> wholeDegrees = WholeFaceField(degrees, whole);
+  whole.Offsets.assign(whole.Ids.size() + 1, 0);
+  for (std::size_t f = 0; f < wholeDegrees.size(); ++f)
+  {
+    whole.Offsets[f + 1] = whole.Offsets[f] + static_cast<std::int64_t>(wholeDegrees[f]);
+  }
+  whole.Neighbors = WholeEntryField<std::int64_t>(group.GatherOnFirst(rows.Neighbors), degrees, whole, [&](double id) {
+    const auto found = std::lower_bound(whole.Ids.begin(), whole.Ids.end(), static_cast<std::int64_t>(id));
+    if (found == whole.Ids.end() || *found != static_cast<std::int64_t>(id))
+    {
+      throw Error("partition: face " + std::to_string(static_cast<std::int64_t>(id)) +
+        " is a neighbour of an own face but no process's own face");
+    }
+    return static_cast<std::int64_t>(found - whole.Ids.begin());
+  });
+  const auto same = [](double value) { return value; };
+  whole.NormalAngles = WholeEntryField<double>(group.GatherOnFirst(rows.NormalAngles), degrees, whole, same);
+  whole.EdgeLengths = WholeEntryField<double>(group.GatherOnFirst(rows.EdgeLengths), degrees, whole, same);
+  whole.Concave = WholeEntryField<std::uint8_t>(group.GatherOnFirst(rows.Concave), degrees, whole,
+    [](double value) { return static_cast<std::uint8_t>(value != 0.0); });
+  if (whole.HaloProblem.empty())
+  {
+    whole.HaloProblem = CheckSymmetric(whole);
+  }
+  return whole;
+}
+
+/// What every process gets back (step 4 of the header), as doubles: the whole-surface part,
+/// then per own face of `process` its probabilities, band, fine label and segment.
+enum PartStatus : int
+{
+  Partitioned = 0,
+  Aborted = 1,
+  HaloTooNarrow = 2
+};
+
+std::vector<double> PartOfProcess(const PartitionResult& result, const WholeGraph& whole, std::size_t process)
+{
+  if (!whole.HaloProblem.empty())
+  {
+    std::vector<double> part{ HaloTooNarrow };
+    part.insert(part.end(), whole.HaloProblem.begin(), whole.HaloProblem.end());
+    return part;
+  }
+  if (result.Aborted)
+  {
+    return { Aborted };
+  }
+  const GaussianMixtureModel& model = result.Model;
+  std::vector<double> part{ Partitioned, static_cast<double>(model.ComponentCount()) };
+  part.insert(part.end(), model.Means.begin(), model.Means.end());
+  part.insert(part.end(), model.Sigmas.begin(), model.Sigmas.end());
+  part.insert(part.end(), model.Weights.begin(), model.Weights.end());
+  part.push_back(result.Energy);
+  part.push_back(static_cast<double>(result.CutMoves));
+  part.push_back(static_cast<double>(result.LabelBands.size()));
+  part.insert(part.end(), result.LabelBands.begin(), result.LabelBands.end());
+  part.push_back(static_cast<double>(result.Segments.Area.size()));
+  part.insert(part.end(), result.Segments.Area.begin(), result.Segments.Area.end());
+  part.insert(part.end(), result.Segments.Label.begin(), result.Segments.Label.end());
+  const auto k = static_cast<Eigen::Index>(model.ComponentCount());
+  for (const std::int64_t face : whole.ProcessFaces[process])
+  {
+    const auto f = static_cast<std::size_t>(face);
+    for (Eigen::Index c = 0; c < k; ++c)
+    {
+      part.push_back(result.Probabilities(static_cast<Eigen::Index>(face), c));
+    }
+    part.push_back(result.Bands[f]);
+    part.push_back(result.Labels[f]);
+    part.push_back(result.Segments.Segment[f]);
+  }
+  return part;
+}
+
+/// Reads PartOfProcess on the process it was sent to: the result over the share's faces.
+PartitionResult ResultOfShare(const std::vector<double>& part, const PartitionShare& share)
+{
+  PartitionResult result;
+  if (!part.empty() && part[0] == HaloTooNarrow)
+  {
+    std::string problem;
+    for (std::size_t i = 1; i < part.size(); ++i)
+    {
+      problem += static_cast<char>(part[i]);
+    }
+    throw HaloTooNarrowError(problem); // on every process
+  }
+  if (part.empty() || part[0] != Partitioned)
+  {
+    result.Aborted = true;
+    return result;
+  }
+  std::size_t at = 1;
+  const auto next = [&]() { return part.at(at++); };
+  const auto k = static_cast<std::size_t>(next());
+  const auto read = [&](std::size_t count) {
+    std::vector<double> values(part.begin() + static_cast<std::ptrdiff_t>(at),
+      part.begin() + static_cast<std::ptrdiff_t>(at + count));
+    at += count;
+    return values;
+  };
+  result.Model.Means = read(k);
+  result.Model.Sigmas = read(k);
+  result.Model.Weights = read(k);
+  result.Energy = next();
+  result.CutMoves = static_cast<int>(next());
+  const std::vector<double> labelBands = read(static_cast<std::size_t>(next()));
+  result.LabelBands.assign(labelBands.begin(), labelBands.end());
+  const auto segments = static_cast<std::size_t>(next());
+  result.Segments.Area = read(segments);
+  const std::vector<double> segmentLabels = read(segments);
+  result.Segments.Label.assign(segmentLabels.begin(), segmentLabels.end());
+
+  const std::size_t faces = share.Own.size();
+  result.Probabilities = PosteriorMatrix::Zero(static_cast<Eigen::Index>(faces), static_cast<Eigen::Index>(k));
+  result.Bands.assign(faces, -1);
+  result.Labels.assign(faces, -1);
+  result.Segments.Segment.assign(faces, -1);
+  for (std::size_t f = 0; f < faces; ++f)
+  {
+    if (!share.Own[f])
+    {
+      continue;
+    }
+    for (std::size_t c = 0; c < k; ++c)
+    {
+      result.Probabilities(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(c)) = next();
+    }
+    result.Bands[f] = static_cast<int>(next());
+    result.Labels[f] = static_cast<int>(next());
+    result.Segments.Segment[f] = static_cast<int>(next());
+  }
+  for (std::size_t level = 1; level < k; ++level)
+  {
+    std::vector<int> levels(result.Bands);
+    for (int& band : levels)
+    {
+      band = band < 0 ? band : std::min(band, static_cast<int>(level));
+    }
+    result.Levels.push_back(std::move(levels));
+  }
+  return result;
+}
+} // namespace
+
+double HaloWidthForAdjacency(PointsView points, const std::vector<std::int64_t>& faceOffsets,
+  const std::vector<std::int64_t>& faceConnectivity, const ProcessGroup& group)
+{
+  std::vector<double> largest{ 0.0 };
+  for (std::size_t f = 0; f + 1 < faceOffsets.size(); ++f)
+  {
+    const auto begin = static_cast<std::size_t>(faceOffsets[f]);
+    const auto end = static_cast<std::size_t>(faceOffsets[f + 1]);
+    if (end <= begin)
+    {
+      continue;
+    }
+    Eigen::RowVector3d center = Eigen::RowVector3d::Zero();
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      center += points.row(static_cast<Eigen::Index>(faceConnectivity[i]));
+    }
+    center /= static_cast<double>(end - begin);
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      largest[0] = std::max(largest[0], (points.row(static_cast<Eigen::Index>(faceConnectivity[i])) - center).norm());
+    }
+  }
+  group.MaxInPlace(largest);
+  return 2.0 * largest[0];
+}
+
+PartitionResult PartitionOverProcesses(const PartitionInput& input, const PartitionShare& share,
+  const PartitionOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress)
+{
+  const std::size_t faceCount = input.FaceOffsets.empty() ? 0 : input.FaceOffsets.size() - 1;
+  if (share.GlobalIds.size() != faceCount || share.Own.size() != faceCount)
+  {
+    throw Error("partition: the share's global ids or own flags do not match its faces");
+  }
+  for (const std::int64_t id : share.GlobalIds)
+  {
+    if (id < 0 || static_cast<double>(id) >= IdLimit)
+    {
+      throw Error("partition: a global face id outside [0, 2^53)");
+    }
+  }
+  const ProcessGroup& group = share.Group;
+  // The share's graph is needed only for its rows: freed before the first process partitions.
+  WholeGraph whole = GatherWholeGraph(
+    RowsOfOwnFaces(input, BuildFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor), share),
+    group);
+
+  PartitionResult wholeResult;
+  if (group.Rank() == 0 && whole.HaloProblem.empty())
+  {
+    if (whole.Ids.empty())
+    {
+      throw Error("partition: no faces");
+    }
+    if (progress && !progress(0.1))
+    {
+      wholeResult.Aborted = true;
+    }
+    else
+    {
+      const Eigen::Map<const Eigen::VectorXd> values(whole.Values.data(), static_cast<Eigen::Index>(whole.Values.size()));
+      wholeResult =
+        PartitionOnDualGraph(whole.View(), values, input.FamilyModel, options, parallelFor, progress);
+    }
+    // What the other processes do not need, before the parts are made.
+    whole.Neighbors = {};
+    whole.NormalAngles = {};
+    whole.EdgeLengths = {};
+    whole.Concave = {};
+  }
+  PartitionResult result = ResultOfShare(group.ScatterFromFirst([&](int process) {
+    return PartOfProcess(wholeResult, whole, static_cast<std::size_t>(process));
+  }),
+    share);
+  if (group.Rank() == 0 && !result.Aborted)
+  {
+    result.Histogram = std::move(wholeResult.Histogram);
+    result.Timings = wholeResult.Timings;
+  }
+  return result;
+}
+
+} // namespace shapediameter
