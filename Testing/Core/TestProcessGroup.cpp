@@ -626,10 +626,15 @@ std::vector<double> TwoThicknesses(const testshapes::TestMesh& mesh)
   return values;
 }
 
-/// PartitionBySDF on `share` with the thread group.
-PartitionResult PartitionShareOf(const Share& share, const ProcessGroup& group)
+/// PartitionBySDF on `share` with the thread group; global ids = whole face index x idStep
+/// (1: dense ids, as the reader's; larger: sparse ids, in the same order).
+PartitionResult PartitionShareOf(const Share& share, const ProcessGroup& group, std::int64_t idStep = 1)
 {
-  const std::vector<std::int64_t> ids(share.WholeFace.begin(), share.WholeFace.end());
+  std::vector<std::int64_t> ids;
+  for (const std::size_t f : share.WholeFace)
+  {
+    ids.push_back(static_cast<std::int64_t>(f) * idStep + 7);
+  }
   const PartitionShare partitionShare{ ids, share.Own, group };
   const Eigen::Map<const Eigen::VectorXd> values(share.Values.data(), static_cast<Eigen::Index>(share.Values.size()));
   return PartitionBySDF(
@@ -683,7 +688,7 @@ TEST(PartitionOnShares, OwnFacesGetTheSerialPartitionBitForBit)
   const double width = HaloWidthForAdjacency(mesh.Points, offsets, connectivity, SingleProcess());
   EXPECT_GT(width, 0.0);
 
-  for (const int processes : { 2, 3 })
+  for (const auto& [processes, idStep] : { std::pair{ 2, 1 }, std::pair{ 3, 1 }, std::pair{ 3, 1000 } })
   {
     std::vector<int> owner(values.size());
     for (std::size_t f = 0; f < owner.size(); ++f)
@@ -692,9 +697,9 @@ TEST(PartitionOnShares, OwnFacesGetTheSerialPartitionBitForBit)
     }
     std::vector<int> covered(values.size(), 0);
     std::mutex coveredMutex;
-    OnThreads(processes, [&](int rank, const ProcessGroup& group) {
+    OnThreads(processes, [&, processes = processes, idStep = idStep](int rank, const ProcessGroup& group) {
       const Share share = MakeShare(mesh, values, whole, owner, rank, width * 1.001);
-      const PartitionResult result = PartitionShareOf(share, group);
+      const PartitionResult result = PartitionShareOf(share, group, idStep);
       std::lock_guard<std::mutex> lock(coveredMutex);
       ExpectSerialPartition(serial, result, share);
       EXPECT_EQ(result.Histogram.Counts, rank == 0 ? serial.Histogram.Counts : std::vector<double>{});

@@ -102,8 +102,21 @@ struct WholeGraph
   /// this copy's rows are the ones used (a face several processes own: the lowest one's).
   std::vector<std::vector<std::int64_t>> ProcessFaces;
   std::vector<std::vector<std::uint8_t>> ProcessRowUsed;
+  /// Per id in [0, largest id], its face's index (-1: none), when the ids are dense; else empty.
+  std::vector<std::int64_t> IndexOfId;
   /// A missing adjacency found (empty: none): every process then throws HaloTooNarrowError.
   std::string HaloProblem;
+
+  /// The index of the face with global id `id`, -1 when no process owns it.
+  std::int64_t IndexOf(std::int64_t id) const
+  {
+    if (!this->IndexOfId.empty())
+    {
+      return id >= 0 && static_cast<std::size_t>(id) < this->IndexOfId.size() ? this->IndexOfId[static_cast<std::size_t>(id)] : -1;
+    }
+    const auto found = std::lower_bound(this->Ids.begin(), this->Ids.end(), id);
+    return found != this->Ids.end() && *found == id ? found - this->Ids.begin() : -1;
+  }
 
   DualGraphView View() const
   {
@@ -119,15 +132,65 @@ struct WholeGraph
   }
 };
 
-/// The whole graph's faces from every process's own ids (the first gather).
+/// The whole graph's faces from every process's own ids (the first gather): by a table of
+/// the ids when they are dense (the reader's ids 0 .. n - 1: linear time), else by sorting.
 void OrderFaces(const std::vector<std::vector<double>>& processIds, WholeGraph& whole)
 {
+  std::size_t total = 0;
+  std::int64_t largest = -1;
+  for (const std::vector<double>& ids : processIds)
+  {
+    total += ids.size();
+    for (const double id : ids)
+    {
+      largest = std::max(largest, static_cast<std::int64_t>(id));
+    }
+  }
+  whole.ProcessFaces.resize(processIds.size());
+  whole.ProcessRowUsed.resize(processIds.size());
+  for (std::size_t p = 0; p < processIds.size(); ++p)
+  {
+    whole.ProcessFaces[p].resize(processIds[p].size());
+    whole.ProcessRowUsed[p].assign(processIds[p].size(), 0);
+  }
+  if (static_cast<double>(largest) < 2.0 * static_cast<double>(total) + 1024.0)
+  {
+    whole.IndexOfId.assign(static_cast<std::size_t>(largest + 1), -1);
+    for (const std::vector<double>& ids : processIds)
+    {
+      for (const double id : ids)
+      {
+        whole.IndexOfId[static_cast<std::size_t>(id)] = 0;
+      }
+    }
+    for (std::size_t id = 0; id < whole.IndexOfId.size(); ++id)
+    {
+      if (whole.IndexOfId[id] == 0)
+      {
+        whole.IndexOfId[id] = static_cast<std::int64_t>(whole.Ids.size());
+        whole.Ids.push_back(static_cast<std::int64_t>(id));
+      }
+    }
+    std::vector<std::uint8_t> taken(whole.Ids.size(), 0);
+    for (std::size_t p = 0; p < processIds.size(); ++p) // lowest process first: its rows are used
+    {
+      for (std::size_t i = 0; i < processIds[p].size(); ++i)
+      {
+        const std::int64_t w = whole.IndexOfId[static_cast<std::size_t>(processIds[p][i])];
+        whole.ProcessFaces[p][i] = w;
+        whole.ProcessRowUsed[p][i] = taken[static_cast<std::size_t>(w)] ? 0 : 1;
+        taken[static_cast<std::size_t>(w)] = 1;
+      }
+    }
+    return;
+  }
   struct Entry
   {
     std::int64_t Id;
     std::size_t Process, Row;
   };
   std::vector<Entry> entries;
+  entries.reserve(total);
   for (std::size_t p = 0; p < processIds.size(); ++p)
   {
     for (std::size_t i = 0; i < processIds[p].size(); ++i)
@@ -138,13 +201,6 @@ void OrderFaces(const std::vector<std::vector<double>>& processIds, WholeGraph& 
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
     return a.Id != b.Id ? a.Id < b.Id : a.Process < b.Process;
   });
-  whole.ProcessFaces.resize(processIds.size());
-  whole.ProcessRowUsed.resize(processIds.size());
-  for (std::size_t p = 0; p < processIds.size(); ++p)
-  {
-    whole.ProcessFaces[p].resize(processIds[p].size());
-    whole.ProcessRowUsed[p].assign(processIds[p].size(), 0);
-  }
   for (const Entry& entry : entries)
   {
     const bool first = whole.Ids.empty() || whole.Ids.back() != entry.Id;
@@ -288,14 +344,15 @@ WholeGraph GatherWholeGraph(const OwnRows& rows, const ProcessGroup& group)
     whole.Offsets[f + 1] = whole.Offsets[f] + static_cast<std::int64_t>(wholeDegrees[f]);
   }
   whole.Neighbors = WholeEntryField<std::int64_t>(group.GatherOnFirst(rows.Neighbors), degrees, whole, [&](double id) {
-    const auto found = std::lower_bound(whole.Ids.begin(), whole.Ids.end(), static_cast<std::int64_t>(id));
-    if (found == whole.Ids.end() || *found != static_cast<std::int64_t>(id))
+    const std::int64_t index = whole.IndexOf(static_cast<std::int64_t>(id));
+    if (index < 0)
     {
       throw Error("partition: face " + std::to_string(static_cast<std::int64_t>(id)) +
         " is a neighbour of an own face but no process's own face");
     }
-    return static_cast<std::int64_t>(found - whole.Ids.begin());
+    return index;
   });
+  whole.IndexOfId = {};
   const auto same = [](double value) { return value; };
   whole.NormalAngles = WholeEntryField<double>(group.GatherOnFirst(rows.NormalAngles), degrees, whole, same);
   whole.EdgeLengths = WholeEntryField<double>(group.GatherOnFirst(rows.EdgeLengths), degrees, whole, same);
