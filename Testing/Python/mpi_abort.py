@@ -48,13 +48,6 @@ reader = vtkSDFOFFReader()
 reader.SetFileName(args.mesh)
 sdf = vtkShapeDiameterFilter()
 sdf.SetInputConnection(reader.GetOutputPort())
-smooth = vtkSDFBilateralSmooth()
-smooth.SetInputConnection(sdf.GetOutputPort())
-smooth.UpdatePiece(rank, processes, 0)
-piece = smooth.GetOutput()
-check(piece.GetNumberOfCells() > 0 and piece.GetCellData().GetArray("SDFSmoothed") is not None,
-      "the first run smooths this rank's %d faces" % piece.GetNumberOfCells())
-
 aborted = []
 
 
@@ -64,36 +57,36 @@ def abort_here(caller, event):
         caller.SetAbortExecute(1)
 
 
-if rank == args.abort_rank:
-    smooth.AddObserver("ProgressEvent", abort_here)
-smooth.SetRangeThreshold(smooth.GetRangeThreshold() * 0.5)  # a change, so that it runs again
-smooth.UpdatePiece(rank, processes, 0)
-piece = smooth.GetOutput()
-if rank == args.abort_rank:
-    check(bool(aborted), "this rank asked to abort")
-check(piece.GetNumberOfCells() > 0 and piece.GetCellData().GetArray("SDFSmoothed") is None,
-      "the aborted run passes this rank's %d faces through, without SDFSmoothed" % piece.GetNumberOfCells())
+def run_then_abort(stage, array, abort_rank, change):
+    """Runs `stage` through (its output has `array`), then again, after `change`, with an abort at
+    its first progress event on `abort_rank`: every rank's output is its input passed through."""
+    stage.UpdatePiece(rank, processes, 0)
+    piece = stage.GetOutput()
+    name = stage.GetClassName()
+    check(piece.GetNumberOfCells() > 0 and piece.GetCellData().GetArray(array) is not None,
+          "%s's first run gives this rank's %d faces %s" % (name, piece.GetNumberOfCells(), array))
+    aborted.clear()
+    if rank == abort_rank:
+        stage.AddObserver("ProgressEvent", abort_here)
+    change()  # so that it runs again
+    stage.UpdatePiece(rank, processes, 0)
+    piece = stage.GetOutput()
+    if rank == abort_rank:
+        check(bool(aborted), "this rank asked %s to abort" % name)
+    check(piece.GetNumberOfCells() > 0 and piece.GetCellData().GetArray(array) is None,
+          "the aborted %s passes this rank's %d faces through, without %s" % (name, piece.GetNumberOfCells(), array))
+    stage.RemoveAllObservers()
+    stage.SetAbortExecute(0)  # VTK 9.2 keeps the flag: the next run would stop at once
 
+
+smooth = vtkSDFBilateralSmooth()
+smooth.SetInputConnection(sdf.GetOutputPort())
+run_then_abort(smooth, "SDFSmoothed", args.abort_rank,
+               lambda: smooth.SetRangeThreshold(smooth.GetRangeThreshold() * 0.5))
 if args.abort_rank == 0:
-    smooth.RemoveAllObservers()
-    smooth.SetAbortExecute(0)  # VTK 9.2 keeps the flag: the next run would stop at once
     smooth.Modified()  # runs again, through: the aborted run left no SDFNormalized
     partition = vtkSDFGMMPartition()
     partition.SetInputConnection(smooth.GetOutputPort())
-    partition.UpdatePiece(rank, processes, 0)
-    piece = partition.GetOutput()
-    check(piece.GetNumberOfCells() > 0 and piece.GetCellData().GetArray("SDFCluster") is not None,
-          "the partition's first run labels this rank's %d faces" % piece.GetNumberOfCells())
-    aborted.clear()
-    if rank == 0:
-        partition.AddObserver("ProgressEvent", abort_here)
-    partition.SetLambda(partition.GetLambda() * 0.5)
-    partition.UpdatePiece(rank, processes, 0)
-    piece = partition.GetOutput()
-    if rank == 0:
-        check(bool(aborted), "rank 0 asked the partition to abort")
-    check(piece.GetNumberOfCells() > 0 and piece.GetCellData().GetArray("SDFCluster") is None
-          and piece.GetCellData().GetArray("SDFSmoothed") is not None,
-          "the aborted partition passes this rank's %d faces through, without SDFCluster" % piece.GetNumberOfCells())
+    run_then_abort(partition, "SDFCluster", 0, lambda: partition.SetLambda(partition.GetLambda() * 0.5))
 controller.Barrier()
 check(True, "reached the end")
