@@ -837,13 +837,15 @@ struct Halo
   double Width = 0.0;
 };
 
-/// Each process's piece's own cells near every other process's cells (within `radius` of one
-/// of their centres, found through a voxel grid whose occupied voxels every process sends
-/// every other), exchanged with every process.
-Halo ExchangeHalos(vtkMultiProcessController* controller, vtkPolyData* local, double radius)
+/// Each process's piece's own cells near every other process's cells, exchanged with every
+/// process: those within `radius` of one of their centres (HaloKind::CentresWithin), or those
+/// sharing a corner with one of them (HaloKind::SharedCorners; `radius` is then the voxel size),
+/// found through a voxel grid whose occupied voxels every process sends every other.
+Halo ExchangeHalos(vtkMultiProcessController* controller, vtkPolyData* local, double radius, HaloKind kind)
 {
   const int processes = controller->GetNumberOfProcesses();
-  const std::vector<double> centers = CellCenters(local);
+  const bool corners = kind == HaloKind::SharedCorners;
+  const std::vector<double> centers = corners ? PointCoordinates(local) : CellCenters(local);
   std::vector<double> bounds = CenterBounds(centers);
   std::vector<double> allBounds(6 * static_cast<std::size_t>(processes));
   controller->AllGather(bounds.data(), allBounds.data(), 6);
@@ -884,17 +886,19 @@ Halo ExchangeHalos(vtkMultiProcessController* controller, vtkPolyData* local, do
   halo.Received = ExchangeWithEveryProcess(controller, [&](int other) {
     const auto first = allOccupied.begin() + offsets[static_cast<std::size_t>(other)];
     const std::vector<std::int64_t> voxels(first, first + counts[static_cast<std::size_t>(other)]);
-    return ExtractPolygons(local, CellsNearVoxels(cellVoxels, voxels));
+    return ExtractPolygons(local,
+      corners ? CellsWithCornerInVoxels(local, cellVoxels, voxels) : CellsNearVoxels(cellVoxels, voxels));
   });
   // Two centres within the voxel size lie in the same or neighbouring voxels.
-  halo.Width = grid.Size - rounding;
+  halo.Width = corners ? 0.0 : grid.Size - rounding;
   return halo;
 }
 } // namespace
 
 std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
-  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const HaloRadiusFunction& radius,
-  const HaloBody& body, const std::function<std::string()>& failure, const std::vector<std::string>& cellArrays)
+  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, HaloKind kind,
+  const HaloRadiusFunction& radius, const HaloBody& body, const std::function<std::string()>& failure,
+  const std::vector<std::string>& cellArrays)
 {
   vtkMultiProcessController* controller = Controller();
   const int rank = controller->GetLocalProcessId();
@@ -936,7 +940,7 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
   start = std::chrono::steady_clock::now();
   // 10 % wider than the radius: a cell that several processes hold (RedistributeDataSet's
   // "assign to all regions") counted once per process in the radius's mean edge length.
-  Halo halo = ExchangeHalos(controller, local, 1.1 * haloRadius);
+  Halo halo = ExchangeHalos(controller, local, 1.1 * haloRadius, kind);
   std::vector<vtkSmartPointer<vtkPolyData>>& received = halo.Received;
   std::vector<vtkPolyData*> pieces{ local.GetPointer() };
   std::vector<int> pieceProcess{ rank };

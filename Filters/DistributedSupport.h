@@ -157,15 +157,26 @@ struct HaloShare
   /// Per cell: its global id (the whole surface's cells are in the order of these ids).
   std::vector<std::int64_t> GlobalIds;
   /// Every cell whose centre lies within this distance of an own cell's centre is in the
-  /// input. A body that finds it needs more throws HaloTooNarrowError (ProcessGroup.h) on
-  /// every process, and the run falls back to the whole surface (the result is empty).
+  /// input (0 for HaloKind::SharedCorners). A body that finds it needs more throws
+  /// HaloTooNarrowError (ProcessGroup.h) on every process, and the run falls back to the whole
+  /// surface (the result is empty).
   double Width = 0.0;
   /// The processes, for the whole surface's measures (collectives; never null in a body).
   const ProcessGroup* Group = nullptr;
 };
 
+/// Which cells of the other processes make a process's halo.
+enum class HaloKind
+{
+  /// Every cell whose centre lies within the radius of an own cell's centre (and a few more).
+  CentresWithin,
+  /// Every cell sharing a corner with an own cell (and a few more: those with a corner in a
+  /// voxel holding one of the process's points); the radius is only the voxels' size.
+  SharedCorners
+};
+
 /// The halo a filter needs: the distance within which its body reads other cells to compute
-/// one cell. Collective (every process calls it with its own piece); throws only before its
+/// one cell (HaloKind::SharedCorners: the size of the voxels that find the shared corners). Collective (every process calls it with its own piece); throws only before its
 /// first collective, on a piece it cannot process.
 using HaloRadiusFunction = std::function<double(vtkPolyData* piece, const ProcessGroup& group)>;
 /// The filter's RequestData for a halo run: `share` is valid during the call.
@@ -181,9 +192,10 @@ using HaloBody =
  * 1. Every process's piece must hold polygons only (at least one) with global cell and point
  *    ids, and `radius` must succeed on every process; otherwise nothing is done and the result
  *    is empty: the caller then runs RunOnWholeSurface, which reports what was wrong.
- * 2. The boxes around the processes' cell centres are exchanged; each process sends every
- *    other the cells whose centre lies within `radius` of that process's box (a superset of
- *    the cells within that distance, along the surface, of one of its cells), point to point.
+ * 2. The processes' occupied voxels are exchanged; each process sends every other, point to
+ *    point, the cells whose centre lies within `radius` of one of that process's cell centres
+ *    (a superset of the cells within that distance, along the surface, of one of its cells), or
+ *    with HaloKind::SharedCorners the cells sharing a corner with one of its cells.
  * 3. Each process assembles its cells and those it received in the whole surface's order
  *    (AssembleWholeSurface: by global ids), and runs `body` on them. Only the cell arrays in
  *    `cellArrays` (all when empty) travel.
@@ -199,7 +211,8 @@ using HaloBody =
  * Memory per process: its piece, the halo, and the body's working set on both.
  */
 std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
-  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const HaloRadiusFunction& radius,
-  const HaloBody& body, const std::function<std::string()>& failure, const std::vector<std::string>& cellArrays);
+  vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, HaloKind kind,
+  const HaloRadiusFunction& radius, const HaloBody& body, const std::function<std::string()>& failure,
+  const std::vector<std::string>& cellArrays);
 
 } // namespace shapediameter::distributed

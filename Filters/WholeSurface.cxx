@@ -664,6 +664,38 @@ std::vector<std::int64_t> CellVoxels(const std::vector<double>& centers, const V
   return keys;
 }
 
+std::vector<double> PointCoordinates(vtkPolyData* piece)
+{
+  std::vector<double> coordinates(3 * static_cast<std::size_t>(piece->GetNumberOfPoints()));
+  for (vtkIdType p = 0; p < piece->GetNumberOfPoints(); ++p)
+  {
+    piece->GetPoint(p, &coordinates[3 * static_cast<std::size_t>(p)]);
+  }
+  return coordinates;
+}
+
+std::vector<vtkIdType> CellsWithCornerInVoxels(
+  vtkPolyData* piece, const std::vector<std::int64_t>& pointVoxels, const std::vector<std::int64_t>& voxels)
+{
+  std::vector<char> inVoxels(pointVoxels.size(), 0);
+  for (std::size_t p = 0; p < pointVoxels.size(); ++p)
+  {
+    inVoxels[p] = std::binary_search(voxels.begin(), voxels.end(), pointVoxels[p]) ? 1 : 0;
+  }
+  std::vector<vtkIdType> cells;
+  for (vtkIdType cell = 0; cell < piece->GetNumberOfCells(); ++cell)
+  {
+    vtkIdType count = 0;
+    const vtkIdType* corners = nullptr;
+    piece->GetCellPoints(cell, count, corners);
+    if (std::any_of(corners, corners + count, [&](vtkIdType p) { return inVoxels[static_cast<std::size_t>(p)] != 0; }))
+    {
+      cells.push_back(cell);
+    }
+  }
+  return cells;
+}
+
 std::vector<vtkIdType> CellsNearVoxels(const std::vector<std::int64_t>& cellVoxels, const std::vector<std::int64_t>& voxels)
 {
   std::vector<std::int64_t> own(cellVoxels);

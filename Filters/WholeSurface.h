@@ -118,13 +118,23 @@ struct VoxelGrid
   static VoxelGrid Around(const std::vector<double>& bounds, double distance);
 };
 
-/// Per cell (CellCenters): the key of the voxel holding its centre.
+/// Per position (x y z each: CellCenters, PointCoordinates): the key of the voxel holding it.
 std::vector<std::int64_t> CellVoxels(const std::vector<double>& centers, const VoxelGrid& grid);
 
 /// The piece's cells (given their CellVoxels) whose voxel is, or touches, one of `voxels`
 /// (sorted keys, e.g. another process's occupied voxels): a superset of the cells whose centre
 /// lies within grid.Size of a centre in those voxels.
 std::vector<vtkIdType> CellsNearVoxels(const std::vector<std::int64_t>& cellVoxels, const std::vector<std::int64_t>& voxels);
+
+/// The coordinates of the piece's points, x y z per point.
+std::vector<double> PointCoordinates(vtkPolyData* piece);
+
+/// The piece's cells one of whose corners lies in one of `voxels` (sorted keys, e.g. the
+/// voxels holding another process's points), given the voxel of each of the piece's points
+/// (CellVoxels of PointCoordinates): every cell sharing a corner with one of that process's
+/// cells, since a shared corner has the same coordinates, hence the same voxel, on both.
+std::vector<vtkIdType> CellsWithCornerInVoxels(
+  vtkPolyData* piece, const std::vector<std::int64_t>& pointVoxels, const std::vector<std::int64_t>& voxels);
 
 /// The piece's polygons `cells` with the points they use, as a polydata with the piece's cell
 /// and point arrays on them.

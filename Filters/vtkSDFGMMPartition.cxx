@@ -163,7 +163,9 @@ double vtkSDFGMMPartition::HaloRadius(vtkPolyData* piece, const shapediameter::P
   using namespace shapediameter;
   std::vector<std::int64_t> offsets, connectivity;
   adapter::PolygonCells(piece, offsets, connectivity);
-  return HaloWidthForAdjacency(adapter::PointsOf(piece), offsets, connectivity, group);
+  const std::vector<std::uint8_t> own(offsets.empty() ? 0 : offsets.size() - 1, 1);
+  // Any size finds every shared corner; about two edges gives a halo of one or two rings.
+  return 2.0 * MeanEdgeLengthOverProcesses(adapter::PointsOf(piece), offsets, connectivity, own, group);
 }
 
 bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)

@@ -269,7 +269,9 @@ protected:
   /// Distributed runs build each process's own rows of the dual graph with a halo of its
   /// neighbours' faces; process 0 partitions the graph (Partition/DistributedPartition.h).
   bool CanRunWithHalo() const override { return true; }
-  /// Twice the largest distance from a face's centre to its corners (HaloWidthForAdjacency).
+  /// The halo: the faces sharing a corner with an own face (the dual graph's rows need one ring).
+  bool HaloOfSharedCorners() const override { return true; }
+  /// The corner voxels' size: twice the whole surface's mean edge length.
   double HaloRadius(vtkPolyData* piece, const shapediameter::ProcessGroup& group) override;
 
   int NumberOfClusters;

@@ -115,6 +115,13 @@ protected:
   virtual double HaloRadius(vtkPolyData* piece, const shapediameter::ProcessGroup& group);
 
   /**
+   * Distributed runs with a halo: true when the body needs only the cells sharing a corner with
+   * its own (the halo is then found by the corners' voxels, whatever the cells' sizes, and
+   * HaloRadius gives the voxels' size); false (the default): the cells within HaloRadius.
+   */
+  virtual bool HaloOfSharedCorners() const { return false; }
+
+  /**
    * Distributed runs on process 0: the cell arrays ExecuteSurface reads, so that only those
    * travel to process 0 (distributed::RunOnWholeSurface); empty (the default) = all of them.
    */

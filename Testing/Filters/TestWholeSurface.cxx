@@ -429,6 +429,22 @@ TEST(WholeSurface, HaloSelectionAndExtractionKeepIdsAndArrays)
     }
   }
 
+  // Shared corners: triangle 3 (0-4-3) shares only point 4 with the second piece's triangles
+  // 4 (1-2-5) and 5 (1-5-4): fine voxels find triangle 5 alone, coarse ones a superset.
+  const auto left = Piece(mesh, { 3 }, true);
+  const auto right = Piece(mesh, { 4, 5 }, true);
+  EXPECT_EQ(PointCoordinates(left).size(), 3 * static_cast<std::size_t>(left->GetNumberOfPoints()));
+  for (const auto& [size, expected] :
+    { std::pair{ 0.1, std::vector<vtkIdType>{ 1 } }, std::pair{ 5.0, std::vector<vtkIdType>{ 0, 1 } } })
+  {
+    const VoxelGrid cornerGrid = VoxelGrid::Around({ 0.0, 2.0, 0.0, 1.0, 0.0, 0.0 }, size);
+    std::vector<std::int64_t> leftVoxels = CellVoxels(PointCoordinates(left), cornerGrid);
+    std::sort(leftVoxels.begin(), leftVoxels.end());
+    EXPECT_EQ(CellsWithCornerInVoxels(right, CellVoxels(PointCoordinates(right), cornerGrid), leftVoxels), expected)
+      << "voxels of " << size;
+    EXPECT_TRUE(CellsWithCornerInVoxels(right, CellVoxels(PointCoordinates(right), cornerGrid), {}).empty());
+  }
+
   const auto extracted = ExtractPolygons(piece, { 1, 3 });
   ASSERT_EQ(extracted->GetNumberOfCells(), 2);
   ASSERT_EQ(extracted->GetNumberOfPoints(), 5); // triangles 0-4-3 and 1-5-4 share point 4

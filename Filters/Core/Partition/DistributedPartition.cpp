@@ -484,33 +484,6 @@ PartitionResult ResultOfShare(const std::vector<double>& part, const PartitionSh
 }
 } // namespace
 
-double HaloWidthForAdjacency(PointsView points, const std::vector<std::int64_t>& faceOffsets,
-  const std::vector<std::int64_t>& faceConnectivity, const ProcessGroup& group)
-{
-  std::vector<double> largest{ 0.0 };
-  for (std::size_t f = 0; f + 1 < faceOffsets.size(); ++f)
-  {
-    const auto begin = static_cast<std::size_t>(faceOffsets[f]);
-    const auto end = static_cast<std::size_t>(faceOffsets[f + 1]);
-    if (end <= begin)
-    {
-      continue;
-    }
-    Eigen::RowVector3d center = Eigen::RowVector3d::Zero();
-    for (std::size_t i = begin; i < end; ++i)
-    {
-      center += points.row(static_cast<Eigen::Index>(faceConnectivity[i]));
-    }
-    center /= static_cast<double>(end - begin);
-    for (std::size_t i = begin; i < end; ++i)
-    {
-      largest[0] = std::max(largest[0], (points.row(static_cast<Eigen::Index>(faceConnectivity[i])) - center).norm());
-    }
-  }
-  group.MaxInPlace(largest);
-  return 2.0 * largest[0];
-}
-
 PartitionResult PartitionOverProcesses(const PartitionInput& input, const PartitionShare& share,
   const PartitionOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress)
 {

@@ -7,8 +7,8 @@
 //   cut, segments, refinement and histogram), with no process holding the whole surface's
 //   polygons or face graph:
 //     1. each process builds the face graph (FaceGraph.h) of its share: its own faces and a halo
-//        that holds every face sharing an edge with one of them (HaloWidthForAdjacency says how
-//        wide);
+//        that holds every face sharing an edge with one of them (the VTK adapter's halo: the
+//        faces sharing a corner with an own face, Filters/DistributedSupport.h);
 //     2. each process sends the first process the dual-graph rows of its own faces (the face's
 //        value and area; per neighbour its global id, normal angle, concave flag and shared
 //        edge length): about 90 bytes per face;
@@ -59,15 +59,6 @@ struct PartitionShare
   const std::vector<std::uint8_t>& Own;
   const ProcessGroup& Group;
 };
-
-/**
- * A halo width that holds every face sharing an edge (or a vertex) with an own face: twice the
- * largest distance from a face's centre (the mean of its corners) to one of its corners, over
- * every process's faces. Two faces sharing a corner have centres at most that far apart.
- * Collective (MaxInPlace). Faces as in PartitionInput.
- */
-double HaloWidthForAdjacency(PointsView points, const std::vector<std::int64_t>& faceOffsets,
-  const std::vector<std::int64_t>& faceConnectivity, const ProcessGroup& group);
 
 /// PartitionBySDF with input.Share set (see the header comment); PartitionBySDF calls it.
 PartitionResult PartitionOverProcesses(const PartitionInput& input, const PartitionShare& share,
