@@ -15,6 +15,7 @@
 #include "vtkMultiProcessController.h"
 #include "vtkSetGet.h"
 #include "vtkNew.h"
+#include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
@@ -298,6 +299,13 @@ WholeRun RunSerialOnWhole(vtkAlgorithm* algorithm, vtkInformationVector** inputV
     auto start = std::chrono::steady_clock::now();
     run.Whole = AssembleWholeSurface(pieces);
     run.BuildSeconds = Seconds(start);
+    // Their arrays are in the whole surface now; only their cells and points are read again
+    // (LocalResult), so the filter runs without a second copy of the arrays.
+    for (vtkPolyData* piece : pieces)
+    {
+      piece->GetCellData()->Initialize();
+      piece->GetPointData()->Initialize();
+    }
 
     start = std::chrono::steady_clock::now();
     run.Status = RunOnMesh(algorithm, inputVector, outputVector, run.Whole.Mesh, run.Outputs, serial);
