@@ -971,6 +971,7 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
     surface = AssembleWholeSurface(pieces);
     HaloShare share;
     share.GlobalIds = WholeGlobalCellIds(surface, pieces);
+    share.GlobalPointIds = WholeGlobalPointIds(surface, pieces);
     received.clear();
     share.Group = &group;
     share.Width = halo.Width;

@@ -156,6 +156,8 @@ struct HaloShare
   std::vector<std::uint8_t> Counted;
   /// Per cell: its global id (the whole surface's cells are in the order of these ids).
   std::vector<std::int64_t> GlobalIds;
+  /// Per point: its global id.
+  std::vector<std::int64_t> GlobalPointIds;
   /// Every cell whose centre lies within this distance of an own cell's centre is in the
   /// input (0 for HaloKind::SharedCorners). A body that finds it needs more throws
   /// HaloTooNarrowError (ProcessGroup.h) on every process, and the run falls back to the whole

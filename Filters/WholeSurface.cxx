@@ -562,22 +562,40 @@ bool HasGlobalIds(vtkPolyData* piece)
     IdArray(piece->GetPointData(), "GlobalPointIds", piece->GetNumberOfPoints());
 }
 
-std::vector<std::int64_t> WholeGlobalCellIds(const WholeSurface& whole, const std::vector<vtkPolyData*>& pieces)
+namespace
 {
-  std::vector<std::int64_t> ids(static_cast<std::size_t>(whole.Mesh->GetNumberOfCells()), -1);
-  for (std::size_t r = 0; r < pieces.size() && r < whole.CellToWhole.size(); ++r)
+/// Per element of the whole surface: the id in `name` (the GlobalIds attribute first) of the
+/// piece elements mapped to it (`toWhole`, per piece), -1 where none is.
+std::vector<std::int64_t> WholeIds(vtkIdType wholeCount, const std::vector<vtkPolyData*>& pieces,
+  const std::vector<std::vector<vtkIdType>>& toWhole, bool cells)
+{
+  std::vector<std::int64_t> ids(static_cast<std::size_t>(wholeCount), -1);
+  for (std::size_t r = 0; r < pieces.size() && r < toWhole.size(); ++r)
   {
-    vtkDataArray* pieceIds = IdArray(pieces[r]->GetCellData(), "GlobalCellIds", pieces[r]->GetNumberOfCells());
-    for (std::size_t c = 0; pieceIds && c < whole.CellToWhole[r].size(); ++c)
+    vtkDataArray* pieceIds = cells
+      ? IdArray(pieces[r]->GetCellData(), "GlobalCellIds", pieces[r]->GetNumberOfCells())
+      : IdArray(pieces[r]->GetPointData(), "GlobalPointIds", pieces[r]->GetNumberOfPoints());
+    for (std::size_t i = 0; pieceIds && i < toWhole[r].size(); ++i)
     {
-      if (whole.CellToWhole[r][c] >= 0)
+      if (toWhole[r][i] >= 0)
       {
-        ids[static_cast<std::size_t>(whole.CellToWhole[r][c])] =
-          static_cast<std::int64_t>(pieceIds->GetComponent(static_cast<vtkIdType>(c), 0));
+        ids[static_cast<std::size_t>(toWhole[r][i])] =
+          static_cast<std::int64_t>(pieceIds->GetComponent(static_cast<vtkIdType>(i), 0));
       }
     }
   }
   return ids;
+}
+} // namespace
+
+std::vector<std::int64_t> WholeGlobalCellIds(const WholeSurface& whole, const std::vector<vtkPolyData*>& pieces)
+{
+  return WholeIds(whole.Mesh->GetNumberOfCells(), pieces, whole.CellToWhole, true);
+}
+
+std::vector<std::int64_t> WholeGlobalPointIds(const WholeSurface& whole, const std::vector<vtkPolyData*>& pieces)
+{
+  return WholeIds(whole.Mesh->GetNumberOfPoints(), pieces, whole.PointToWhole, false);
 }
 
 std::vector<double> CellCenters(vtkPolyData* piece)

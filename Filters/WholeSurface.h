@@ -98,6 +98,9 @@ bool HasGlobalIds(vtkPolyData* piece);
 /// global cell id.
 std::vector<std::int64_t> WholeGlobalCellIds(const WholeSurface& whole, const std::vector<vtkPolyData*>& pieces);
 
+/// Per point of `whole`, assembled from `pieces` that all have global ids: its global point id.
+std::vector<std::int64_t> WholeGlobalPointIds(const WholeSurface& whole, const std::vector<vtkPolyData*>& pieces);
+
 /// The centre (mean of the corners; the origin without corners) of each of the piece's cells,
 /// x y z per cell.
 std::vector<double> CellCenters(vtkPolyData* piece);

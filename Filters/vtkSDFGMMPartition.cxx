@@ -218,7 +218,8 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
     {
       throw Error("a distributed share with cells other than polygons."); // RunOnHaloSurface rules them out
     }
-    share.emplace(PartitionShare{ request.Halo->GlobalIds, request.Halo->Own, *request.Halo->Group });
+    share.emplace(
+      PartitionShare{ request.Halo->GlobalIds, request.Halo->Own, *request.Halo->Group, &request.Halo->GlobalPointIds });
   }
   const PartitionResult result = PartitionBySDF(
     PartitionInput{ points, offsets, connectivity, faceValues, modelInput ? &model : nullptr, share ? &*share : nullptr },

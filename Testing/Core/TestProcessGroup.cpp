@@ -321,6 +321,7 @@ struct Share
   std::vector<double> Values;
   std::vector<std::uint8_t> Own;
   std::vector<std::size_t> WholeFace; // per face of the share
+  std::vector<std::int64_t> WholePoint; // per point of the share
 };
 
 Share MakeShare(const testshapes::TestMesh& mesh, const std::vector<double>& values, const FaceGraph& whole,
@@ -369,6 +370,7 @@ Share MakeShare(const testshapes::TestMesh& mesh, const std::vector<double>& val
   share.Points.resize(static_cast<Eigen::Index>(pointIndex.size()), 3);
   for (auto& [wholePoint, sharePoint] : pointIndex)
   {
+    share.WholePoint.push_back(wholePoint);
     sharePoint = next;
     share.Points.row(next++) = mesh.Points.row(wholePoint);
   }
@@ -628,14 +630,15 @@ std::vector<double> TwoThicknesses(const testshapes::TestMesh& mesh)
 
 /// PartitionBySDF on `share` with the thread group; global ids = whole face index x idStep
 /// (1: dense ids, as the reader's; larger: sparse ids, in the same order).
-PartitionResult PartitionShareOf(const Share& share, const ProcessGroup& group, std::int64_t idStep = 1)
+PartitionResult PartitionShareOf(
+  const Share& share, const ProcessGroup& group, std::int64_t idStep = 1, bool pointIds = false)
 {
   std::vector<std::int64_t> ids;
   for (const std::size_t f : share.WholeFace)
   {
     ids.push_back(static_cast<std::int64_t>(f) * idStep + 7);
   }
-  const PartitionShare partitionShare{ ids, share.Own, group };
+  const PartitionShare partitionShare{ ids, share.Own, group, pointIds ? &share.WholePoint : nullptr };
   const Eigen::Map<const Eigen::VectorXd> values(share.Values.data(), static_cast<Eigen::Index>(share.Values.size()));
   return PartitionBySDF(
     PartitionInput{ share.Points, share.Offsets, share.Connectivity, values, nullptr, &partitionShare });
@@ -742,6 +745,53 @@ TEST(PartitionOnShares, AHaloThatMissesANeighbourThrowsOnEveryProcess)
       }
     });
     EXPECT_EQ(thrown, (std::vector<int>{ 1, 1 })) << (oneSided ? "one-sided" : "no halo");
+  }
+}
+
+
+TEST(PartitionOnShares, ASeamOfDuplicatedPointsIsNoMissedAdjacencyWithGlobalPointIds)
+{
+  // The upper half's faces use copies of their points: the halves meet at the equator along
+  // sides with equal coordinates but distinct points, which the whole surface does not join.
+  testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
+  const Eigen::Index n = mesh.Points.rows();
+  mesh.Points.conservativeResize(2 * n, 3);
+  mesh.Points.bottomRows(n) = mesh.Points.topRows(n);
+  for (Eigen::Index f = 0; f < mesh.Faces(); ++f)
+  {
+    const double z = (mesh.Points(mesh.Triangles(f, 0), 2) + mesh.Points(mesh.Triangles(f, 1), 2) +
+                       mesh.Points(mesh.Triangles(f, 2), 2)) / 3.0;
+    if (z > 0.0)
+    {
+      mesh.Triangles.row(f).array() += static_cast<int>(n);
+    }
+  }
+  const std::vector<double> values = TwoThicknesses(mesh);
+  const Eigen::Map<const Eigen::VectorXd> wholeValues(values.data(), static_cast<Eigen::Index>(values.size()));
+  const PartitionResult serial = PartitionBySDF(mesh.Points, mesh.Triangles, wholeValues);
+  const FaceGraph& whole = *serial.Graph;
+  ASSERT_GT(whole.BoundaryEdgeCount, 0u); // the seam is open
+  const double width = *std::max_element(whole.CenterDistances.begin(), whole.CenterDistances.end());
+  for (const bool pointIds : { true, false })
+  {
+    std::vector<int> thrown(2, 0);
+    OnThreads(2, [&](int rank, const ProcessGroup& group) {
+      const auto owns = [&](std::size_t f) { return (whole.Centers(static_cast<Eigen::Index>(f), 2) > 0.0) == (rank == 1); };
+      const Share share = MakeShare(mesh, values, whole, owns, width * 1.001);
+      try
+      {
+        const PartitionResult result = PartitionShareOf(share, group, 1, pointIds);
+        ExpectSerialPartition(serial, result, share);
+      }
+      catch (const HaloTooNarrowError&)
+      {
+        thrown[static_cast<std::size_t>(rank)] = 1;
+      }
+    });
+    // By coordinates the seam's sides look like an adjacency both halos missed: the documented
+    // fallback to one process. By the corners' ids they are what they are: open sides.
+    EXPECT_EQ(thrown, pointIds ? (std::vector<int>{ 0, 0 }) : (std::vector<int>{ 1, 1 }))
+      << (pointIds ? "global point ids" : "coordinates");
   }
 }
 

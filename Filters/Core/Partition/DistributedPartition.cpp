@@ -27,9 +27,10 @@ struct OwnRows
 };
 
 /// Appends the open sides of face f (sides no neighbour in the share has) to `openSides`.
-void AddOpenSides(const PartitionInput& input, const FaceGraph& graph, std::size_t f, double id,
+void AddOpenSides(const PartitionInput& input, const FaceGraph& graph, const PartitionShare& share, std::size_t f,
   std::vector<double>& openSides)
 {
+  const auto id = static_cast<double>(share.GlobalIds[f]);
   const auto corners = [&](std::size_t face) {
     return std::make_pair(input.FaceConnectivity.begin() + input.FaceOffsets[face],
       input.FaceConnectivity.begin() + input.FaceOffsets[face + 1]);
@@ -49,7 +50,14 @@ void AddOpenSides(const PartitionInput& input, const FaceGraph& graph, std::size
       const auto [first, last] = corners(static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)]));
       shared = std::find(first, last, a) != last && std::find(first, last, b) != last;
     }
-    if (!shared)
+    if (!shared && share.GlobalPointIds)
+    {
+      // The corners' global ids: the whole surface joins exactly the faces whose corners share them.
+      const auto [low, high] = std::minmax((*share.GlobalPointIds)[static_cast<std::size_t>(a)],
+        (*share.GlobalPointIds)[static_cast<std::size_t>(b)]);
+      openSides.insert(openSides.end(), { id, static_cast<double>(low), static_cast<double>(high), 0.0, 0.0, 0.0, 0.0 });
+    }
+    else if (!shared)
     {
       Eigen::RowVector3d p = input.Points.row(static_cast<Eigen::Index>(a));
       Eigen::RowVector3d q = input.Points.row(static_cast<Eigen::Index>(b));
@@ -72,7 +80,7 @@ OwnRows RowsOfOwnFaces(const PartitionInput& input, const FaceGraph& graph, cons
     {
       continue;
     }
-    AddOpenSides(input, graph, f, static_cast<double>(share.GlobalIds[f]), rows.OpenSides);
+    AddOpenSides(input, graph, share, f, rows.OpenSides);
     rows.Ids.push_back(static_cast<double>(share.GlobalIds[f]));
     rows.Values.push_back(values[static_cast<Eigen::Index>(f)]);
     rows.Areas.push_back(graph.Areas[f]);
@@ -491,6 +499,10 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
   if (share.GlobalIds.size() != faceCount || share.Own.size() != faceCount)
   {
     throw Error("partition: the share's global ids or own flags do not match its faces");
+  }
+  if (share.GlobalPointIds && share.GlobalPointIds->size() != static_cast<std::size_t>(input.Points.rows()))
+  {
+    throw Error("partition: the share's global point ids do not match its points");
   }
   for (const std::int64_t id : share.GlobalIds)
   {

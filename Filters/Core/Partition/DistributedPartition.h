@@ -15,7 +15,7 @@
 //     3. the first process orders the rows by global id (a face several processes own is taken
 //        once), checks that every adjacency is listed from both sides and that no two faces
 //        report the same side as open (no face of their share has it: an adjacency both halos
-//        missed; sides are compared by their corners' coordinates), and runs
+//        missed; sides are compared by their corners' global ids, or coordinates), and runs
 //        PartitionOnDualGraph, steps 2 to 8 of the partition;
 //     4. it sends every process the model, the energy and, per own face, the probabilities, band,
 //        fine label and segment (one process at a time); levels follow from the bands.
@@ -58,6 +58,12 @@ struct PartitionShare
   /// Per face of the share: 1 for this process's own faces, 0 for the halo.
   const std::vector<std::uint8_t>& Own;
   const ProcessGroup& Group;
+  /// Optional, per point of the share: its id in the whole surface. With them the check for
+  /// adjacencies both halos missed compares sides by their corners' ids, as the whole surface
+  /// joins faces; without, by their coordinates, and two faces whose sides meet at distinct
+  /// points with equal coordinates (a seam of duplicated points) are taken for a missed
+  /// adjacency (the caller then partitions on one process).
+  const std::vector<std::int64_t>* GlobalPointIds = nullptr;
 };
 
 /// PartitionBySDF with input.Share set (see the header comment); PartitionBySDF calls it.
