@@ -20,7 +20,8 @@ ctest reports them as skipped, never as passed. The results are fetched to rank 
 through the wrapped classes (package shapediameter): SDF within 1e-6 relative (it is in
 fact identical), SDFValidRays, SDFSmoothed, SDFNormalized, SDFCluster, SDFLevel*,
 SDFSegment, SDFProbabilities, SkeletonNodeId, SkeletonBoneId and the polygon winding
-identical, the fitted mixture identical, the skeleton (nodes, radii, polylines) and the
+identical, the fitted mixture identical, a partition given the first one's mixture as its family
+Model labelling as the serial one, the skeleton (nodes, radii, polylines) and the
 projected point cloud identical.
 
 Prints one line per check and a closing line 'N passed, N failed'; exit status 1 on any failure.
@@ -287,6 +288,16 @@ if rows:
         compare_cell_array(fetched_surface, rows, name)
     for name in ("SDFGMMMeans", "SDFGMMSigmas", "SDFGMMWeights", "SDFClusterCount", "SDFEnergy"):
         compare_field(fetched_surface, name)
+    # A partition given a family model (Model: the partition above, through its distributed
+    # output's field data) takes that mixture as is: its labels are the serial ones.
+    # (the array named, as the README says scripts should: a proxy created after its input ran
+    # may take another source's active array by default)
+    fetched_family = servermanager.Fetch(simple.SDFGMMPartition(
+        Input=smooth, Model=partition, NormalizedSDFArray=["CELLS", "SDFNormalized"]))
+    family_rows = by_global_id(fetched_family, "distributed partition with the family model")
+    if family_rows:
+        for name in ("SDFCluster", "SDFSegment"):
+            compare_cell_array(fetched_family, family_rows, name)
     # Winding and geometry of every face (AutoOrient may rewind polygons).
     mismatched = 0
     mine_ids, theirs_ids = vtkIdList(), vtkIdList()
