@@ -13,7 +13,8 @@
  *    own cells back on the surface port. A filter whose CanRunReplicated() is true runs it
  *    on every process instead, on the whole surface, each process computing its own cells;
  *    one whose CanRunWithHalo() is true runs it on every process on its own cells plus a halo
- *    of its neighbours' (HaloRadius wide), without collecting the surface.
+ *    of its neighbours' (HaloRadius wide, or the cells sharing a corner with its own when
+ *    HaloOfSharedCorners() is true), without collecting the surface.
  * 2. The surface port starts as a shallow copy of the input.
  * 3. An input without cells: a warning, and that copy.
  * 4. An input without polygons (without polygons and triangle strips, for the filters that
