@@ -244,6 +244,38 @@ TEST(ProcessGroup, SingleProcessCollectivesAreTheIdentity)
     (std::vector<double>{ -1.0, 3.0, 3.0, 5.0 }));
 }
 
+TEST(ProcessGroup, GatherOnFirstAndScatterFromFirstKeepProcessOrder)
+{
+  EXPECT_EQ(SingleProcess().Rank(), 0);
+  EXPECT_EQ(SingleProcess().GatherOnFirst({ 1.0, 2.0 }), (std::vector<std::vector<double>>{ { 1.0, 2.0 } }));
+  EXPECT_EQ(SingleProcess().ScatterFromFirst([](int r) { return std::vector<double>{ 10.0 + r }; }),
+    (std::vector<double>{ 10.0 }));
+  std::vector<int> partsMade(3, 0);
+  std::mutex madeMutex;
+  OnThreads(3, [&](int rank, const ProcessGroup& group) {
+    EXPECT_EQ(group.Rank(), rank);
+    // Process 1 sends nothing: an empty entry keeps its place.
+    std::vector<double> mine(rank == 1 ? 0 : static_cast<std::size_t>(rank) + 1, static_cast<double>(rank));
+    const std::vector<std::vector<double>> gathered = group.GatherOnFirst(mine);
+    if (rank == 0)
+    {
+      EXPECT_EQ(gathered, (std::vector<std::vector<double>>{ { 0.0 }, {}, { 2.0, 2.0, 2.0 } }));
+    }
+    else
+    {
+      EXPECT_TRUE(gathered.empty());
+    }
+    const std::vector<double> part = group.ScatterFromFirst([&](int r) {
+      std::lock_guard<std::mutex> lock(madeMutex);
+      ++partsMade[static_cast<std::size_t>(r)];
+      EXPECT_EQ(rank, 0) << "parts are made on the first process only";
+      return r == 1 ? std::vector<double>{} : std::vector<double>(static_cast<std::size_t>(r) + 2, 100.0 + r);
+    });
+    EXPECT_EQ(part, rank == 1 ? std::vector<double>{} : std::vector<double>(static_cast<std::size_t>(rank) + 2, 100.0 + rank));
+  });
+  EXPECT_EQ(partsMade, (std::vector<int>{ 1, 1, 1 }));
+}
+
 TEST(ProcessGroup, OrderStatisticsCoverTheWholeRangeOfDoubles)
 {
   const double largest = std::numeric_limits<double>::max();
