@@ -119,28 +119,29 @@ void KeepCellArrays(vtkCellData* cells, const std::vector<std::string>& keep)
   }
 }
 
-/// Process 0 to process r: the elements of `items` (ids, a text), their count first.
+/// To process `to`: the elements of `items` (ids, a text, values), their count first
+/// (vtkCommunicator splits sends above 2^31 bytes).
 template <typename Container>
-void SendSized(vtkMultiProcessController* controller, const Container& items, int r, int tag)
+void SendSized(vtkMultiProcessController* controller, const Container& items, int to, int tag)
 {
   vtkIdType count = static_cast<vtkIdType>(items.size());
-  controller->Send(&count, 1, r, tag);
+  controller->Send(&count, 1, to, tag);
   if (count > 0)
   {
-    controller->Send(items.data(), count, r, tag + 1);
+    controller->Send(items.data(), count, to, tag + 1);
   }
 }
 
-/// On process r: what SendSized sent it.
+/// What SendSized sent this process from process `from`.
 template <typename Container>
-Container ReceiveSized(vtkMultiProcessController* controller, int tag)
+Container ReceiveSized(vtkMultiProcessController* controller, int from, int tag)
 {
   vtkIdType count = 0;
-  controller->Receive(&count, 1, 0, tag);
+  controller->Receive(&count, 1, from, tag);
   Container items(static_cast<std::size_t>(std::max<vtkIdType>(count, 0)), typename Container::value_type{});
   if (count > 0)
   {
-    controller->Receive(items.data(), count, 0, tag + 1);
+    controller->Receive(items.data(), count, from, tag + 1);
   }
   return items;
 }
@@ -380,7 +381,7 @@ int ReceiveResults(vtkAlgorithm* algorithm, vtkMultiProcessController* controlle
   vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts)
 {
   const int status = WaitForStatus(controller);
-  const auto failure = ReceiveSized<std::string>(controller, FAILURE_TAG);
+  const auto failure = ReceiveSized<std::string>(controller, 0, FAILURE_TAG);
   if (!failure.empty())
   {
     vtkErrorWithObjectMacro(algorithm, << failure << " (process 0, which ran the filter on the whole surface; this process keeps its input)");
@@ -672,30 +673,6 @@ struct GroupState
   bool AnyEnded = false;
 };
 
-/// `values` to process `to`, their count first (vtkCommunicator splits sends above 2^31 bytes).
-void SendDoubles(vtkMultiProcessController* controller, const std::vector<double>& values, int to, int tag)
-{
-  vtkIdType count = static_cast<vtkIdType>(values.size());
-  controller->Send(&count, 1, to, tag);
-  if (count > 0)
-  {
-    controller->Send(values.data(), count, to, tag + 1);
-  }
-}
-
-/// What SendDoubles sent from process `from`.
-std::vector<double> ReceiveDoubles(vtkMultiProcessController* controller, int from, int tag)
-{
-  vtkIdType count = 0;
-  controller->Receive(&count, 1, from, tag);
-  std::vector<double> values(static_cast<std::size_t>(std::max<vtkIdType>(count, 0)));
-  if (count > 0)
-  {
-    controller->Receive(values.data(), count, from, tag + 1);
-  }
-  return values;
-}
-
 /// Every process's outcome and whether it has ended, combined on every process through
 /// process 0; the waiting processes sleep.
 GroupState ExchangeStates(vtkMultiProcessController* controller, int outcome, bool ended)
@@ -781,13 +758,13 @@ public:
     const int processes = this->Controller->GetNumberOfProcesses();
     if (this->Rank() != 0)
     {
-      SendDoubles(this->Controller, values, 0, GATHER_ON_FIRST_TAG);
+      SendSized(this->Controller, values, 0, GATHER_ON_FIRST_TAG);
       return {};
     }
     std::vector<std::vector<double>> all{ values };
     for (int r = 1; r < processes; ++r)
     {
-      all.push_back(ReceiveDoubles(this->Controller, r, GATHER_ON_FIRST_TAG));
+      all.push_back(ReceiveSized<std::vector<double>>(this->Controller, r, GATHER_ON_FIRST_TAG));
     }
     return all;
   }
@@ -797,11 +774,11 @@ public:
     this->Proceed();
     if (this->Rank() != 0)
     {
-      return ReceiveDoubles(this->Controller, 0, SCATTER_FROM_FIRST_TAG);
+      return ReceiveSized<std::vector<double>>(this->Controller, 0, SCATTER_FROM_FIRST_TAG);
     }
     for (int r = 1; r < this->Controller->GetNumberOfProcesses(); ++r)
     {
-      SendDoubles(this->Controller, part(r), r, SCATTER_FROM_FIRST_TAG);
+      SendSized(this->Controller, part(r), r, SCATTER_FROM_FIRST_TAG);
     }
     return part(0);
   }
@@ -853,8 +830,9 @@ Halo ExchangeHalos(vtkMultiProcessController* controller, vtkPolyData* local, do
 {
   const int processes = controller->GetNumberOfProcesses();
   const bool corners = kind == HaloKind::SharedCorners;
-  const std::vector<double> centers = corners ? PointCoordinates(local) : CellCenters(local);
-  std::vector<double> bounds = CenterBounds(centers);
+  // The cells' centres, or with SharedCorners the points: what the voxels hold.
+  const std::vector<double> positions = corners ? PointCoordinates(local) : CellCenters(local);
+  std::vector<double> bounds = CenterBounds(positions);
   std::vector<double> allBounds(6 * static_cast<std::size_t>(processes));
   controller->AllGather(bounds.data(), allBounds.data(), 6);
   const double infinity = std::numeric_limits<double>::infinity();
@@ -876,8 +854,8 @@ Halo ExchangeHalos(vtkMultiProcessController* controller, vtkPolyData* local, do
   // The centres here and the face graph's may differ in the last bits.
   const double rounding = 1e-9 * radius + 1e-12 * largest;
   const VoxelGrid grid = VoxelGrid::Around(whole, radius + rounding);
-  const std::vector<std::int64_t> cellVoxels = CellVoxels(centers, grid);
-  std::vector<vtkIdType> occupied(cellVoxels.begin(), cellVoxels.end());
+  const std::vector<std::int64_t> positionVoxels = CellVoxels(positions, grid);
+  std::vector<vtkIdType> occupied(positionVoxels.begin(), positionVoxels.end());
   std::sort(occupied.begin(), occupied.end());
   occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
   vtkIdType count = static_cast<vtkIdType>(occupied.size());
@@ -895,7 +873,7 @@ Halo ExchangeHalos(vtkMultiProcessController* controller, vtkPolyData* local, do
     const auto first = allOccupied.begin() + offsets[static_cast<std::size_t>(other)];
     const std::vector<std::int64_t> voxels(first, first + counts[static_cast<std::size_t>(other)]);
     return ExtractPolygons(local,
-      corners ? CellsWithCornerInVoxels(local, cellVoxels, voxels) : CellsNearVoxels(cellVoxels, voxels));
+      corners ? CellsWithCornerInVoxels(local, positionVoxels, voxels) : CellsNearVoxels(positionVoxels, voxels));
   });
   // Two centres within the voxel size lie in the same or neighbouring voxels.
   halo.Width = corners ? 0.0 : grid.Size - rounding;

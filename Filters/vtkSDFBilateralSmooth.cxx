@@ -68,11 +68,7 @@ double vtkSDFBilateralSmooth::HaloRadius(vtkPolyData* piece, const shapediameter
 {
   using namespace shapediameter;
   SmoothedValues(this, piece); // a piece without a usable array runs on process 0, which reports it
-  std::vector<std::int64_t> offsets, connectivity;
-  adapter::PolygonCells(piece, offsets, connectivity);
-  const std::vector<std::uint8_t> own(offsets.empty() ? 0 : offsets.size() - 1, 1);
-  const double meanEdgeLength =
-    MeanEdgeLengthOverProcesses(adapter::PointsOf(piece), offsets, connectivity, own, group);
+  const double meanEdgeLength = MeanEdgeLengthOverPieces(piece, group);
   BilateralSmoothingOptions smoothing;
   smoothing.NeighborhoodRadius = this->NeighborhoodRadius;
   smoothing.SpatialSigma = this->SpatialSigma;

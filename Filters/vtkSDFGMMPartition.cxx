@@ -160,12 +160,8 @@ std::vector<std::string> vtkSDFGMMPartition::CellArraysRead()
 
 double vtkSDFGMMPartition::HaloRadius(vtkPolyData* piece, const shapediameter::ProcessGroup& group)
 {
-  using namespace shapediameter;
-  std::vector<std::int64_t> offsets, connectivity;
-  adapter::PolygonCells(piece, offsets, connectivity);
-  const std::vector<std::uint8_t> own(offsets.empty() ? 0 : offsets.size() - 1, 1);
   // Any size finds every shared corner; about two edges gives a halo of one or two rings.
-  return 2.0 * MeanEdgeLengthOverProcesses(adapter::PointsOf(piece), offsets, connectivity, own, group);
+  return 2.0 * MeanEdgeLengthOverPieces(piece, group);
 }
 
 bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request)

@@ -2,6 +2,7 @@
 #include "vtkSDFSurfaceAlgorithm.h"
 
 #include "DistributedSupport.h"
+#include "Mesh/FaceGraph.h"
 #include "ProcessGroup.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
@@ -129,6 +130,15 @@ int vtkSDFSurfaceAlgorithm::RequestData(
   }
   this->UpdateProgress(1.0);
   return 1;
+}
+
+double vtkSDFSurfaceAlgorithm::MeanEdgeLengthOverPieces(vtkPolyData* piece, const shapediameter::ProcessGroup& group)
+{
+  using namespace shapediameter;
+  std::vector<std::int64_t> offsets, connectivity;
+  adapter::PolygonCells(piece, offsets, connectivity);
+  const std::vector<std::uint8_t> own(offsets.empty() ? 0 : offsets.size() - 1, 1);
+  return MeanEdgeLengthOverProcesses(adapter::PointsOf(piece), offsets, connectivity, own, group);
 }
 
 double vtkSDFSurfaceAlgorithm::HaloRadius(vtkPolyData*, const shapediameter::ProcessGroup&)

@@ -122,6 +122,10 @@ protected:
    */
   virtual bool HaloOfSharedCorners() const { return false; }
 
+  /// For HaloRadius: the whole surface's mean edge length, from every process's `piece` (its
+  /// polygons; collective, MeanEdgeLengthOverProcesses in Filters/Core/Mesh/FaceGraph.h).
+  static double MeanEdgeLengthOverPieces(vtkPolyData* piece, const shapediameter::ProcessGroup& group);
+
   /**
    * Distributed runs on process 0: the cell arrays ExecuteSurface reads, so that only those
    * travel to process 0 (distributed::RunOnWholeSurface); empty (the default) = all of them.

@@ -520,10 +520,6 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
   PartitionResult wholeResult;
   if (group.Rank() == 0 && whole.HaloProblem.empty())
   {
-    if (whole.Ids.empty())
-    {
-      throw Error("partition: no faces");
-    }
     if (progress && !progress(0.1))
     {
       wholeResult.Aborted = true;
@@ -532,7 +528,7 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
     {
       const Eigen::Map<const Eigen::VectorXd> values(whole.Values.data(), static_cast<Eigen::Index>(whole.Values.size()));
       wholeResult =
-        PartitionOnDualGraph(whole.View(), values, input.FamilyModel, options, parallelFor, progress);
+        PartitionOnDualGraph(whole.View(), whole.Areas, values, input.FamilyModel, options, parallelFor, progress);
     }
     // What the other processes do not need, before the parts are made.
     whole.Neighbors = {};

@@ -45,9 +45,14 @@ GaussianMixtureModel FitClusterModel(ValuesView values, const std::vector<double
     : FitGaussianMixture(values, options.NumberOfClusters, options.Mixture);
 }
 
-PartitionResult PartitionOnGraph(const DualGraphView& view, const std::vector<double>& areas, ValuesView faceValues,
-  const GaussianMixtureModel* familyModel, const PartitionOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress);
+/// Throws Error unless there is one value per face.
+void CheckValueCount(ValuesView values, std::size_t faceCount)
+{
+  if (static_cast<std::size_t>(values.size()) != faceCount)
+  {
+    throw Error("partition: " + std::to_string(values.size()) + " values for " + std::to_string(faceCount) + " faces");
+  }
+}
 
 /// The refinement's options with the partition's own energy and cut.
 PartRefinementOptions RefinementOptions(const PartitionOptions& options)
@@ -81,11 +86,7 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
   {
     throw Error("partition: no faces");
   }
-  if (static_cast<std::size_t>(input.FaceValues.size()) != faceCount)
-  {
-    throw Error("partition: " + std::to_string(input.FaceValues.size()) + " values for " +
-      std::to_string(faceCount) + " faces");
-  }
+  CheckValueCount(input.FaceValues, faceCount);
   if (input.Share)
   {
     return PartitionOverProcesses(input, *input.Share, options, parallelFor, progress);
@@ -100,14 +101,14 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
   {
     return AbortedResult();
   }
-  PartitionResult result = PartitionOnGraph(
+  PartitionResult result = PartitionOnDualGraph(
     MakeDualGraphView(*graph), graph->Areas, input.FaceValues, input.FamilyModel, options, parallelFor, progress);
   result.Graph = std::move(graph);
   result.Timings.FaceGraphMs = faceGraphMs;
   return result;
 }
 
-PartitionResult PartitionOnDualGraph(const DualGraphView& view, ValuesView faceValues,
+PartitionResult PartitionOnDualGraph(DualGraphView view, const std::vector<double>& areas, ValuesView faceValues,
   const GaussianMixtureModel* familyModel, const PartitionOptions& options, const ParallelFor& parallelFor,
   const ProgressCallback& progress)
 {
@@ -116,25 +117,13 @@ PartitionResult PartitionOnDualGraph(const DualGraphView& view, ValuesView faceV
   {
     throw Error("partition: no faces");
   }
-  if (static_cast<std::size_t>(faceValues.size()) != view.FaceCount)
+  CheckValueCount(faceValues, view.FaceCount);
+  if (areas.size() != view.FaceCount)
   {
-    throw Error("partition: " + std::to_string(faceValues.size()) + " values for " +
-      std::to_string(view.FaceCount) + " faces");
+    throw Error("partition: " + std::to_string(areas.size()) + " face areas for " + std::to_string(view.FaceCount) +
+      " faces");
   }
-  if (!view.FaceArea)
-  {
-    throw Error("partition: the dual graph has no face areas");
-  }
-  const std::vector<double> areas(view.FaceArea, view.FaceArea + view.FaceCount);
-  return PartitionOnGraph(view, areas, faceValues, familyModel, options, parallelFor, progress);
-}
-
-namespace
-{
-PartitionResult PartitionOnGraph(const DualGraphView& view, const std::vector<double>& areas, ValuesView faceValues,
-  const GaussianMixtureModel* familyModel, const PartitionOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress)
-{
+  view.FaceArea = areas.data();
   PartitionResult result;
   Clock::time_point start = Clock::now();
 
@@ -203,7 +192,6 @@ PartitionResult PartitionOnGraph(const DualGraphView& view, const std::vector<do
   }
   return result;
 }
-} // namespace
 
 PartitionResult PartitionBySDF(PointsView points, TrianglesView triangles, ValuesView faceValues,
   const PartitionOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress)

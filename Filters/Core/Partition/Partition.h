@@ -222,13 +222,14 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
 
 /**
  * Steps 2 to 8 on a dual graph that is already built (step 1 of PartitionBySDF): the
- * partition of the faces of `graph`, one value each. PartitionBySDF builds the graph from
- * polygons; a distributed run assembles it from the rows every process computed for its own
- * faces (Partition/DistributedPartition.h). Validates the graph (ValidateDualGraph). The result
- * has no Graph and no FaceGraphMs; progress as PartitionBySDF's, from 0.1.
+ * partition of the faces of `graph`, one value each, with `faceAreas` as their areas (the
+ * graph's FaceArea is not read). PartitionBySDF builds the graph from polygons; a distributed
+ * run assembles it from the rows every process computed for its own faces
+ * (Partition/DistributedPartition.h). Validates the graph (ValidateDualGraph). The result has
+ * no Graph and no FaceGraphMs; progress as PartitionBySDF's, from 0.1.
  */
-PartitionResult PartitionOnDualGraph(const DualGraphView& graph, ValuesView faceValues,
-  const GaussianMixtureModel* familyModel, const PartitionOptions& options = {},
+PartitionResult PartitionOnDualGraph(DualGraphView graph, const std::vector<double>& faceAreas,
+  ValuesView faceValues, const GaussianMixtureModel* familyModel, const PartitionOptions& options = {},
   const ParallelFor& parallelFor = SerialFor, const ProgressCallback& progress = {});
 
 /// Convenience: a triangle mesh.
