@@ -35,6 +35,7 @@
 #include <numeric>
 #include <string>
 #include <thread>
+#include <utility>
 
 namespace shapediameter::distributed
 {
@@ -673,6 +674,37 @@ struct GroupState
   bool AnyEnded = false;
 };
 
+/// Every process's values on every process, concatenated in process order, and each
+/// process's count and offset in them.
+template <typename T>
+struct Gathered
+{
+  std::vector<T> All;
+  std::vector<vtkIdType> Counts, Offsets;
+};
+
+/// Gathered `values` of every process (any count each, none included). Collective.
+template <typename T>
+Gathered<T> AllGatherVariable(vtkMultiProcessController* controller, std::vector<T> values)
+{
+  const auto processes = static_cast<std::size_t>(controller->GetNumberOfProcesses());
+  Gathered<T> gathered;
+  gathered.Counts.resize(processes);
+  gathered.Offsets.assign(processes, 0);
+  vtkIdType mine = static_cast<vtkIdType>(values.size());
+  controller->AllGather(&mine, gathered.Counts.data(), 1);
+  for (std::size_t r = 1; r < processes; ++r)
+  {
+    gathered.Offsets[r] = gathered.Offsets[r - 1] + gathered.Counts[r - 1];
+  }
+  const auto total = static_cast<std::size_t>(gathered.Offsets.back() + gathered.Counts.back());
+  values.resize(std::max<std::size_t>(values.size(), 1)); // valid buffers even when empty
+  gathered.All.resize(std::max<std::size_t>(total, 1));
+  controller->AllGatherV(values.data(), gathered.All.data(), mine, gathered.Counts.data(), gathered.Offsets.data());
+  gathered.All.resize(total);
+  return gathered;
+}
+
 /// Every process's outcome and whether it has ended, combined on every process through
 /// process 0; the waiting processes sleep.
 GroupState ExchangeStates(vtkMultiProcessController* controller, int outcome, bool ended)
@@ -709,21 +741,7 @@ public:
   std::vector<double> AllGather(const std::vector<double>& values) const override
   {
     this->Proceed();
-    const auto processes = static_cast<std::size_t>(this->Controller->GetNumberOfProcesses());
-    vtkIdType mine = static_cast<vtkIdType>(values.size());
-    std::vector<vtkIdType> lengths(processes), offsets(processes, 0);
-    this->Controller->AllGather(&mine, lengths.data(), 1);
-    for (std::size_t r = 1; r < processes; ++r)
-    {
-      offsets[r] = offsets[r - 1] + lengths[r - 1];
-    }
-    std::vector<double> all(static_cast<std::size_t>(offsets.back() + lengths.back()));
-    std::vector<double> sent(values);
-    sent.resize(std::max<std::size_t>(sent.size(), 1)); // a valid buffer even when empty
-    all.resize(std::max<std::size_t>(all.size(), 1));
-    this->Controller->AllGatherV(sent.data(), all.data(), mine, lengths.data(), offsets.data());
-    all.resize(static_cast<std::size_t>(offsets.back() + lengths.back()));
-    return all;
+    return AllGatherVariable(this->Controller, values).All;
   }
 
   void SumInPlace(std::vector<std::int64_t>& values) const override
@@ -858,20 +876,11 @@ Halo ExchangeHalos(vtkMultiProcessController* controller, vtkPolyData* local, do
   std::vector<vtkIdType> occupied(positionVoxels.begin(), positionVoxels.end());
   std::sort(occupied.begin(), occupied.end());
   occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
-  vtkIdType count = static_cast<vtkIdType>(occupied.size());
-  std::vector<vtkIdType> counts(static_cast<std::size_t>(processes)), offsets(static_cast<std::size_t>(processes), 0);
-  controller->AllGather(&count, counts.data(), 1);
-  for (std::size_t r = 1; r < counts.size(); ++r)
-  {
-    offsets[r] = offsets[r - 1] + counts[r - 1];
-  }
-  std::vector<vtkIdType> allOccupied(static_cast<std::size_t>(std::max<vtkIdType>(offsets.back() + counts.back(), 1)));
-  occupied.resize(std::max<std::size_t>(occupied.size(), 1)); // a valid buffer even when empty
-  controller->AllGatherV(occupied.data(), allOccupied.data(), count, counts.data(), offsets.data());
+  const Gathered<vtkIdType> allOccupied = AllGatherVariable(controller, std::move(occupied));
   Halo halo;
   halo.Received = ExchangeWithEveryProcess(controller, [&](int other) {
-    const auto first = allOccupied.begin() + offsets[static_cast<std::size_t>(other)];
-    const std::vector<std::int64_t> voxels(first, first + counts[static_cast<std::size_t>(other)]);
+    const auto first = allOccupied.All.begin() + allOccupied.Offsets[static_cast<std::size_t>(other)];
+    const std::vector<std::int64_t> voxels(first, first + allOccupied.Counts[static_cast<std::size_t>(other)]);
     return ExtractPolygons(local,
       corners ? CellsWithCornerInVoxels(local, positionVoxels, voxels) : CellsNearVoxels(positionVoxels, voxels));
   });
