@@ -527,8 +527,13 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
     else
     {
       const Eigen::Map<const Eigen::VectorXd> values(whole.Values.data(), static_cast<Eigen::Index>(whole.Values.size()));
-      wholeResult =
-        PartitionOnDualGraph(whole.View(), whole.Areas, values, input.FamilyModel, options, parallelFor, progress);
+      const auto releaseEdgeGeometry = [&whole] {
+        whole.NormalAngles = {};
+        whole.EdgeLengths = {};
+        whole.Concave = {};
+      };
+      wholeResult = PartitionOnDualGraph(
+        whole.View(), whole.Areas, values, input.FamilyModel, options, parallelFor, progress, releaseEdgeGeometry);
     }
     // What the other processes do not need, before the parts are made.
     whole.Neighbors = {};

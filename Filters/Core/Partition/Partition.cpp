@@ -111,7 +111,7 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
 
 PartitionResult PartitionOnDualGraph(DualGraphView view, const std::vector<double>& areas, ValuesView faceValues,
   const GaussianMixtureModel* familyModel, const PartitionOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress)
+  const ProgressCallback& progress, const std::function<void()>& releaseEdgeGeometry)
 {
   ValidatePartitionOptions(options);
   if (view.FaceCount == 0)
@@ -146,6 +146,13 @@ PartitionResult PartitionOnDualGraph(DualGraphView view, const std::vector<doubl
   // it (the same function of the same values, so the same bits). The cut is the step's peak,
   // which this lowers by k doubles per face (33 MB at 832k faces and k = 5).
   result.Probabilities = PosteriorMatrix();
+  if (releaseEdgeGeometry && !options.Refinement.Enabled)
+  {
+    releaseEdgeGeometry();
+    view.NormalAngle = nullptr;
+    view.Concave = nullptr;
+    view.EdgeLength = nullptr;
+  }
   result.Timings.EnergyMs = Lap(start);
 
   // 5. The k-way graph cut.

@@ -71,6 +71,7 @@
 #include "Partition/PartitionEnergy.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -227,10 +228,17 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
  * run assembles it from the rows every process computed for its own faces
  * (Partition/DistributedPartition.h). Validates the graph (ValidateDualGraph). The result has
  * no Graph and no FaceGraphMs; progress as PartitionBySDF's, from 0.1.
+ *
+ * releaseEdgeGeometry, if given, is called once the energy is built when nothing after it reads
+ * the graph's normal angles, concave flags or edge lengths (the refinement, step 7, does: not
+ * called when it is enabled); the caller may free them then. Why: a distributed run's process 0
+ * owns the assembled graph, whose angles, flags and lengths (about 51 bytes per face) would
+ * otherwise stay resident through the cut, the step's peak.
  */
 PartitionResult PartitionOnDualGraph(DualGraphView graph, const std::vector<double>& faceAreas,
   ValuesView faceValues, const GaussianMixtureModel* familyModel, const PartitionOptions& options = {},
-  const ParallelFor& parallelFor = SerialFor, const ProgressCallback& progress = {});
+  const ParallelFor& parallelFor = SerialFor, const ProgressCallback& progress = {},
+  const std::function<void()>& releaseEdgeGeometry = {});
 
 /// Convenience: a triangle mesh.
 PartitionResult PartitionBySDF(PointsView points, TrianglesView triangles, ValuesView faceValues,

@@ -110,6 +110,45 @@ TEST(Partition, OneCallEqualsTheStepsOneByOne)
   }
 }
 
+// A caller that owns the graph may free its angles, concave flags and edge lengths once the
+// energy is built (a distributed run's process 0): the result is the same, and nothing reads
+// them afterwards (freed vectors and null pointers would crash or differ). With the
+// refinement on, which reads them, the caller is not asked.
+TEST(Partition, EdgeGeometryIsReleasedAfterTheEnergyUnlessTheRefinementReadsIt)
+{
+  const TwoLevelCapsule shape;
+  const FaceGraph graph = BuildFaceGraph(shape.Mesh.Points, shape.Mesh.Triangles);
+  for (const bool refine : { false, true })
+  {
+    PartitionOptions options;
+    options.Refinement.Enabled = refine;
+    const PartitionResult kept =
+      PartitionOnDualGraph(MakeDualGraphView(graph), graph.Areas, shape.Values, nullptr, options);
+    std::vector<double> angles = graph.NormalAngles;
+    std::vector<double> lengths = graph.SharedEdgeLengths;
+    std::vector<std::uint8_t> concave = graph.Concave;
+    DualGraphView view = MakeDualGraphView(graph);
+    view.NormalAngle = angles.data();
+    view.EdgeLength = lengths.data();
+    view.Concave = concave.data();
+    int releases = 0;
+    const PartitionResult released = PartitionOnDualGraph(view, graph.Areas, shape.Values, nullptr, options,
+      SerialFor, {}, [&] {
+        ++releases;
+        std::vector<double>().swap(angles);
+        std::vector<double>().swap(lengths);
+        std::vector<std::uint8_t>().swap(concave);
+      });
+    EXPECT_EQ(releases, refine ? 0 : 1) << "refinement " << refine;
+    EXPECT_EQ(released.Labels, kept.Labels);
+    EXPECT_EQ(released.Bands, kept.Bands);
+    EXPECT_EQ(released.Energy, kept.Energy);
+    EXPECT_TRUE(released.Probabilities == kept.Probabilities);
+    EXPECT_EQ(released.Segments.Segment, kept.Segments.Segment);
+    EXPECT_EQ(released.Segments.Area, kept.Segments.Area);
+  }
+}
+
 TEST(Partition, AFamilyModelIsUsedAsIs)
 {
   const TwoLevelCapsule shape;
