@@ -935,7 +935,7 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
   start = std::chrono::steady_clock::now();
   // 10 % wider than the radius: a cell that several processes hold (RedistributeDataSet's
   // "assign to all regions") counted once per process in the radius's mean edge length.
-  Halo halo = ExchangeHalos(controller, local, 1.1 * haloRadius, kind);
+  Halo halo = kind == HaloKind::None ? Halo() : ExchangeHalos(controller, local, 1.1 * haloRadius, kind);
   std::vector<vtkSmartPointer<vtkPolyData>>& received = halo.Received;
   std::vector<vtkPolyData*> pieces{ local.GetPointer() };
   std::vector<int> pieceProcess{ rank };

@@ -174,7 +174,10 @@ enum class HaloKind
   CentresWithin,
   /// Every cell sharing a corner with an own cell (and a few more: those with a corner in a
   /// voxel holding one of the process's points); the radius is only the voxels' size.
-  SharedCorners
+  SharedCorners,
+  /// No halo: the body reads its own cells only (and the whole surface's through its own
+  /// collectives); no cells are exchanged.
+  None
 };
 
 /// The halo a filter needs: the distance within which its body reads other cells to compute

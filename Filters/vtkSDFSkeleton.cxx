@@ -2,6 +2,8 @@
 #include "vtkSDFSkeleton.h"
 
 #include "Mesh/Orientation.h"
+#include "DistributedSupport.h"
+#include "Skeleton/DistributedSkeleton.h"
 #include "Skeleton/Skeleton.h"
 #include "SurfaceConversion.h"
 #include "SurfaceRequest.h"
@@ -117,6 +119,106 @@ std::vector<std::int64_t> TriangleSegments(vtkObject* self, vtkPolyData* input,
   }
   return triangleSegments;
 }
+/// Port 1: each cell takes the link of its first triangle (-1 for cells without one).
+void WriteSurfaceLink(vtkPolyData* input, const shapediameter::adapter::TriangulatedSurface& surface,
+  const std::vector<std::int64_t>& triangleNodes, const std::vector<std::int64_t>& triangleBones, vtkPolyData* output)
+{
+  const vtkIdType cellCount = input->GetNumberOfCells();
+  std::vector<std::int64_t> nodeIds(static_cast<std::size_t>(cellCount), -1);
+  std::vector<std::int64_t> boneIds(static_cast<std::size_t>(cellCount), -1);
+  for (vtkIdType cell = 0; cell < cellCount; ++cell)
+  {
+    const auto first = surface.CellFirstTriangle[static_cast<std::size_t>(cell)];
+    if (first < surface.CellFirstTriangle[static_cast<std::size_t>(cell) + 1])
+    {
+      nodeIds[static_cast<std::size_t>(cell)] = triangleNodes[static_cast<std::size_t>(first)];
+      boneIds[static_cast<std::size_t>(cell)] = triangleBones[static_cast<std::size_t>(first)];
+    }
+  }
+  output->GetCellData()->AddArray(IdArray(vtkSDFSkeleton::NODE_ID_ARRAY_NAME, nodeIds));
+  output->GetCellData()->AddArray(IdArray(vtkSDFSkeleton::SURFACE_BONE_ID_ARRAY_NAME, boneIds));
+  output->GetCellData()->SetActiveScalars(vtkSDFSkeleton::SURFACE_BONE_ID_ARRAY_NAME);
+}
+
+/// Port 2: the projected cloud, with the source cell of every point and, when given, its
+/// cluster (SDFCluster of the source cell, one per point).
+void WriteCloud(const SkeletonResult& skeleton, const std::vector<vtkIdType>& sourceCells,
+  const std::vector<int>* clusters, vtkPolyData* output)
+{
+  output->SetPoints(ToPoints(skeleton.CloudPositions));
+  const auto pointCount = static_cast<vtkIdType>(sourceCells.size());
+  vtkNew<vtkCellArray> vertices;
+  vertices->AllocateExact(pointCount, pointCount);
+  for (vtkIdType p = 0; p < pointCount; ++p)
+  {
+    vertices->InsertNextCell(1, &p);
+  }
+  output->SetVerts(vertices);
+  vtkPointData* cloudData = output->GetPointData();
+  cloudData->AddArray(IdArray(vtkSDFSkeleton::SOURCE_FACE_ARRAY_NAME, sourceCells));
+  cloudData->AddArray(DoubleArray(vtkSDFSkeleton::RADIUS_ARRAY_NAME, skeleton.CloudRadius));
+  cloudData->AddArray(DoubleArray(vtkSDFSkeleton::CONFIDENCE_ARRAY_NAME, skeleton.CloudConfidence));
+  cloudData->SetActiveScalars(vtkSDFSkeleton::CONFIDENCE_ARRAY_NAME); // how line-like each point's neighbourhood is
+  if (clusters)
+  {
+    cloudData->AddArray(adapter::MakeArray<vtkIntArray>(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME, *clusters));
+  }
+}
+/// The documented warning when no sample could be placed.
+void WarnWithoutArea(vtkObject* self, const SkeletonResult& skeleton)
+{
+  if (skeleton.CloudPositions.rows() == 0)
+  {
+    // Samples are placed in proportion to area: a surface whose triangles all have zero
+    // area at double precision (coincident points, or lengths whose squares underflow)
+    // gets none, and only the documented placeholder node per component.
+    vtkWarningWithObjectMacro(self, "The surface has no area: no sample could be placed, the skeleton is one node per component.");
+  }
+}
+
+/// A distributed run (vtkSDFSkeleton's CanRunWithHalo): each process's own cells, the skeleton
+/// built on process 0 from what every process sends it (Skeleton/DistributedSkeleton.h).
+bool ExecuteOverProcesses(vtkObject* self, const adapter::SurfaceRequest& request,
+  const adapter::TriangulatedSurface& surface, const std::vector<double>& triangleSdf,
+  const std::vector<std::int64_t>& triangleParts, const SkeletonOptions& options, const ProgressCallback& progress)
+{
+  vtkPolyData* input = request.Input;
+  std::vector<double> triangleClusters;
+  if (vtkDataArray* clusters = input->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME))
+  {
+    for (const vtkIdType cell : surface.TriangleCell)
+    {
+      triangleClusters.push_back(clusters->GetComponent(cell, 0));
+    }
+  }
+  const std::vector<std::int64_t> triangleCell(surface.TriangleCell.begin(), surface.TriangleCell.end());
+  const distributed::HaloShare& halo = *request.Halo;
+  const DistributedSkeletonResult result = ComputeSkeletonOverProcesses(
+    SkeletonShareInput{ surface.Points, surface.Triangles, triangleCell, triangleSdf, triangleParts, triangleClusters },
+    SkeletonShare{ halo.GlobalIds, halo.GlobalPointIds, *halo.Group }, options, request.Parallel, progress);
+  if (result.Aborted)
+  {
+    return false;
+  }
+  WriteSurfaceLink(input, surface, result.FaceNodeId, result.FaceBoneId, request.Output);
+  if (halo.Group->Rank() == 0)
+  {
+    // The skeleton and the cloud of the whole surface, on process 0 only; a cloud point's
+    // source cell is the cell's global id.
+    WarnWithoutArea(self, result.Whole);
+    WriteSkeleton(result.Whole, vtkPolyData::GetData(request.OutputVector, 0));
+    std::vector<vtkIdType> sourceCells(result.Whole.CloudSourceFace.size());
+    for (std::size_t p = 0; p < sourceCells.size(); ++p)
+    {
+      sourceCells[p] = result.WholeTriangleCellId[static_cast<std::size_t>(result.Whole.CloudSourceFace[p])];
+    }
+    const std::vector<int> cloudClusters(result.CloudLabels.begin(), result.CloudLabels.end());
+    WriteCloud(result.Whole, sourceCells, result.CloudLabels.empty() ? nullptr : &cloudClusters,
+      vtkPolyData::GetData(request.OutputVector, 2));
+  }
+  return true;
+}
+
 } // namespace
 
 vtkSDFSkeleton::vtkSDFSkeleton()
@@ -160,7 +262,7 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   vtkPolyData* cloudOutput = vtkPolyData::GetData(request.OutputVector, 2);
   adapter::TriangulatedSurface surface;
   std::string reason = adapter::Triangulate(input, surface);
-  if (reason.empty() && surface.Triangles.rows() == 0)
+  if (reason.empty() && surface.Triangles.rows() == 0 && !request.Halo) // distributed: process 0 checks the whole
   {
     // Polygon cells of fewer than three points only: nothing to sample, not even a
     // placeholder node (one per component of triangles).
@@ -187,7 +289,6 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
     throw shapediameter::Error(reason + "."); // reported as "Cannot <task>: <reason>."
   }
 
-  ApplyFlips(surface.Triangles, OrientOutward(surface.Points, surface.Triangles).Flip);
   std::vector<double> triangleSdf(surface.TriangleCell.size());
   for (std::size_t t = 0; t < triangleSdf.size(); ++t)
   {
@@ -207,72 +308,36 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   options.OwnBoneShare = this->OwnBoneShare;
   options.Coverage.PartUncoveredFactor = this->PartUncoveredFactor;
   options.Smoothing.Bandwidth = this->BoneSmoothing;
+  const std::vector<std::int64_t> triangleParts =
+    this->LinkBySegment ? TriangleSegments(this, input, surface) : std::vector<std::int64_t>();
+  const ProgressCallback progress = adapter::MakeProgress(this, 0.0, 0.95);
+  vtkDataArray* clusters = input->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME);
+  if (request.Halo)
+  {
+    return ExecuteOverProcesses(this, request, surface, triangleSdf, triangleParts, options, progress);
+  }
+
+  ApplyFlips(surface.Triangles, OrientOutward(surface.Points, surface.Triangles).Flip);
   const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
-    PointMatrix(0, 3), {}, options, request.Parallel, adapter::MakeProgress(this, 0.0, 0.95),
-    this->LinkBySegment ? TriangleSegments(this, input, surface) : std::vector<std::int64_t>());
+    PointMatrix(0, 3), {}, options, request.Parallel, progress, triangleParts);
   if (skeleton.Aborted)
   {
     return false;
   }
-
+  WarnWithoutArea(this, skeleton);
   WriteSkeleton(skeleton, skeletonOutput);
-  if (skeleton.CloudPositions.rows() == 0)
+  WriteSurfaceLink(input, surface, skeleton.FaceNodeId, skeleton.FaceBoneId, surfaceOutput);
+  std::vector<vtkIdType> sourceCells(skeleton.CloudSourceFace.size());
+  std::vector<int> cloudClusters;
+  for (std::size_t p = 0; p < sourceCells.size(); ++p)
   {
-    // Samples are placed in proportion to area: a surface whose triangles all have zero
-    // area at double precision (coincident points, or lengths whose squares underflow)
-    // gets none, and only the documented placeholder node per component.
-    vtkWarningMacro("The surface has no area: no sample could be placed, the skeleton is one node per component.");
-  }
-
-  // Port 1: each cell takes the link of its first triangle (-1 for cells without one).
-  const vtkIdType cellCount = input->GetNumberOfCells();
-  std::vector<std::int64_t> nodeIds(static_cast<std::size_t>(cellCount), -1);
-  std::vector<std::int64_t> boneIds(static_cast<std::size_t>(cellCount), -1);
-  for (vtkIdType cell = 0; cell < cellCount; ++cell)
-  {
-    const auto first = surface.CellFirstTriangle[static_cast<std::size_t>(cell)];
-    if (first < surface.CellFirstTriangle[static_cast<std::size_t>(cell) + 1])
+    sourceCells[p] = surface.TriangleCell[static_cast<std::size_t>(skeleton.CloudSourceFace[p])];
+    if (clusters)
     {
-      nodeIds[static_cast<std::size_t>(cell)] = skeleton.FaceNodeId[static_cast<std::size_t>(first)];
-      boneIds[static_cast<std::size_t>(cell)] = skeleton.FaceBoneId[static_cast<std::size_t>(first)];
+      cloudClusters.push_back(static_cast<int>(clusters->GetComponent(sourceCells[p], 0)));
     }
   }
-  surfaceOutput->GetCellData()->AddArray(IdArray(NODE_ID_ARRAY_NAME, nodeIds));
-  surfaceOutput->GetCellData()->AddArray(IdArray(SURFACE_BONE_ID_ARRAY_NAME, boneIds));
-  surfaceOutput->GetCellData()->SetActiveScalars(SURFACE_BONE_ID_ARRAY_NAME);
-
-  // Port 2: the projected cloud, with the input cell of every point.
-  cloudOutput->SetPoints(ToPoints(skeleton.CloudPositions));
-  const auto pointCount = static_cast<vtkIdType>(skeleton.CloudSourceFace.size());
-  std::vector<vtkIdType> sourceCells(static_cast<std::size_t>(pointCount));
-  for (vtkIdType p = 0; p < pointCount; ++p)
-  {
-    sourceCells[static_cast<std::size_t>(p)] =
-      surface.TriangleCell[static_cast<std::size_t>(skeleton.CloudSourceFace[static_cast<std::size_t>(p)])];
-  }
-  vtkNew<vtkCellArray> vertices;
-  vertices->AllocateExact(pointCount, pointCount);
-  for (vtkIdType p = 0; p < pointCount; ++p)
-  {
-    vertices->InsertNextCell(1, &p);
-  }
-  cloudOutput->SetVerts(vertices);
-  vtkPointData* cloudData = cloudOutput->GetPointData();
-  cloudData->AddArray(IdArray(SOURCE_FACE_ARRAY_NAME, sourceCells));
-  cloudData->AddArray(DoubleArray(RADIUS_ARRAY_NAME, skeleton.CloudRadius));
-  cloudData->AddArray(DoubleArray(CONFIDENCE_ARRAY_NAME, skeleton.CloudConfidence));
-  cloudData->SetActiveScalars(CONFIDENCE_ARRAY_NAME); // default colouring: how line-like each point's neighbourhood is
-  if (vtkDataArray* clusters = input->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME))
-  {
-    vtkNew<vtkIntArray> pointClusters;
-    pointClusters->SetName(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME);
-    pointClusters->SetNumberOfTuples(pointCount);
-    for (vtkIdType p = 0; p < pointCount; ++p)
-    {
-      pointClusters->SetValue(p, static_cast<int>(clusters->GetComponent(sourceCells[static_cast<std::size_t>(p)], 0)));
-    }
-    cloudData->AddArray(pointClusters);
-  }
+  WriteCloud(skeleton, sourceCells, clusters ? &cloudClusters : nullptr, cloudOutput);
   return true;
 }
 

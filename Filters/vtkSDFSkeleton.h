@@ -103,8 +103,17 @@
  * - port 1 "Surface": the input with every cell and array plus cell arrays
  *   `SkeletonNodeId`, `SkeletonBoneId` (−1 for vertices and lines);
  * - port 2 "Projected Points": the cloud P as vertices with point arrays `SourceFaceId`
- *   (input cell id), `Radius`, `Confidence`, and `SDFCluster` when the input has it.
+ *   (input cell id; under MPI the cell's global id), `Radius`, `Confidence`, and `SDFCluster`
+ *   when the input has it.
  * Active scalars (what ParaView colours by): `BoneId`, `SkeletonBoneId`, `Confidence`.
+ *
+ * Under MPI (pieces with global ids, polygons only) every process triangulates its own cells
+ * and sends process 0 only what the skeleton reads: triangles by global point ids, the SDF,
+ * `SDFSegment` and `SDFCluster` per triangle, and its points (about 80 bytes per triangle;
+ * Filters/Core/Skeleton/DistributedSkeleton.h). Process 0 builds the whole triangle mesh in
+ * the global ids' order, orients it, computes the skeleton (ports 0 and 2, on process 0 only)
+ * and sends every process its cells' links (port 1): the serial result bit for bit. Other
+ * pieces are collected on process 0 whole (Filters/DistributedSupport.h).
  *
  * Bad input: no polygon (of three or more points), no usable SDF array (missing,
  * non-numeric, several components, non-finite or negative values), non-finite coordinates →
@@ -260,6 +269,12 @@ protected:
   bool ExecuteSurface(const shapediameter::adapter::SurfaceRequest& request) override;
   /// The selected SDF array, its fallbacks SDFSmoothed and SDF, SDFSegment and SDFCluster.
   std::vector<std::string> CellArraysRead() override;
+  /// Distributed runs: every process triangulates its own cells and sends process 0 only
+  /// what the skeleton reads (Filters/Core/Skeleton/DistributedSkeleton.h); no halo.
+  bool CanRunWithHalo() const override { return true; }
+  bool NeedsNoHalo() const override { return true; }
+  double HaloRadius(vtkPolyData*, const shapediameter::ProcessGroup&) override { return 0.0; }
+
 
   int NumberOfSamples;
   int NumberOfIterations;

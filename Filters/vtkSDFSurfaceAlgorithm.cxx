@@ -70,7 +70,9 @@ int vtkSDFSurfaceAlgorithm::RequestData(
     {
       const std::optional<int> status = distributed::RunOnHaloSurface(this, inputVector, outputVector,
         { this->SurfacePort },
-        this->HaloOfSharedCorners() ? distributed::HaloKind::SharedCorners : distributed::HaloKind::CentresWithin,
+        this->NeedsNoHalo()           ? distributed::HaloKind::None
+          : this->HaloOfSharedCorners() ? distributed::HaloKind::SharedCorners
+                                        : distributed::HaloKind::CentresWithin,
         [this](vtkPolyData* piece, const ProcessGroup& group) { return this->HaloRadius(piece, group); },
         [this](vtkInformationVector** in, vtkInformationVector* out, const distributed::HaloShare& share) {
           const ActiveDuring<distributed::HaloShare> active(this->ActiveHalo, share);

@@ -14,7 +14,8 @@
  *    on every process instead, on the whole surface, each process computing its own cells;
  *    one whose CanRunWithHalo() is true runs it on every process on its own cells plus a halo
  *    of its neighbours' (HaloRadius wide, or the cells sharing a corner with its own when
- *    HaloOfSharedCorners() is true), without collecting the surface.
+ *    HaloOfSharedCorners() is true, or none when NeedsNoHalo() is true), without collecting
+ *    the surface.
  * 2. The surface port starts as a shallow copy of the input.
  * 3. An input without cells: a warning, and that copy.
  * 4. An input without polygons (without polygons and triangle strips, for the filters that
@@ -121,6 +122,13 @@ protected:
    * HaloRadius gives the voxels' size); false (the default): the cells within HaloRadius.
    */
   virtual bool HaloOfSharedCorners() const { return false; }
+
+  /**
+   * Distributed runs with a halo: true when the body reads only its own cells (it gathers what
+   * it needs of the others through SurfaceRequest::Halo's group): no cells are exchanged, and
+   * HaloRadius is not used. False by default.
+   */
+  virtual bool NeedsNoHalo() const { return false; }
 
   /// For HaloRadius: the whole surface's mean edge length, from every process's `piece` (its
   /// polygons; collective, MeanEdgeLengthOverProcesses in Filters/Core/Mesh/FaceGraph.h).

@@ -11,6 +11,9 @@
 #include "ProcessGroup.h"
 #include "Smoothing/BilateralSmoothing.h"
 #include "Smoothing/SmoothAndNormalize.h"
+#include "Mesh/Orientation.h"
+#include "Skeleton/DistributedSkeleton.h"
+#include "Skeleton/Skeleton.h"
 #include "TestShapes.h"
 
 #include <gtest/gtest.h>
@@ -24,6 +27,7 @@
 #include <numeric>
 #include <random>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 namespace
@@ -825,6 +829,145 @@ TEST(PartitionOnShares, ASeamOfDuplicatedPointsIsNoMissedAdjacencyWithGlobalPoin
     EXPECT_EQ(thrown, pointIds ? (std::vector<int>{ 0, 0 }) : (std::vector<int>{ 1, 1 }))
       << (pointIds ? "global point ids" : "coordinates");
   }
+}
+
+// ---- The skeleton on shares
+
+/// The serial reference as the adapter computes it: the whole mesh oriented outward, then the
+/// skeleton with part labels.
+SkeletonResult OrientedSkeleton(testshapes::TestMesh mesh, const std::vector<std::int64_t>& parts,
+  const SkeletonOptions& options)
+{
+  ApplyFlips(mesh.Triangles, OrientOutward(mesh.Points, mesh.Triangles).Flip);
+  return ComputeSkeleton(mesh.Points, mesh.Triangles, mesh.Sdf, PointMatrix(0, 3), {}, options, SerialFor, {}, parts);
+}
+
+/// A tripod with some triangles wound inward (the first process orients the whole mesh), two
+/// parts (the arm along +x and the rest) and a cloud label per face.
+struct SkeletonCase
+{
+  testshapes::TestMesh Mesh = testshapes::MakeTripod(5.0, 1.0, 60, 30);
+  std::vector<std::int64_t> Parts;
+  std::vector<double> Labels;
+  SkeletonOptions Options;
+
+  SkeletonCase()
+  {
+    for (Eigen::Index f = 0; f < Mesh.Faces(); f += 7)
+    {
+      std::swap(Mesh.Triangles(f, 1), Mesh.Triangles(f, 2));
+    }
+    for (Eigen::Index f = 0; f < Mesh.Faces(); ++f)
+    {
+      const double x = Mesh.Points.row(Mesh.Triangles(f, 0)).x();
+      Parts.push_back(x > 1.5 ? 1 : 0);
+      Labels.push_back(static_cast<double>(f % 5));
+    }
+    Options.Sampling.NumberOfSamples = 3000;
+  }
+};
+
+/// The skeleton of process `rank`'s faces (owns), ids spread by idStep.
+DistributedSkeletonResult SkeletonShareOf(const SkeletonCase& shape, const FaceGraph& graph,
+  const std::function<bool(std::size_t)>& owns, const ProcessGroup& group, std::int64_t idStep,
+  std::vector<std::size_t>& wholeFaces, const ProgressCallback& progress = {})
+{
+  const Share share = MakeShare(shape.Mesh, shape.Mesh.Sdf, graph, owns, 0.0);
+  wholeFaces = share.WholeFace;
+  const auto faces = static_cast<Eigen::Index>(share.WholeFace.size());
+  TriangleMatrix triangles(faces, 3);
+  std::vector<std::int64_t> cells, cellIds, parts;
+  std::vector<double> labels;
+  for (Eigen::Index f = 0; f < faces; ++f)
+  {
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      triangles(f, corner) = share.Connectivity[static_cast<std::size_t>(3 * f + corner)];
+    }
+    const std::size_t w = share.WholeFace[static_cast<std::size_t>(f)];
+    cells.push_back(f);
+    cellIds.push_back(static_cast<std::int64_t>(w) * idStep);
+    parts.push_back(shape.Parts[w]);
+    labels.push_back(shape.Labels[w]);
+  }
+  std::vector<std::int64_t> pointIds(share.WholePoint.begin(), share.WholePoint.end());
+  for (std::int64_t& id : pointIds)
+  {
+    id *= idStep;
+  }
+  return ComputeSkeletonOverProcesses(SkeletonShareInput{ share.Points, triangles, cells, share.Values, parts, labels },
+    SkeletonShare{ cellIds, pointIds, group }, shape.Options, SerialFor, progress);
+}
+
+TEST(SkeletonOnShares, EveryProcessGetsTheSerialLinkAndTheFirstTheSerialSkeleton)
+{
+  const SkeletonCase shape;
+  const SkeletonResult serial = OrientedSkeleton(shape.Mesh, shape.Parts, shape.Options);
+  ASSERT_GE(serial.BoneLength.size(), 3u); // the test can fail: three arms, bones to link
+  const FaceGraph graph = BuildFaceGraph(shape.Mesh.Points, shape.Mesh.Triangles);
+  const auto faces = static_cast<std::size_t>(shape.Mesh.Faces());
+  for (const auto& [processes, idStep, twice] :
+    { std::tuple{ 2, 1, false }, std::tuple{ 3, 1, false }, std::tuple{ 3, 1000, false }, std::tuple{ 2, 1, true } })
+  {
+    std::vector<int> covered(faces, 0);
+    std::mutex coveredMutex;
+    OnThreads(processes, [&, processes = processes, idStep = idStep, twice = twice](int rank, const ProcessGroup& group) {
+      // Slabs along y; with `twice`, the faces near y = 0 belong to both processes.
+      const auto owns = [&](std::size_t f) {
+        const double y = graph.Centers(static_cast<Eigen::Index>(f), 1);
+        if (twice)
+        {
+          return rank == 0 ? y < 0.5 : y > -0.5;
+        }
+        return std::min(processes - 1, static_cast<int>((y + 6.0) / 12.0 * processes)) == rank;
+      };
+      std::vector<std::size_t> wholeFaces;
+      const DistributedSkeletonResult result = SkeletonShareOf(shape, graph, owns, group, idStep, wholeFaces);
+      std::lock_guard<std::mutex> lock(coveredMutex);
+      ASSERT_FALSE(result.Aborted);
+      ASSERT_EQ(result.FaceNodeId.size(), wholeFaces.size());
+      for (std::size_t f = 0; f < wholeFaces.size(); ++f)
+      {
+        EXPECT_EQ(result.FaceNodeId[f], serial.FaceNodeId[wholeFaces[f]]) << "face " << wholeFaces[f];
+        EXPECT_EQ(result.FaceBoneId[f], serial.FaceBoneId[wholeFaces[f]]) << "face " << wholeFaces[f];
+        covered[wholeFaces[f]] = 1;
+      }
+      if (rank != 0)
+      {
+        EXPECT_EQ(result.Whole.NodePositions.rows(), 0);
+        return;
+      }
+      EXPECT_TRUE(result.Whole.NodePositions == serial.NodePositions);
+      EXPECT_EQ(result.Whole.NodeRadius, serial.NodeRadius);
+      EXPECT_EQ(result.Whole.Polylines, serial.Polylines);
+      EXPECT_EQ(result.Whole.BoneId, serial.BoneId);
+      EXPECT_EQ(result.Whole.NodeBoneId, serial.NodeBoneId);
+      EXPECT_TRUE(result.Whole.CloudPositions == serial.CloudPositions);
+      EXPECT_EQ(result.Whole.CloudSourceFace, serial.CloudSourceFace);
+      ASSERT_EQ(result.CloudLabels.size(), serial.CloudSourceFace.size());
+      for (std::size_t p = 0; p < serial.CloudSourceFace.size(); ++p)
+      {
+        const auto source = static_cast<std::size_t>(serial.CloudSourceFace[p]);
+        EXPECT_EQ(result.WholeTriangleCellId[source], static_cast<std::int64_t>(source) * idStep);
+        EXPECT_EQ(result.CloudLabels[p], shape.Labels[source]);
+      }
+    });
+    EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](int n) { return n == 1; }));
+  }
+}
+
+TEST(SkeletonOnShares, AnAbortOnTheFirstProcessAbortsEvery)
+{
+  const SkeletonCase shape;
+  const FaceGraph graph = BuildFaceGraph(shape.Mesh.Points, shape.Mesh.Triangles);
+  OnThreads(3, [&](int rank, const ProcessGroup& group) {
+    const auto owns = [&](std::size_t f) { return static_cast<int>(f % 3) == rank; };
+    std::vector<std::size_t> wholeFaces;
+    const DistributedSkeletonResult result =
+      SkeletonShareOf(shape, graph, owns, group, 1, wholeFaces, [](double progress) { return progress < 0.5; });
+    EXPECT_TRUE(result.Aborted) << "process " << rank;
+    EXPECT_TRUE(result.FaceNodeId.empty());
+  });
 }
 
 } // namespace

@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The skeleton of a surface split over processes: the first process builds it from the
+// triangles every process sends, each process gets its own faces' link back.
+//
+// What it computes
+//   Exactly what the VTK adapter computes serially on the whole surface (bit for bit): the
+//   whole triangle mesh oriented outward (OrientOutward, ApplyFlips) and ComputeSkeleton on
+//   it (Skeleton.h), with the same triangles in the same order:
+//     1. each process sends the first process, per cell of its share, the cell's global id and
+//        triangle count, per triangle its corners' global point ids, its SDF, part and cloud
+//        label, and per point its global id and coordinates (about 80 bytes per triangle);
+//     2. the first process orders the cells by global id (a cell several processes hold is
+//        taken once, from the lowest), the points by global id, and builds the whole mesh:
+//        no polygons, point or cell arrays of the surface, only what the skeleton reads;
+//     3. it orients the mesh outward and computes the skeleton;
+//     4. it sends every process, one at a time, the node and bone of each of its triangles.
+//   The triangles of a cell are those the adapter makes of it (Triangulate), which depend on
+//   the cell alone, so the whole mesh is the serial one: the same triangles, corners, order.
+//
+// Why not more distributed
+//   Orientation, components, sampling and the volume's BVH are whole-surface; the face link
+//   could run on every process (docs/distributed.md says how the part link's sums would stay
+//   exact). The first process holds the mesh, its BVH and the skeleton's working set, but not
+//   the VTK surface with its arrays.
+//
+// Contract
+//   Every process calls ComputeSkeletonOverProcesses at the same point (the group's
+//   collectives). Bad input found on the first process (non-finite points, negative SDF, no
+//   triangles at all) throws Error there; the group makes the other processes' next collective
+//   throw (ProcessGroup.h). Progress and abort: the first process's callback, as
+//   ComputeSkeleton's; an abort there makes every process's result Aborted.
+#pragma once
+
+#include "Mesh/MeshTypes.h"
+#include "Parallel.h"
+#include "ProcessGroup.h"
+#include "Skeleton/Skeleton.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace shapediameter
+{
+
+/// One process's share of a distributed skeleton: its own cells (a triangulated surface), in
+/// the order of their global ids.
+struct SkeletonShare
+{
+  /// Per cell of the share: its id in the whole surface (distinct within the share, in
+  /// [0, 2^53)); the whole surface's cells are ordered by these ids.
+  const std::vector<std::int64_t>& CellGlobalIds;
+  /// Per point of the share: its id in the whole surface, in [0, 2^53).
+  const std::vector<std::int64_t>& PointGlobalIds;
+  const ProcessGroup& Group;
+};
+
+/// What one process's triangles carry to the whole mesh.
+struct SkeletonShareInput
+{
+  PointsView Points;
+  /// The share's triangles (point indices of Points), cell by cell in the share's cell order.
+  TrianglesView Triangles;
+  /// Per triangle: its cell (index into SkeletonShare::CellGlobalIds), non-decreasing.
+  const std::vector<std::int64_t>& TriangleCell;
+  /// Per triangle: its SDF (ComputeSkeleton's faceSdf).
+  const std::vector<double>& TriangleSdf;
+  /// Per triangle: its part label (ComputeSkeleton's faceParts), or empty; used when no
+  /// process's is empty.
+  const std::vector<std::int64_t>& TriangleParts;
+  /// Per triangle: a label reported for each cloud point it sources (the adapter's SDFCluster),
+  /// or empty; used when no process's is empty.
+  const std::vector<double>& TriangleCloudLabels;
+};
+
+struct DistributedSkeletonResult
+{
+  /// On the first process: the skeleton and the projected cloud of the whole mesh
+  /// (CloudSourceFace: a triangle of the whole mesh); FaceNodeId and FaceBoneId are empty
+  /// (below). Empty elsewhere.
+  SkeletonResult Whole;
+  /// On the first process: per triangle of the whole mesh, its cell's global id.
+  std::vector<std::int64_t> WholeTriangleCellId;
+  /// On the first process, with cloud labels: per cloud point, its source triangle's label.
+  std::vector<double> CloudLabels;
+  /// Per triangle of this process's share: "SkeletonNodeId" and "SkeletonBoneId".
+  std::vector<std::int64_t> FaceNodeId;
+  std::vector<std::int64_t> FaceBoneId;
+  /// True on every process if the first process's progress callback aborted.
+  bool Aborted = false;
+};
+
+/// See the header comment.
+DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput& input,
+  const SkeletonShare& share, const SkeletonOptions& options, const ParallelFor& parallelFor,
+  const ProgressCallback& progress = {});
+
+} // namespace shapediameter
