@@ -1035,7 +1035,8 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
   const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");
   if (rank == 0 && timing && std::string(timing) != "0")
   {
-    std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName() << " with a halo on "
+    std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName()
+              << (kind == HaloKind::None ? " on its own cells (no halo) on " : " with a halo on ")
               << controller->GetNumberOfProcesses() << " processes: radius " << haloRadius << " ("
               << radiusSeconds << " s), process 0: " << local->GetNumberOfCells() << " own cells, "
               << surface.Mesh->GetNumberOfCells() - local->GetNumberOfCells() << " halo cells; halo exchange "
