@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "Partition/DistributedPartition.h"
 
+#include "GatheredOrder.h"
 #include "Mesh/FaceGraph.h"
 
 #include <algorithm>
@@ -101,30 +102,15 @@ OwnRows RowsOfOwnFaces(const PartitionInput& input, const FaceGraph& graph, cons
 /// On the first process: the whole surface's dual graph, assembled from every process's rows.
 struct WholeGraph
 {
-  /// The distinct global ids, increasing: face w of the whole graph has id Ids[w].
-  std::vector<std::int64_t> Ids;
+  /// The faces' order: face w of the whole graph has id Order.Ids[w]; per process, per own face
+  /// in its order, the face's index and whether this copy's rows are the ones used (a face
+  /// several processes own: the lowest one's).
+  GatheredOrder Order;
   std::vector<std::int64_t> Offsets, Neighbors;
   std::vector<double> NormalAngles, EdgeLengths, Areas, Values;
   std::vector<std::uint8_t> Concave;
-  /// Per process, per own face in its order: the face's index in the whole graph, and whether
-  /// this copy's rows are the ones used (a face several processes own: the lowest one's).
-  std::vector<std::vector<std::int64_t>> ProcessFaces;
-  std::vector<std::vector<std::uint8_t>> ProcessRowUsed;
-  /// Per id in [0, largest id], its face's index (-1: none), when the ids are dense; else empty.
-  std::vector<std::int64_t> IndexOfId;
   /// A missing adjacency found (empty: none): every process then throws HaloTooNarrowError.
   std::string HaloProblem;
-
-  /// The index of the face with global id `id`, -1 when no process owns it.
-  std::int64_t IndexOf(std::int64_t id) const
-  {
-    if (!this->IndexOfId.empty())
-    {
-      return id >= 0 && static_cast<std::size_t>(id) < this->IndexOfId.size() ? this->IndexOfId[static_cast<std::size_t>(id)] : -1;
-    }
-    const auto found = std::lower_bound(this->Ids.begin(), this->Ids.end(), id);
-    return found != this->Ids.end() && *found == id ? found - this->Ids.begin() : -1;
-  }
 
   DualGraphView View() const
   {
@@ -140,98 +126,17 @@ struct WholeGraph
   }
 };
 
-/// The whole graph's faces from every process's own ids (the first gather): by a table of
-/// the ids when they are dense (the reader's ids 0 .. n - 1: linear time), else by sorting.
-void OrderFaces(const std::vector<std::vector<double>>& processIds, WholeGraph& whole)
-{
-  std::size_t total = 0;
-  std::int64_t largest = -1;
-  for (const std::vector<double>& ids : processIds)
-  {
-    total += ids.size();
-    for (const double id : ids)
-    {
-      largest = std::max(largest, static_cast<std::int64_t>(id));
-    }
-  }
-  whole.ProcessFaces.resize(processIds.size());
-  whole.ProcessRowUsed.resize(processIds.size());
-  for (std::size_t p = 0; p < processIds.size(); ++p)
-  {
-    whole.ProcessFaces[p].resize(processIds[p].size());
-    whole.ProcessRowUsed[p].assign(processIds[p].size(), 0);
-  }
-  if (static_cast<double>(largest) < 2.0 * static_cast<double>(total) + 1024.0)
-  {
-    whole.IndexOfId.assign(static_cast<std::size_t>(largest + 1), -1);
-    for (const std::vector<double>& ids : processIds)
-    {
-      for (const double id : ids)
-      {
-        whole.IndexOfId[static_cast<std::size_t>(id)] = 0;
-      }
-    }
-    for (std::size_t id = 0; id < whole.IndexOfId.size(); ++id)
-    {
-      if (whole.IndexOfId[id] == 0)
-      {
-        whole.IndexOfId[id] = static_cast<std::int64_t>(whole.Ids.size());
-        whole.Ids.push_back(static_cast<std::int64_t>(id));
-      }
-    }
-    std::vector<std::uint8_t> taken(whole.Ids.size(), 0);
-    for (std::size_t p = 0; p < processIds.size(); ++p) // lowest process first: its rows are used
-    {
-      for (std::size_t i = 0; i < processIds[p].size(); ++i)
-      {
-        const std::int64_t w = whole.IndexOfId[static_cast<std::size_t>(processIds[p][i])];
-        whole.ProcessFaces[p][i] = w;
-        whole.ProcessRowUsed[p][i] = taken[static_cast<std::size_t>(w)] ? 0 : 1;
-        taken[static_cast<std::size_t>(w)] = 1;
-      }
-    }
-    return;
-  }
-  struct Entry
-  {
-    std::int64_t Id;
-    std::size_t Process, Row;
-  };
-  std::vector<Entry> entries;
-  entries.reserve(total);
-  for (std::size_t p = 0; p < processIds.size(); ++p)
-  {
-    for (std::size_t i = 0; i < processIds[p].size(); ++i)
-    {
-      entries.push_back(Entry{ static_cast<std::int64_t>(processIds[p][i]), p, i });
-    }
-  }
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-    return a.Id != b.Id ? a.Id < b.Id : a.Process < b.Process;
-  });
-  for (const Entry& entry : entries)
-  {
-    const bool first = whole.Ids.empty() || whole.Ids.back() != entry.Id;
-    if (first)
-    {
-      whole.Ids.push_back(entry.Id);
-    }
-    whole.ProcessFaces[entry.Process][entry.Row] = static_cast<std::int64_t>(whole.Ids.size()) - 1;
-    whole.ProcessRowUsed[entry.Process][entry.Row] = first ? 1 : 0;
-  }
-}
-
 /// Per-face values of the used rows, in the whole graph's order.
 std::vector<double> WholeFaceField(const std::vector<std::vector<double>>& processValues, const WholeGraph& whole)
 {
-  std::vector<double> field(whole.Ids.size(), 0.0);
+  std::vector<double> field(whole.Order.Ids.size(), 0.0);
   for (std::size_t p = 0; p < processValues.size(); ++p)
   {
     for (std::size_t i = 0; i < processValues[p].size(); ++i)
     {
-      if (whole.ProcessRowUsed[p][i])
+      if (whole.Order.Used[p][i])
       {
-        field[static_cast<std::size_t>(whole.ProcessFaces[p][i])] = processValues[p][i];
+        field[static_cast<std::size_t>(whole.Order.Index[p][i])] = processValues[p][i];
       }
     }
   }
@@ -251,9 +156,9 @@ std::vector<T> WholeEntryField(const std::vector<std::vector<double>>& processVa
     for (std::size_t i = 0; i < processDegrees[p].size(); ++i)
     {
       const auto degree = static_cast<std::size_t>(processDegrees[p][i]);
-      if (whole.ProcessRowUsed[p][i])
+      if (whole.Order.Used[p][i])
       {
-        const auto to = static_cast<std::size_t>(whole.Offsets[static_cast<std::size_t>(whole.ProcessFaces[p][i])]);
+        const auto to = static_cast<std::size_t>(whole.Offsets[static_cast<std::size_t>(whole.Order.Index[p][i])]);
         for (std::size_t k = 0; k < degree; ++k)
         {
           field[to + k] = convert(processValues[p][at + k]);
@@ -269,7 +174,7 @@ std::vector<T> WholeEntryField(const std::vector<std::vector<double>>& processVa
 /// missed would silently change its row. Returns what is wrong (empty: nothing).
 std::string CheckSymmetric(const WholeGraph& whole)
 {
-  for (std::size_t f = 0; f < whole.Ids.size(); ++f)
+  for (std::size_t f = 0; f < whole.Order.Ids.size(); ++f)
   {
     for (auto e = whole.Offsets[f]; e < whole.Offsets[f + 1]; ++e)
     {
@@ -278,8 +183,8 @@ std::string CheckSymmetric(const WholeGraph& whole)
       const auto last = whole.Neighbors.begin() + whole.Offsets[g + 1];
       if (!std::binary_search(first, last, static_cast<std::int64_t>(f)))
       {
-        return "partition: face " + std::to_string(whole.Ids[g]) + " does not list its neighbour " +
-          std::to_string(whole.Ids[f]) + " (the halo of its process was too narrow)";
+        return "partition: face " + std::to_string(whole.Order.Ids[g]) + " does not list its neighbour " +
+          std::to_string(whole.Order.Ids[f]) + " (the halo of its process was too narrow)";
       }
     }
   }
@@ -320,7 +225,7 @@ WholeGraph GatherWholeGraph(const OwnRows& rows, const ProcessGroup& group)
   const bool first = group.Rank() == 0;
   if (first)
   {
-    OrderFaces(group.GatherOnFirst(rows.Ids), whole);
+    whole.Order = OrderGatheredIds(group.GatherOnFirst(rows.Ids));
     whole.Values = WholeFaceField(group.GatherOnFirst(rows.Values), whole);
     whole.Areas = WholeFaceField(group.GatherOnFirst(rows.Areas), whole);
   }
@@ -346,13 +251,13 @@ WholeGraph GatherWholeGraph(const OwnRows& rows, const ProcessGroup& group)
     return whole;
   }
   const std::vector<double> wholeDegrees = WholeFaceField(degrees, whole);
-  whole.Offsets.assign(whole.Ids.size() + 1, 0);
+  whole.Offsets.assign(whole.Order.Ids.size() + 1, 0);
   for (std::size_t f = 0; f < wholeDegrees.size(); ++f)
   {
     whole.Offsets[f + 1] = whole.Offsets[f] + static_cast<std::int64_t>(wholeDegrees[f]);
   }
   whole.Neighbors = WholeEntryField<std::int64_t>(group.GatherOnFirst(rows.Neighbors), degrees, whole, [&](double id) {
-    const std::int64_t index = whole.IndexOf(static_cast<std::int64_t>(id));
+    const std::int64_t index = whole.Order.IndexOf(static_cast<std::int64_t>(id));
     if (index < 0)
     {
       throw Error("partition: face " + std::to_string(static_cast<std::int64_t>(id)) +
@@ -360,7 +265,7 @@ WholeGraph GatherWholeGraph(const OwnRows& rows, const ProcessGroup& group)
     }
     return index;
   });
-  whole.IndexOfId = {};
+  whole.Order.IndexOfId = {};
   const auto same = [](double value) { return value; };
   whole.NormalAngles = WholeEntryField<double>(group.GatherOnFirst(rows.NormalAngles), degrees, whole, same);
   whole.EdgeLengths = WholeEntryField<double>(group.GatherOnFirst(rows.EdgeLengths), degrees, whole, same);
@@ -407,7 +312,7 @@ std::vector<double> PartOfProcess(const PartitionResult& result, const WholeGrap
   part.insert(part.end(), result.Segments.Area.begin(), result.Segments.Area.end());
   part.insert(part.end(), result.Segments.Label.begin(), result.Segments.Label.end());
   const auto k = static_cast<Eigen::Index>(model.ComponentCount());
-  for (const std::int64_t face : whole.ProcessFaces[process])
+  for (const std::int64_t face : whole.Order.Index[process])
   {
     const auto f = static_cast<std::size_t>(face);
     for (Eigen::Index c = 0; c < k; ++c)

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "Skeleton/DistributedSkeleton.h"
 
+#include "GatheredOrder.h"
 #include "Mesh/Orientation.h"
 
 #include <algorithm>
@@ -95,55 +96,6 @@ ShareRows RowsOfShare(const SkeletonShareInput& input, const SkeletonShare& shar
   return rows;
 }
 
-/// Rows of `width` values whose first value is a global id, from every process: each
-/// process's row's place in the id order, and whether it is the row used for that id (the
-/// lowest process's).
-struct IdOrder
-{
-  /// The distinct ids, increasing.
-  std::vector<std::int64_t> Ids;
-  /// Per process, per row: the index of its id in Ids.
-  std::vector<std::vector<std::int64_t>> Index;
-  /// Per process, per row: 1 for the row used for its id.
-  std::vector<std::vector<std::uint8_t>> Used;
-};
-
-IdOrder OrderRowsById(const std::vector<std::vector<double>>& processRows, std::size_t width)
-{
-  struct Entry
-  {
-    std::int64_t Id;
-    std::size_t Process, Row;
-  };
-  std::vector<Entry> entries;
-  IdOrder order;
-  order.Index.resize(processRows.size());
-  order.Used.resize(processRows.size());
-  for (std::size_t p = 0; p < processRows.size(); ++p)
-  {
-    const std::size_t rows = processRows[p].size() / width;
-    order.Index[p].resize(rows);
-    order.Used[p].assign(rows, 0);
-    for (std::size_t r = 0; r < rows; ++r)
-    {
-      entries.push_back(Entry{ static_cast<std::int64_t>(processRows[p][width * r]), p, r });
-    }
-  }
-  std::sort(entries.begin(), entries.end(),
-    [](const Entry& a, const Entry& b) { return a.Id != b.Id ? a.Id < b.Id : a.Process < b.Process; });
-  for (const Entry& entry : entries)
-  {
-    const bool first = order.Ids.empty() || order.Ids.back() != entry.Id;
-    if (first)
-    {
-      order.Ids.push_back(entry.Id);
-    }
-    order.Index[entry.Process][entry.Row] = static_cast<std::int64_t>(order.Ids.size()) - 1;
-    order.Used[entry.Process][entry.Row] = first ? 1 : 0;
-  }
-  return order;
-}
-
 /// The whole mesh on the first process (step 2 of the header).
 struct WholeMesh
 {
@@ -163,7 +115,7 @@ WholeMesh AssembleWholeMesh(const std::vector<std::vector<double>>& cells,
 {
   WholeMesh whole;
   {
-    const IdOrder pointOrder = OrderRowsById(points, PointWidth);
+    const GatheredOrder pointOrder = OrderGatheredIds(points, PointWidth);
     whole.Points.resize(static_cast<Eigen::Index>(pointOrder.Ids.size()), 3);
     for (std::size_t p = 0; p < points.size(); ++p)
     {
@@ -178,8 +130,7 @@ WholeMesh AssembleWholeMesh(const std::vector<std::vector<double>>& cells,
         }
       }
     }
-    // Corners: global point ids to whole point indices (the ids are increasing in Ids).
-    const IdOrder cellOrder = OrderRowsById(cells, CellWidth);
+    const GatheredOrder cellOrder = OrderGatheredIds(cells, CellWidth);
     const std::size_t cellCount = cellOrder.Ids.size();
     std::vector<std::int64_t> cellTriangles(cellCount, 0);
     for (std::size_t p = 0; p < cells.size(); ++p)
@@ -206,12 +157,12 @@ WholeMesh AssembleWholeMesh(const std::vector<std::vector<double>>& cells,
     whole.TriangleCellId.resize(total);
     whole.ProcessTriangles.resize(cells.size());
     const auto pointIndex = [&](double id) {
-      const auto found = std::lower_bound(pointOrder.Ids.begin(), pointOrder.Ids.end(), static_cast<std::int64_t>(id));
-      if (found == pointOrder.Ids.end() || *found != static_cast<std::int64_t>(id))
+      const std::int64_t index = pointOrder.IndexOf(static_cast<std::int64_t>(id));
+      if (index < 0)
       {
         throw Error("skeleton: a triangle's corner is no process's point");
       }
-      return static_cast<std::int64_t>(found - pointOrder.Ids.begin());
+      return index;
     };
     for (std::size_t p = 0; p < cells.size(); ++p)
     {
