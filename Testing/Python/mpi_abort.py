@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """An abort on one rank in the smoothing's halo run (and, when it is rank 0, in the partition's
-cut): every rank stops, and the run ends.
+cut and in the skeleton): every rank stops, and the run ends.
 
     mpiexec -n N pvbatch --symmetric Testing/Python/mpi_abort.py MESH.off --abort-rank R
 
@@ -14,7 +14,8 @@ input passed through (no SDFSmoothed), none waiting for another. The filters' ow
 an abort gives the pass-through (vtkSDFSurfaceAlgorithm.h).
 With --abort-rank 0 the partition then runs through once and again with an abort on rank 0,
 which runs its cut (Filters/Core/Partition/DistributedPartition.h): every rank ends with its
-input passed through (no SDFCluster).
+input passed through (no SDFCluster); and so does the skeleton, built on rank 0 from every rank's
+triangles (Filters/Core/Skeleton/DistributedSkeleton.h): no SkeletonBoneId.
 
 Each rank prints 'PASS ...' / 'FAIL ...' lines prefixed by its rank; ctest fails on 'FAIL '.
 """
@@ -32,7 +33,7 @@ args = parser.parse_args()
 
 simple.LoadPlugin(os.environ["SHAPEDIAMETER_PLUGIN"], ns=vars(simple))
 from shapediameter import (vtkSDFOFFReader, vtkSDFBilateralSmooth, vtkSDFGMMPartition,  # noqa: E402
-                           vtkShapeDiameterFilter)
+                           vtkSDFSkeleton, vtkShapeDiameterFilter)
 
 controller = vtkMultiProcessController.GetGlobalController()
 rank = controller.GetLocalProcessId()
@@ -57,11 +58,12 @@ def abort_here(caller, event):
         caller.SetAbortExecute(1)
 
 
-def run_then_abort(stage, array, abort_rank, change):
-    """Runs `stage` through (its output has `array`), then again, after `change`, with an abort at
-    its first progress event on `abort_rank`: every rank's output is its input passed through."""
+def run_then_abort(stage, array, abort_rank, change, surface=lambda stage: stage.GetOutput()):
+    """Runs `stage` through (its `surface` output has `array`), then again, after `change`, with an
+    abort at its first progress event on `abort_rank`: every rank's surface output is its input
+    passed through."""
     stage.UpdatePiece(rank, processes, 0)
-    piece = stage.GetOutput()
+    piece = surface(stage)
     name = stage.GetClassName()
     check(piece.GetNumberOfCells() > 0 and piece.GetCellData().GetArray(array) is not None,
           "%s's first run gives this rank's %d faces %s" % (name, piece.GetNumberOfCells(), array))
@@ -70,7 +72,7 @@ def run_then_abort(stage, array, abort_rank, change):
         stage.AddObserver("ProgressEvent", abort_here)
     change()  # so that it runs again
     stage.UpdatePiece(rank, processes, 0)
-    piece = stage.GetOutput()
+    piece = surface(stage)
     if rank == abort_rank:
         check(bool(aborted), "this rank asked %s to abort" % name)
     check(piece.GetNumberOfCells() > 0 and piece.GetCellData().GetArray(array) is None,
@@ -88,5 +90,10 @@ if args.abort_rank == 0:
     partition = vtkSDFGMMPartition()
     partition.SetInputConnection(smooth.GetOutputPort())
     run_then_abort(partition, "SDFCluster", 0, lambda: partition.SetLambda(partition.GetLambda() * 0.5))
+    partition.Modified()  # runs again, through: the aborted run left no SDFSegment
+    skeleton = vtkSDFSkeleton()
+    skeleton.SetInputConnection(partition.GetOutputPort())
+    run_then_abort(skeleton, "SkeletonBoneId", 0, lambda: skeleton.SetSeed(skeleton.GetSeed() + 1),
+                   lambda stage: stage.GetSurface())
 controller.Barrier()
 check(True, "reached the end")
