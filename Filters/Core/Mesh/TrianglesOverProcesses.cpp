@@ -1,0 +1,226 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Mesh/TrianglesOverProcesses.h"
+
+#include "GatheredOrder.h"
+
+#include <algorithm>
+#include <string>
+
+namespace shapediameter
+{
+
+namespace
+{
+
+/// Global ids travel as doubles: exact below 2^53.
+constexpr double IdLimit = 9007199254740992.0;
+
+constexpr std::size_t CellWidth = 2;  // global id, triangle count
+constexpr std::size_t PointWidth = 4; // global id, x, y, z
+
+/// What a process sends (the header's first paragraph), as doubles.
+struct ShareRows
+{
+  std::vector<double> Cells;
+  /// Per triangle: three corner global point ids, then the columns.
+  std::vector<double> Triangles;
+  std::vector<double> Points;
+};
+
+ShareRows RowsOfShare(const TriangleShare& share)
+{
+  const auto triangles = static_cast<std::size_t>(share.Triangles.rows());
+  if (share.TriangleCell.size() != triangles ||
+    std::any_of(share.Columns.begin(), share.Columns.end(),
+      [&](const std::vector<double>* column) { return column->size() != triangles; }))
+  {
+    throw Error("triangles over processes: the share's per-triangle arrays do not match its triangles");
+  }
+  if (share.PointGlobalIds.size() != static_cast<std::size_t>(share.Points.rows()))
+  {
+    throw Error("triangles over processes: the share's global point ids do not match its points");
+  }
+  const auto validId = [](std::int64_t id) { return id >= 0 && static_cast<double>(id) < IdLimit; };
+  if (!std::all_of(share.CellGlobalIds.begin(), share.CellGlobalIds.end(), validId) ||
+    !std::all_of(share.PointGlobalIds.begin(), share.PointGlobalIds.end(), validId))
+  {
+    throw Error("triangles over processes: a global id outside [0, 2^53)");
+  }
+  ShareRows rows;
+  std::vector<double> counts(share.CellGlobalIds.size(), 0.0);
+  for (std::size_t t = 0; t < triangles; ++t)
+  {
+    const std::int64_t cell = share.TriangleCell[t];
+    if (cell < 0 || static_cast<std::size_t>(cell) >= counts.size() || (t > 0 && cell < share.TriangleCell[t - 1]))
+    {
+      throw Error("triangles over processes: the share's triangle cells are out of range or out of order");
+    }
+    counts[static_cast<std::size_t>(cell)] += 1.0;
+  }
+  rows.Cells.reserve(CellWidth * counts.size());
+  for (std::size_t c = 0; c < counts.size(); ++c)
+  {
+    rows.Cells.push_back(static_cast<double>(share.CellGlobalIds[c]));
+    rows.Cells.push_back(counts[c]);
+  }
+  rows.Triangles.reserve((3 + share.Columns.size()) * triangles);
+  for (std::size_t t = 0; t < triangles; ++t)
+  {
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      const std::int64_t point = share.Triangles(static_cast<Eigen::Index>(t), corner);
+      if (point < 0 || point >= share.Points.rows())
+      {
+        throw Error("triangles over processes: triangle vertex index out of range");
+      }
+      rows.Triangles.push_back(static_cast<double>(share.PointGlobalIds[static_cast<std::size_t>(point)]));
+    }
+    for (const std::vector<double>* column : share.Columns)
+    {
+      rows.Triangles.push_back((*column)[t]);
+    }
+  }
+  rows.Points.reserve(PointWidth * share.PointGlobalIds.size());
+  for (std::size_t p = 0; p < share.PointGlobalIds.size(); ++p)
+  {
+    rows.Points.push_back(static_cast<double>(share.PointGlobalIds[p]));
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      rows.Points.push_back(share.Points(static_cast<Eigen::Index>(p), axis));
+    }
+  }
+  return rows;
+}
+
+WholeTriangles AssembleWholeTriangles(const std::vector<std::vector<double>>& cells,
+  const std::vector<std::vector<double>>& triangles, const std::vector<std::vector<double>>& points,
+  std::size_t columns)
+{
+  WholeTriangles whole;
+  const std::size_t triangleWidth = 3 + columns;
+  const GatheredOrder pointOrder = OrderGatheredIds(points, PointWidth);
+  whole.Points.resize(static_cast<Eigen::Index>(pointOrder.Ids.size()), 3);
+  for (std::size_t p = 0; p < points.size(); ++p)
+  {
+    for (std::size_t r = 0; r < pointOrder.Index[p].size(); ++r)
+    {
+      if (pointOrder.Used[p][r])
+      {
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          whole.Points(pointOrder.Index[p][r], axis) = points[p][PointWidth * r + 1 + static_cast<std::size_t>(axis)];
+        }
+      }
+    }
+  }
+  const GatheredOrder cellOrder = OrderGatheredIds(cells, CellWidth);
+  const std::size_t cellCount = cellOrder.Ids.size();
+  std::vector<std::int64_t> cellTriangles(cellCount, 0);
+  for (std::size_t p = 0; p < cells.size(); ++p)
+  {
+    for (std::size_t r = 0; r < cellOrder.Index[p].size(); ++r)
+    {
+      if (cellOrder.Used[p][r])
+      {
+        cellTriangles[static_cast<std::size_t>(cellOrder.Index[p][r])] = static_cast<std::int64_t>(cells[p][CellWidth * r + 1]);
+      }
+    }
+  }
+  std::vector<std::int64_t> firstTriangle(cellCount + 1, 0);
+  for (std::size_t c = 0; c < cellCount; ++c)
+  {
+    firstTriangle[c + 1] = firstTriangle[c] + cellTriangles[c];
+  }
+  const auto total = static_cast<std::size_t>(firstTriangle[cellCount]);
+  whole.Triangles.resize(static_cast<Eigen::Index>(total), 3);
+  whole.Columns.assign(columns, std::vector<double>(total, 0.0));
+  whole.TriangleCellId.resize(total);
+  whole.ProcessTriangles.resize(cells.size());
+  for (std::size_t p = 0; p < cells.size(); ++p)
+  {
+    std::size_t t = 0; // the process's triangle
+    for (std::size_t r = 0; r < cellOrder.Index[p].size(); ++r)
+    {
+      const auto cell = static_cast<std::size_t>(cellOrder.Index[p][r]);
+      const auto count = static_cast<std::size_t>(cells[p][CellWidth * r + 1]);
+      if (static_cast<std::int64_t>(count) != cellTriangles[cell])
+      {
+        throw Error("triangles over processes: two processes triangulate cell " + std::to_string(cellOrder.Ids[cell]) +
+          " differently");
+      }
+      for (std::size_t k = 0; k < count; ++k, ++t)
+      {
+        const auto w = static_cast<std::size_t>(firstTriangle[cell]) + k;
+        whole.ProcessTriangles[p].push_back(static_cast<std::int64_t>(w));
+        if (!cellOrder.Used[p][r])
+        {
+          continue;
+        }
+        const double* row = triangles[p].data() + triangleWidth * t;
+        for (int corner = 0; corner < 3; ++corner)
+        {
+          const std::int64_t index = pointOrder.IndexOf(static_cast<std::int64_t>(row[corner]));
+          if (index < 0)
+          {
+            throw Error("triangles over processes: a triangle's corner is no process's point");
+          }
+          whole.Triangles(static_cast<Eigen::Index>(w), corner) = index;
+        }
+        for (std::size_t c = 0; c < columns; ++c)
+        {
+          whole.Columns[c][w] = row[3 + c];
+        }
+        whole.TriangleCellId[w] = cellOrder.Ids[cell];
+      }
+    }
+    if (triangleWidth * t != triangles[p].size())
+    {
+      throw Error("triangles over processes: a process's triangles do not match its cells");
+    }
+  }
+  return whole;
+}
+
+/// Every process's `values` as one list per process, on every process (AllGather concatenates).
+std::vector<std::vector<double>> AllGatherPerProcess(const std::vector<double>& values, const ProcessGroup& group)
+{
+  const std::vector<double> sizes = group.AllGather({ static_cast<double>(values.size()) });
+  const std::vector<double> all = group.AllGather(values);
+  std::vector<std::vector<double>> perProcess(sizes.size());
+  std::size_t at = 0;
+  for (std::size_t p = 0; p < sizes.size(); ++p)
+  {
+    const auto size = static_cast<std::size_t>(sizes[p]);
+    perProcess[p].assign(all.begin() + static_cast<std::ptrdiff_t>(at), all.begin() + static_cast<std::ptrdiff_t>(at + size));
+    at += size;
+  }
+  return perProcess;
+}
+
+} // namespace
+
+WholeTriangles GatherTrianglesOnFirst(const TriangleShare& share, const ProcessGroup& group)
+{
+  ShareRows rows = RowsOfShare(share);
+  const std::vector<std::vector<double>> cells = group.GatherOnFirst(rows.Cells);
+  rows.Cells = {};
+  const std::vector<std::vector<double>> points = group.GatherOnFirst(rows.Points);
+  rows.Points = {};
+  const std::vector<std::vector<double>> triangles = group.GatherOnFirst(rows.Triangles);
+  rows.Triangles = {};
+  return group.Rank() == 0 ? AssembleWholeTriangles(cells, triangles, points, share.Columns.size()) : WholeTriangles();
+}
+
+WholeTriangles AllGatherTriangles(const TriangleShare& share, const ProcessGroup& group)
+{
+  ShareRows rows = RowsOfShare(share);
+  const std::vector<std::vector<double>> cells = AllGatherPerProcess(rows.Cells, group);
+  rows.Cells = {};
+  const std::vector<std::vector<double>> points = AllGatherPerProcess(rows.Points, group);
+  rows.Points = {};
+  const std::vector<std::vector<double>> triangles = AllGatherPerProcess(rows.Triangles, group);
+  rows.Triangles = {};
+  return AssembleWholeTriangles(cells, triangles, points, share.Columns.size());
+}
+
+} // namespace shapediameter
