@@ -181,22 +181,6 @@ WholeTriangles AssembleWholeTriangles(const std::vector<std::vector<double>>& ce
   return whole;
 }
 
-/// Every process's `values` as one list per process, on every process (AllGather concatenates).
-std::vector<std::vector<double>> AllGatherPerProcess(const std::vector<double>& values, const ProcessGroup& group)
-{
-  const std::vector<double> sizes = group.AllGather({ static_cast<double>(values.size()) });
-  const std::vector<double> all = group.AllGather(values);
-  std::vector<std::vector<double>> perProcess(sizes.size());
-  std::size_t at = 0;
-  for (std::size_t p = 0; p < sizes.size(); ++p)
-  {
-    const auto size = static_cast<std::size_t>(sizes[p]);
-    perProcess[p].assign(all.begin() + static_cast<std::ptrdiff_t>(at), all.begin() + static_cast<std::ptrdiff_t>(at + size));
-    at += size;
-  }
-  return perProcess;
-}
-
 } // namespace
 
 WholeTriangles GatherTrianglesOnFirst(const TriangleShare& share, const ProcessGroup& group)
@@ -209,18 +193,6 @@ WholeTriangles GatherTrianglesOnFirst(const TriangleShare& share, const ProcessG
   const std::vector<std::vector<double>> triangles = group.GatherOnFirst(rows.Triangles);
   rows.Triangles = {};
   return group.Rank() == 0 ? AssembleWholeTriangles(cells, triangles, points, share.Columns.size()) : WholeTriangles();
-}
-
-WholeTriangles AllGatherTriangles(const TriangleShare& share, const ProcessGroup& group)
-{
-  ShareRows rows = RowsOfShare(share);
-  const std::vector<std::vector<double>> cells = AllGatherPerProcess(rows.Cells, group);
-  rows.Cells = {};
-  const std::vector<std::vector<double>> points = AllGatherPerProcess(rows.Points, group);
-  rows.Points = {};
-  const std::vector<std::vector<double>> triangles = AllGatherPerProcess(rows.Triangles, group);
-  rows.Triangles = {};
-  return AssembleWholeTriangles(cells, triangles, points, share.Columns.size());
 }
 
 } // namespace shapediameter

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The whole triangle mesh of a surface split over processes, assembled from every process's
-// own triangles: what the distributed SDF (on every process) and skeleton (on the first)
-// compute on, without the VTK surface.
+// The whole triangle mesh of a surface split over processes, assembled on the first process
+// from every process's own triangles: what the distributed skeleton computes on, without the
+// VTK surface.
 //
 // What it computes
 //   Each process sends, per cell of its share, the cell's global id and triangle count, per
@@ -60,8 +60,5 @@ struct WholeTriangles
 
 /// The whole mesh on the first process (empty elsewhere).
 WholeTriangles GatherTrianglesOnFirst(const TriangleShare& share, const ProcessGroup& group);
-
-/// The whole mesh on every process.
-WholeTriangles AllGatherTriangles(const TriangleShare& share, const ProcessGroup& group);
 
 } // namespace shapediameter
