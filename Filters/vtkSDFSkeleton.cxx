@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSDFSkeleton.h"
 
-#include "Mesh/Orientation.h"
 #include "DistributedSupport.h"
+#include "Mesh/Orientation.h"
 #include "Skeleton/DistributedSkeleton.h"
 #include "Skeleton/Skeleton.h"
 #include "SurfaceConversion.h"
@@ -119,6 +119,7 @@ std::vector<std::int64_t> TriangleSegments(vtkObject* self, vtkPolyData* input,
   }
   return triangleSegments;
 }
+
 /// Port 1: each cell takes the link of its first triangle (-1 for cells without one).
 void WriteSurfaceLink(vtkPolyData* input, const shapediameter::adapter::TriangulatedSurface& surface,
   const std::vector<std::int64_t>& triangleNodes, const std::vector<std::int64_t>& triangleBones, vtkPolyData* output)
@@ -164,6 +165,7 @@ void WriteCloud(const SkeletonResult& skeleton, const std::vector<vtkIdType>& so
     cloudData->AddArray(adapter::MakeArray<vtkIntArray>(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME, *clusters));
   }
 }
+
 /// The documented warning when no sample could be placed.
 void WarnWithoutArea(vtkObject* self, const SkeletonResult& skeleton)
 {
@@ -311,11 +313,11 @@ bool vtkSDFSkeleton::ExecuteSurface(const shapediameter::adapter::SurfaceRequest
   const std::vector<std::int64_t> triangleParts =
     this->LinkBySegment ? TriangleSegments(this, input, surface) : std::vector<std::int64_t>();
   const ProgressCallback progress = adapter::MakeProgress(this, 0.0, 0.95);
-  vtkDataArray* clusters = input->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME);
   if (request.Halo)
   {
     return ExecuteOverProcesses(this, request, surface, triangleSdf, triangleParts, options, progress);
   }
+  vtkDataArray* clusters = input->GetCellData()->GetArray(vtkSDFGMMPartition::CLUSTER_ARRAY_NAME);
 
   ApplyFlips(surface.Triangles, OrientOutward(surface.Points, surface.Triangles).Flip);
   const SkeletonResult skeleton = ComputeSkeleton(surface.Points, surface.Triangles, triangleSdf,
