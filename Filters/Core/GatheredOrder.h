@@ -17,6 +17,12 @@
 namespace shapediameter
 {
 
+/// Whether a global id can travel as a double in the collectives: exactly, in [0, 2^53).
+inline bool IsGatherableId(std::int64_t id)
+{
+  return id >= 0 && id < (std::int64_t{ 1 } << 53);
+}
+
 struct GatheredOrder
 {
   /// The distinct ids, increasing: entry w of the whole has id Ids[w].

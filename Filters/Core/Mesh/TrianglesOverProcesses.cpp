@@ -12,9 +12,6 @@ namespace shapediameter
 namespace
 {
 
-/// Global ids travel as doubles: exact below 2^53.
-constexpr double IdLimit = 9007199254740992.0;
-
 constexpr std::size_t CellWidth = 2;  // global id, triangle count
 constexpr std::size_t PointWidth = 4; // global id, x, y, z
 
@@ -40,9 +37,8 @@ ShareRows RowsOfShare(const TriangleShare& share)
   {
     throw Error("triangles over processes: the share's global point ids do not match its points");
   }
-  const auto validId = [](std::int64_t id) { return id >= 0 && static_cast<double>(id) < IdLimit; };
-  if (!std::all_of(share.CellGlobalIds.begin(), share.CellGlobalIds.end(), validId) ||
-    !std::all_of(share.PointGlobalIds.begin(), share.PointGlobalIds.end(), validId))
+  if (!std::all_of(share.CellGlobalIds.begin(), share.CellGlobalIds.end(), IsGatherableId) ||
+    !std::all_of(share.PointGlobalIds.begin(), share.PointGlobalIds.end(), IsGatherableId))
   {
     throw Error("triangles over processes: a global id outside [0, 2^53)");
   }

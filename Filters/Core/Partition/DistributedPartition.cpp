@@ -14,9 +14,6 @@ namespace shapediameter
 {
 namespace
 {
-/// Global ids travel as doubles: exact below 2^53.
-constexpr double IdLimit = 9007199254740992.0;
-
 /// The dual-graph rows of a process's own faces, field by field, as the collectives carry them.
 struct OwnRows
 {
@@ -409,12 +406,9 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
   {
     throw Error("partition: the share's global point ids do not match its points");
   }
-  for (const std::int64_t id : share.GlobalIds)
+  if (!std::all_of(share.GlobalIds.begin(), share.GlobalIds.end(), IsGatherableId))
   {
-    if (id < 0 || static_cast<double>(id) >= IdLimit)
-    {
-      throw Error("partition: a global face id outside [0, 2^53)");
-    }
+    throw Error("partition: a global face id outside [0, 2^53)");
   }
   const ProcessGroup& group = share.Group;
   // The share's graph is needed only for its rows: freed before the first process partitions.
@@ -425,6 +419,11 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
   PartitionResult wholeResult;
   if (group.Rank() == 0 && whole.HaloProblem.empty())
   {
+    const auto releaseEdgeGeometry = [&whole] {
+      whole.NormalAngles = {};
+      whole.EdgeLengths = {};
+      whole.Concave = {};
+    };
     if (progress && !progress(0.1))
     {
       wholeResult.Aborted = true;
@@ -432,19 +431,13 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
     else
     {
       const Eigen::Map<const Eigen::VectorXd> values(whole.Values.data(), static_cast<Eigen::Index>(whole.Values.size()));
-      const auto releaseEdgeGeometry = [&whole] {
-        whole.NormalAngles = {};
-        whole.EdgeLengths = {};
-        whole.Concave = {};
-      };
       wholeResult = PartitionOnDualGraph(
         whole.View(), whole.Areas, values, input.FamilyModel, options, parallelFor, progress, releaseEdgeGeometry);
     }
-    // What the other processes do not need, before the parts are made.
+    // What the other processes do not need, before the parts are made (the edge geometry
+    // already, unless the refinement read it).
     whole.Neighbors = {};
-    whole.NormalAngles = {};
-    whole.EdgeLengths = {};
-    whole.Concave = {};
+    releaseEdgeGeometry();
   }
   PartitionResult result = ResultOfShare(group.ScatterFromFirst([&](int process) {
     return PartOfProcess(wholeResult, whole, static_cast<std::size_t>(process));

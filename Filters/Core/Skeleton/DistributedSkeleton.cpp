@@ -4,7 +4,6 @@
 #include "Mesh/Orientation.h"
 #include "Mesh/TrianglesOverProcesses.h"
 
-#include <algorithm>
 #include <string>
 #include <utility>
 
@@ -30,12 +29,15 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
   const ProcessGroup& group = share.Group;
   const bool first = group.Rank() == 0;
   // Parts and cloud labels are used when every process has them: a serial run links by parts
-  // only when every face has a usable label.
-  std::vector<std::int64_t> having{ input.TriangleParts.empty() ? 0 : 1, input.TriangleCloudLabels.empty() ? 0 : 1 };
-  group.SumInPlace(having);
-  const auto processes = static_cast<std::int64_t>(group.AllGather({ 0.0 }).size());
-  const bool withParts = having[0] == processes;
-  const bool withCloudLabels = having[1] == processes;
+  // only when every face has a usable label. Every process's pair of flags, concatenated.
+  const std::vector<double> having =
+    group.AllGather({ input.TriangleParts.empty() ? 0.0 : 1.0, input.TriangleCloudLabels.empty() ? 0.0 : 1.0 });
+  bool withParts = true, withCloudLabels = true;
+  for (std::size_t p = 0; p + 1 < having.size(); p += 2)
+  {
+    withParts = withParts && having[p] != 0.0;
+    withCloudLabels = withCloudLabels && having[p + 1] != 0.0;
+  }
   const std::vector<double> parts = withParts
     ? std::vector<double>(input.TriangleParts.begin(), input.TriangleParts.end())
     : std::vector<double>();
