@@ -310,6 +310,34 @@ TEST(ShapeDiameterFilter, DegenerateFacesAreFilledFromNeighbors)
   EXPECT_NEAR(sdf[100], Median(sdf), 0.02 * Median(sdf));
 }
 
+TEST(ShapeDiameterFilter, FillAfterReorientingUsesTheSameNeighbours)
+{
+  // The adjacency the orientation walked is released before the rays and built again for the
+  // fill: on an inverted sphere with a collapsed face, every value, the filled one included,
+  // equals the well-wound sphere's.
+  vtkNew<vtkPolyData> wellWound;
+  wellWound->DeepCopy(Sphere(1.0, 32));
+  vtkIdType count;
+  const vtkIdType* ids;
+  wellWound->GetPolys()->GetCellAtId(100, count, ids);
+  const vtkIdType collapsed[3] = { ids[0], ids[0], ids[0] };
+  wellWound->GetPolys()->ReplaceCellAtId(100, 3, collapsed);
+  vtkNew<vtkReverseSense> reverse;
+  reverse->SetInputData(wellWound);
+  reverse->Update();
+  const FilterRun repaired = Compute(reverse->GetOutput());
+  const std::vector<double> expected = Values(Compute(wellWound).Output);
+  const std::vector<double> actual = Values(repaired.Output);
+  ASSERT_EQ(actual.size(), expected.size());
+  EXPECT_EQ(Values(repaired.Output, "SDFValidRays")[100], 0.0);
+  EXPECT_NEAR(actual[100], expected[100], 1e-9 * expected[100]);
+  EXPECT_NEAR(actual[100], Median(actual), 0.02 * Median(actual));
+  for (std::size_t i = 0; i < actual.size(); ++i)
+  {
+    ASSERT_NEAR(actual[i], expected[i], 1e-9 * expected[i]) << "face " << i;
+  }
+}
+
 TEST(ShapeDiameterFilter, BadInputIsAnErrorWithPassThrough)
 {
   vtkNew<vtkLineSource> line;
