@@ -193,7 +193,8 @@ EmbreeRayCaster::EmbreeRayCaster(
     throw Error("Embree ray caster: this Embree was built without filter functions");
   }
   impl.Scene = rtcNewScene(impl.Device);
-  rtcSetSceneFlags(impl.Scene, options.Robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+  rtcSetSceneFlags(impl.Scene, static_cast<RTCSceneFlags>((options.Robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
+                                 (options.Compact ? RTC_SCENE_FLAG_COMPACT : RTC_SCENE_FLAG_NONE)));
   const RTCBuildQuality quality = options.BuildQuality == EmbreeBuildQuality::Low
     ? RTC_BUILD_QUALITY_LOW
     : options.BuildQuality == EmbreeBuildQuality::High ? RTC_BUILD_QUALITY_HIGH

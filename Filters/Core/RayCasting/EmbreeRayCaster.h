@@ -50,6 +50,10 @@ struct EmbreeRayCasterOptions
   EmbreeBuildQuality BuildQuality = EmbreeBuildQuality::Medium;
   /// RTC_SCENE_FLAG_ROBUST: Embree avoids optimisations that lose accuracy (slower).
   bool Robust = false;
+  /// RTC_SCENE_FLAG_COMPACT: a smaller BVH (its leaves index the vertices instead of holding
+  /// copies) that traverses slower. Hits are the same. For a volume that answers few rays: the
+  /// skeleton's BVH at 832k faces 114 -> 78 MB.
+  bool Compact = false;
 };
 
 class EmbreeRayCaster final : public RayCaster

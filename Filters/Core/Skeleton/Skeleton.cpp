@@ -166,9 +166,11 @@ EmbreeRayCasterOptions VolumeOptions()
 {
   // Low build quality: the volume answers some 10^5 segment tests, so the build dominates and
   // the faster one wins (832k faces: skeleton 0.82 -> 0.62 s; same output, docs/performance.md
-  // "Design measurements"); the SDF's 25 M rays keep Medium.
+  // "Design measurements"); the SDF's 25 M rays keep Medium. Compact for the same reason: a
+  // third less memory for the skeleton's largest allocation (docs/distributed.md).
   EmbreeRayCasterOptions volumeOptions;
   volumeOptions.BuildQuality = EmbreeBuildQuality::Low;
+  volumeOptions.Compact = true;
   return volumeOptions;
 }
 

@@ -372,4 +372,34 @@ TEST(RayCasters, EmbreeBuildQualitiesAgree)
   }
 }
 
+TEST(RayCasters, EmbreeCompactBvhGivesTheSameHits)
+{
+  // The skeleton's volume: low quality, compact leaves. Same hit distances, to the bit.
+  const TestMesh mesh = testshapes::MakeCapsule(0.5, 1.0, 24, 8, 6);
+  const RayOrigins origins = MakeFaceOrigins(mesh.Points, mesh.Triangles);
+  EmbreeRayCasterOptions lowOptions;
+  lowOptions.BuildQuality = EmbreeBuildQuality::Low;
+  const EmbreeRayCaster low(mesh.Points, mesh.Triangles, lowOptions);
+  EmbreeRayCasterOptions compactOptions = lowOptions;
+  compactOptions.Compact = true;
+  const EmbreeRayCaster compact(mesh.Points, mesh.Triangles, compactOptions);
+  int hits = 0;
+  for (Eigen::Index f = 0; f < origins.Points.rows(); ++f)
+  {
+    // Inward, tilted off the normal: every face's ray crosses the capsule.
+    const double direction[3] = { -origins.Normals(f, 0) + 0.2, -origins.Normals(f, 1), -origins.Normals(f, 2) - 0.1 };
+    const RayOrigin origin = Origin(origins.Points(f, 0), origins.Points(f, 1),
+      origins.Points(f, 2), origins.Normals(f, 0), origins.Normals(f, 1), origins.Normals(f, 2), f);
+    const double a = low.ClosestValidHit(origin, direction);
+    const double b = compact.ClosestValidHit(origin, direction);
+    ASSERT_EQ(std::isfinite(a), std::isfinite(b)) << "face " << f;
+    if (std::isfinite(a))
+    {
+      ++hits;
+      EXPECT_EQ(a, b) << "face " << f;
+    }
+  }
+  EXPECT_GT(hits, 9 * origins.Points.rows() / 10);
+}
+
 } // namespace
