@@ -47,6 +47,20 @@ vtkSmartPointer<vtkPolyData> Sphere(double radius, int resolution = 64, double x
   return source->GetOutput();
 }
 
+/// A unit sphere (resolution 32) whose triangle `face` is collapsed onto one of its points:
+/// zero area, no valid ray, its neighbours intact.
+vtkSmartPointer<vtkPolyData> SphereWithCollapsedFace(vtkIdType face)
+{
+  vtkNew<vtkPolyData> mesh;
+  mesh->DeepCopy(Sphere(1.0, 32));
+  vtkIdType count;
+  const vtkIdType* ids;
+  mesh->GetPolys()->GetCellAtId(face, count, ids);
+  const vtkIdType collapsed[3] = { ids[0], ids[0], ids[0] };
+  mesh->GetPolys()->ReplaceCellAtId(face, 3, collapsed);
+  return mesh;
+}
+
 struct FilterRun
 {
   vtkSmartPointer<vtkPolyData> Output;
@@ -293,16 +307,7 @@ TEST(ShapeDiameterFilter, TrianglesBesideVertsAndLinesAndFloatPointsGiveTheSameV
 
 TEST(ShapeDiameterFilter, DegenerateFacesAreFilledFromNeighbors)
 {
-  vtkSmartPointer<vtkPolyData> sphere = Sphere(1.0, 32);
-  vtkNew<vtkPolyData> mesh;
-  mesh->DeepCopy(sphere);
-  // Collapse one triangle onto a point: zero area, neighbours intact.
-  vtkIdType count;
-  const vtkIdType* ids;
-  mesh->GetPolys()->GetCellAtId(100, count, ids);
-  const vtkIdType collapsed[3] = { ids[0], ids[0], ids[0] };
-  mesh->GetPolys()->ReplaceCellAtId(100, 3, collapsed);
-  const FilterRun run = Compute(mesh);
+  const FilterRun run = Compute(SphereWithCollapsedFace(100));
   const std::vector<double> sdf = Values(run.Output);
   const std::vector<double> rays = Values(run.Output, "SDFValidRays");
   EXPECT_EQ(rays[100], 0.0);
@@ -315,13 +320,7 @@ TEST(ShapeDiameterFilter, FillAfterReorientingUsesTheSameNeighbours)
   // The adjacency the orientation walked is released before the rays and built again for the
   // fill: on an inverted sphere with a collapsed face, every value, the filled one included,
   // equals the well-wound sphere's.
-  vtkNew<vtkPolyData> wellWound;
-  wellWound->DeepCopy(Sphere(1.0, 32));
-  vtkIdType count;
-  const vtkIdType* ids;
-  wellWound->GetPolys()->GetCellAtId(100, count, ids);
-  const vtkIdType collapsed[3] = { ids[0], ids[0], ids[0] };
-  wellWound->GetPolys()->ReplaceCellAtId(100, 3, collapsed);
+  const vtkSmartPointer<vtkPolyData> wellWound = SphereWithCollapsedFace(100);
   vtkNew<vtkReverseSense> reverse;
   reverse->SetInputData(wellWound);
   reverse->Update();
