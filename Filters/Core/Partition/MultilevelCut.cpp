@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <mutex>
 #include <tuple>
 #include <utility>
@@ -13,15 +14,25 @@ namespace shapediameter
 namespace
 {
 
-/// Pairs by face (CSR): neighbour and weight.
+/// Pairs by face (CSR): the neighbour and the pair (whose weight is the energy's), 32 bits
+/// each: half the memory of a neighbour and a weight, on the first process of a distributed
+/// run the largest array of the cut (MaxFlowGraph limits faces and pairs to 2^31 - 2 anyway).
 struct Adjacency
 {
   std::vector<std::size_t> start;
-  std::vector<std::pair<std::size_t, double>> entries;
+  std::vector<std::uint32_t> neighbor;
+  std::vector<std::uint32_t> pair;
+  const std::vector<double>& weight;
 
   explicit Adjacency(const PartitionEnergy& energy)
     : start(energy.FaceCount + 1, 0)
+    , weight(energy.PairWeight)
   {
+    constexpr std::size_t limit = std::numeric_limits<std::uint32_t>::max();
+    if (energy.FaceCount > limit || energy.PairWeight.size() > limit)
+    {
+      throw Error("multilevel cut: more than 2^32 - 1 faces or pairs");
+    }
     for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
     {
       ++start[static_cast<std::size_t>(energy.PairFirst[p]) + 1];
@@ -32,15 +43,20 @@ struct Adjacency
       start[f + 1] += start[f];
     }
     std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    entries.resize(start.back());
+    neighbor.resize(start.back());
+    pair.resize(start.back());
     for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
     {
       const auto a = static_cast<std::size_t>(energy.PairFirst[p]);
       const auto b = static_cast<std::size_t>(energy.PairSecond[p]);
-      entries[fill[a]++] = { b, energy.PairWeight[p] };
-      entries[fill[b]++] = { a, energy.PairWeight[p] };
+      neighbor[fill[a]] = static_cast<std::uint32_t>(b);
+      pair[fill[a]++] = static_cast<std::uint32_t>(p);
+      neighbor[fill[b]] = static_cast<std::uint32_t>(a);
+      pair[fill[b]++] = static_cast<std::uint32_t>(p);
     }
   }
+
+  double Weight(std::size_t entry) const { return weight[pair[entry]]; }
 };
 
 /// Clusters of at most `size` faces with the same most probable label, grown breadth-first
@@ -66,7 +82,7 @@ std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(
       const std::size_t f = queue[head];
       for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1] && queue.size() < static_cast<std::size_t>(size); ++e)
       {
-        const std::size_t g = adjacency.entries[e].first;
+        const std::size_t g = adjacency.neighbor[e];
         if (cluster[g] == unassigned && seedLabels[g] == seedLabels[seed])
         {
           cluster[g] = count;
@@ -80,44 +96,67 @@ std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(
 }
 
 /// The energy of labellings constant on clusters.
-PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const std::vector<std::size_t>& cluster, std::size_t clusterCount)
+PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const Adjacency& adjacency,
+  const std::vector<std::size_t>& cluster, std::size_t clusterCount)
 {
   const auto k = static_cast<std::size_t>(energy.LabelCount);
   PartitionEnergy coarse;
   coarse.FaceCount = clusterCount;
   coarse.LabelCount = energy.LabelCount;
   coarse.DataCosts.assign(clusterCount * k, 0.0);
+  std::vector<std::size_t> memberStart(clusterCount + 1, 0);
   for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
     for (std::size_t l = 0; l < k; ++l)
     {
       coarse.DataCosts[cluster[f] * k + l] += energy.DataCosts[f * k + l];
     }
+    ++memberStart[cluster[f] + 1];
   }
-  std::vector<std::tuple<std::size_t, std::size_t, double>> links;
-  links.reserve(energy.PairWeight.size());
-  for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
+  for (std::size_t c = 0; c < clusterCount; ++c)
   {
-    const std::size_t a = cluster[static_cast<std::size_t>(energy.PairFirst[p])];
-    const std::size_t b = cluster[static_cast<std::size_t>(energy.PairSecond[p])];
-    if (a != b)
+    memberStart[c + 1] += memberStart[c];
+  }
+  std::vector<std::uint32_t> members(energy.FaceCount);
+  {
+    std::vector<std::size_t> fill(memberStart.begin(), memberStart.end() - 1);
+    for (std::size_t f = 0; f < energy.FaceCount; ++f)
     {
-      links.emplace_back(std::min(a, b), std::max(a, b), energy.PairWeight[p]);
+      members[fill[cluster[f]]++] = static_cast<std::uint32_t>(f);
     }
   }
-  // Sorted by cluster pair, then by weight: the sums do not depend on the input's pair order.
-  std::sort(links.begin(), links.end());
-  for (std::size_t i = 0; i < links.size();)
+  // Cluster by cluster (a), the pairs to higher clusters (b) sorted by b, then by weight: the
+  // sums do not depend on the input's pair order. Built per cluster rather than for every
+  // pair at once (24 bytes per pair: 30 MB at 832k faces).
+  std::vector<std::pair<std::size_t, double>> links;
+  for (std::size_t a = 0; a < clusterCount; ++a)
   {
-    const auto [a, b, w] = links[i];
-    double sum = 0.0;
-    for (; i < links.size() && std::get<0>(links[i]) == a && std::get<1>(links[i]) == b; ++i)
+    links.clear();
+    for (std::size_t m = memberStart[a]; m < memberStart[a + 1]; ++m)
     {
-      sum += std::get<2>(links[i]);
+      const std::size_t f = members[m];
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+      {
+        const std::size_t b = cluster[adjacency.neighbor[e]];
+        if (b > a)
+        {
+          links.emplace_back(b, adjacency.Weight(e));
+        }
+      }
     }
-    coarse.PairFirst.push_back(static_cast<std::int64_t>(a));
-    coarse.PairSecond.push_back(static_cast<std::int64_t>(b));
-    coarse.PairWeight.push_back(sum);
+    std::sort(links.begin(), links.end());
+    for (std::size_t i = 0; i < links.size();)
+    {
+      const std::size_t b = links[i].first;
+      double sum = 0.0;
+      for (; i < links.size() && links[i].first == b; ++i)
+      {
+        sum += links[i].second;
+      }
+      coarse.PairFirst.push_back(static_cast<std::int64_t>(a));
+      coarse.PairSecond.push_back(static_cast<std::int64_t>(b));
+      coarse.PairWeight.push_back(sum);
+    }
   }
   return coarse;
 }
@@ -135,7 +174,7 @@ std::vector<std::uint8_t> BoundaryBand(const Adjacency& adjacency, const std::ve
   {
     for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
     {
-      if (labels[adjacency.entries[e].first] != labels[f])
+      if (labels[adjacency.neighbor[e]] != labels[f])
       {
         inBand[f] = 1;
         frontier.push_back(f);
@@ -160,7 +199,7 @@ std::vector<std::uint8_t> BoundaryBand(const Adjacency& adjacency, const std::ve
       const std::size_t f = region[i];
       for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
       {
-        const std::size_t g = adjacency.entries[e].first;
+        const std::size_t g = adjacency.neighbor[e];
         if (!visited[g] && labels[g] != mostProbable[g] && mostProbable[g] == mostProbable[seed])
         {
           visited[g] = 1;
@@ -188,7 +227,7 @@ std::vector<std::uint8_t> BoundaryBand(const Adjacency& adjacency, const std::ve
     {
       for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
       {
-        const std::size_t g = adjacency.entries[e].first;
+        const std::size_t g = adjacency.neighbor[e];
         if (!inBand[g])
         {
           inBand[g] = 1;
@@ -222,7 +261,7 @@ std::vector<std::vector<std::size_t>> BandComponents(const Adjacency& adjacency,
       const std::size_t f = faces[i];
       for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
       {
-        const std::size_t g = adjacency.entries[e].first;
+        const std::size_t g = adjacency.neighbor[e];
         if (inBand[g] && component[bandIndex[g]] == none)
         {
           component[bandIndex[g]] = components.size();
@@ -255,7 +294,8 @@ PartitionEnergy BandEnergy(const PartitionEnergy& energy, const Adjacency& adjac
     }
     for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
     {
-      const auto [g, w] = adjacency.entries[e];
+      const std::size_t g = adjacency.neighbor[e];
+      const double w = adjacency.Weight(e);
       if (!inBand[g])
       {
         for (std::size_t l = 0; l < k; ++l)
@@ -346,7 +386,7 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   }
 
   // Coarse solve, projected onto the faces.
-  const PartitionEnergy coarse = CoarseEnergy(energy, cluster, clusterCount);
+  const PartitionEnergy coarse = CoarseEnergy(energy, adjacency, cluster, clusterCount);
   const AlphaExpansionResult coarseResult =
     MinimizeMultilevel(coarse, multilevel, options, SubRange(progress, 0.0, 0.5), parallelFor);
   AlphaExpansionResult result;
