@@ -12,6 +12,7 @@
 #include "Smoothing/BilateralSmoothing.h"
 #include "Smoothing/SmoothAndNormalize.h"
 #include "Mesh/Orientation.h"
+#include "Mesh/TrianglesOverProcesses.h"
 #include "Skeleton/DistributedSkeleton.h"
 #include "Skeleton/Skeleton.h"
 #include "TestShapes.h"
@@ -954,6 +955,76 @@ TEST(SkeletonOnShares, EveryProcessGetsTheSerialLinkAndTheFirstTheSerialSkeleton
     });
     EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](int n) { return n == 1; }));
   }
+}
+
+/// Two processes' triangles of a square split along its diagonal into cells 10 (two
+/// triangles) and 20 (one): process 0 sends cell 10, process 1 cells 10 and 20 (a cell both
+/// hold). `breakShare` lets a test corrupt process 1's share.
+std::pair<WholeTriangles, std::string> GatherSquare(
+  const std::function<void(TriangleMatrix&, std::vector<std::int64_t>& triangleCell)>& breakShare)
+{
+  WholeTriangles whole;
+  std::string firstError, otherError;
+  OnThreads(2, [&](int rank, const ProcessGroup& group) {
+    PointMatrix points(4, 3);
+    points << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+    std::vector<std::int64_t> pointIds{ 100, 101, 102, 103 };
+    TriangleMatrix triangles(rank == 0 ? 2 : 3, 3);
+    std::vector<std::int64_t> triangleCell, cellIds;
+    std::vector<double> column;
+    triangles.row(0) << 0, 1, 2;
+    triangles.row(1) << 0, 2, 3;
+    triangleCell = { 0, 0 };
+    cellIds = { 10 };
+    if (rank == 1)
+    {
+      triangles.row(2) << 1, 2, 3;
+      triangleCell.push_back(1);
+      cellIds.push_back(20);
+      breakShare(triangles, triangleCell);
+    }
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+    {
+      column.push_back(10.0 * rank + static_cast<double>(t));
+    }
+    try
+    {
+      WholeTriangles mine =
+        GatherTrianglesOnFirst(TriangleShare{ points, triangles, triangleCell, cellIds, pointIds, { &column } }, group);
+      if (rank == 0)
+      {
+        whole = std::move(mine);
+      }
+    }
+    catch (const Error& error)
+    {
+      (rank == 0 ? firstError : otherError) = error.what();
+    }
+  });
+  EXPECT_EQ(otherError, "") << "only the first process assembles";
+  return { std::move(whole), firstError };
+}
+
+TEST(TrianglesOverProcesses, TheWholeMeshTakesEachCellOnceInIdOrder)
+{
+  const auto [whole, error] = GatherSquare([](TriangleMatrix&, std::vector<std::int64_t>&) {});
+  ASSERT_EQ(error, "");
+  ASSERT_EQ(whole.Triangles.rows(), 3);
+  EXPECT_EQ(whole.Points.rows(), 4);
+  EXPECT_EQ(whole.TriangleCellId, (std::vector<std::int64_t>{ 10, 10, 20 }));
+  // Cell 10's triangles come from process 0 (the lowest that holds it), cell 20's from 1.
+  EXPECT_EQ(whole.Columns[0], (std::vector<double>{ 0.0, 1.0, 12.0 }));
+  EXPECT_EQ(whole.ProcessTriangles, (std::vector<std::vector<std::int64_t>>{ { 0, 1 }, { 0, 1, 2 } }));
+  EXPECT_EQ(whole.Triangles(2, 0), 1);
+}
+
+TEST(TrianglesOverProcesses, ACellTriangulatedDifferentlyThrowsOnTheFirstAfterEveryGather)
+{
+  // Process 1 gives cell 10 one triangle and cell 20 two: the cells' counts disagree.
+  const auto [whole, error] = GatherSquare([](TriangleMatrix&, std::vector<std::int64_t>& triangleCell) {
+    triangleCell = { 0, 1, 1 };
+  });
+  EXPECT_EQ(error, "triangles over processes: two processes triangulate cell 10 differently");
 }
 
 TEST(SkeletonOnShares, AnAbortOnTheFirstProcessAbortsEvery)

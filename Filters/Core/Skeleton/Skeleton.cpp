@@ -47,19 +47,18 @@ std::vector<std::int64_t> DenseLabels(const std::vector<std::int64_t>& labels)
 }
 
 /// One dense label per (surface component, part label) pair, in order of first appearance: a
-/// part is taken within one component (faceComponent: dense labels 0..).
+/// part is taken within one component (faceComponent: dense labels 0..). One pass, with no
+/// per-face array but the result (the link's peak on the first process of a distributed run).
 std::vector<std::int64_t> PartsWithinComponents(
   const std::vector<std::int64_t>& faceParts, const std::vector<std::int64_t>& faceComponent)
 {
-  const std::vector<std::int64_t> densePart = DenseLabels(faceParts);
-  const std::int64_t partCount =
-    faceParts.empty() ? 0 : *std::max_element(densePart.begin(), densePart.end()) + 1;
-  std::vector<std::int64_t> combined(faceParts.size());
+  std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t> dense;
+  std::vector<std::int64_t> result(faceParts.size());
   for (std::size_t f = 0; f < faceParts.size(); ++f)
   {
-    combined[f] = faceComponent[f] * partCount + densePart[f];
+    result[f] = dense.try_emplace({ faceComponent[f], faceParts[f] }, static_cast<std::int64_t>(dense.size())).first->second;
   }
-  return DenseLabels(combined);
+  return result;
 }
 
 SkeletonResult AbortedResult()
@@ -79,39 +78,34 @@ std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& face
   const std::size_t parts =
     part.empty() ? 0 : static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1);
 
-  // Area per (part, bone): faces sorted by that pair, in face order within it (stable), so
-  // each sum adds its faces in the same order whatever the labels' values.
-  std::vector<std::size_t> order(faceParts.size());
-  std::iota(order.begin(), order.end(), std::size_t{ 0 });
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return std::tie(part[a], nearestBone[a]) < std::tie(part[b], nearestBone[b]);
-  });
+  // Area per (part, bone), each sum over its faces in face order, whatever the labels'
+  // values; a map of the pairs rather than the faces sorted by pair (two arrays of the faces
+  // less: on the first process of a distributed run, the link is the skeleton's peak).
   struct Overlap
   {
     double Area;
     std::size_t Part;
     std::int64_t Bone;
   };
+  std::map<std::pair<std::int64_t, std::int64_t>, double> areaOfPair;
+  for (std::size_t f = 0; f < faceParts.size(); ++f)
+  {
+    areaOfPair[{ part[f], nearestBone[f] }] += faceArea[f];
+  }
   std::vector<Overlap> overlaps; // in (part, bone) order
   std::vector<std::int64_t> bestBone(parts, -1);
   std::vector<double> bestArea(parts, 0.0);
   std::vector<double> partArea(parts, 0.0);
-  for (std::size_t i = 0; i < order.size();)
+  for (const auto& [pair, area] : areaOfPair)
   {
-    const std::size_t first = order[i];
-    double area = 0.0;
-    for (; i < order.size() && part[order[i]] == part[first] && nearestBone[order[i]] == nearestBone[first]; ++i)
-    {
-      area += faceArea[order[i]];
-    }
-    const auto p = static_cast<std::size_t>(part[first]);
-    overlaps.push_back({ area, p, nearestBone[first] });
+    const auto p = static_cast<std::size_t>(pair.first);
+    overlaps.push_back({ area, p, pair.second });
     partArea[p] += area;
     // Bones come in increasing order within a part: a strictly larger area is needed to
     // replace the lower bone (ties: the lowest bone id).
     if (bestBone[p] < 0 || area > bestArea[p])
     {
-      bestBone[p] = nearestBone[first];
+      bestBone[p] = pair.second;
       bestArea[p] = area;
     }
   }
