@@ -16,6 +16,11 @@
  *    line in both directions.
  * 4. k-terminal shortest paths through P (a priority-queue growth from all segments at
  *    once) join the segments: one connected tree per connected surface component.
+ *    (ours) Where P spreads in a plane (a palm, a flat torso), a path pays less per unit
+ *    length the deeper the point lies inside that sheet (its in-plane distance to the
+ *    surface over its radius), so it follows the sheet's middle rather than its rim; in tubes
+ *    and blobs lengths are the paper's (deviation: libigl hand rig recall 90.0 -> 94.5 %;
+ *    Filters/Core/Skeleton/SkeletonConnection.h, evidence in docs/skeleton.md).
  *    (ours) A leaf whose branch points head-on at its part's end gets one more node where a
  *    ball of its radius touches that end (exit normal within MaximumExitAngle of the
  *    branch); then short leaf stubs are pruned.

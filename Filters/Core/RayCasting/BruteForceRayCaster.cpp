@@ -66,7 +66,7 @@ double BruteForceRayCaster::ClosestValidHit(const RayOrigin& origin, const doubl
       continue;
     }
     const double distance = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inverseDet;
-    if (distance >= origin.MinDistance && distance >= 0 && distance < closest)
+    if (distance >= origin.MinDistance && distance >= 0 && distance <= origin.MaxDistance && distance < closest)
     {
       closest = distance;
       closestTriangle = t;

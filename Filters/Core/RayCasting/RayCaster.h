@@ -11,7 +11,7 @@
 // Common to both rules:
 //   - the origin's source triangle is never hit (a face-centre origin never hits its own
 //     face), nor is a zero-area triangle; hits with t < the origin's MinDistance (Embree's
-//     tnear) are ignored;
+//     tnear) or t > its MaxDistance (tfar) are ignored;
 //   - normals are compared with N_hit = (v1 - v0) x (v2 - v0), the hit triangle's geometric
 //     normal by the right-hand rule of its vertex order (VTK's polygon normal), normalised, in
 //     double precision, with a tolerance kPerpendicularTolerance (1e-6) on the cosine: without
@@ -79,6 +79,9 @@ struct RayOrigin
   /// Hits with t < MinDistance are ignored (used for vertex origins, which lie on several
   /// triangles and have no single source triangle).
   double MinDistance = 0;
+  /// Hits with t > MaxDistance are not looked for (Embree's tfar: a short query in a large
+  /// mesh stops early); +inf = none. NaN: no hit at all.
+  double MaxDistance = std::numeric_limits<double>::infinity();
   /// Which hit counts; default FirstHitLeaving.
   HitRule Rule = HitRule::FirstHitLeaving;
 };

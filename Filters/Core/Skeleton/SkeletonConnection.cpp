@@ -12,6 +12,8 @@
 #include <queue>
 #include <tuple>
 
+#include <Eigen/Eigenvalues>
+
 namespace shapediameter
 {
 
@@ -21,6 +23,7 @@ void ValidateConnectionOptions(const SkeletonConnectionOptions& options)
   CheckRange(options.SeedRadiusFactor, SeedRadiusFactorRange, "skeleton: SeedRadiusFactor");
   CheckRange(options.SpacingFactor, ConnectionSpacingFactorRange, "skeleton: connection SpacingFactor");
   CheckRange(options.MinimumBranchFactor, MinimumBranchFactorRange, "skeleton: MinimumBranchFactor");
+  CheckRange(options.SheetClearanceExponent, SheetClearanceExponentRange, "skeleton: SheetClearanceExponent");
 }
 
 namespace
@@ -342,6 +345,27 @@ struct Growth
   std::vector<std::int64_t> Parent;
   std::vector<std::int64_t> RootNode;
 };
+
+/// A unit vector perpendicular to n (unit), from the coordinate axis least aligned with it.
+Eigen::Vector3d Perpendicular(const Eigen::Vector3d& n)
+{
+  Eigen::Index least = 0;
+  n.cwiseAbs().minCoeff(&least);
+  return n.cross(Eigen::Vector3d::Unit(least)).normalized();
+}
+
+/// The neighbour graph with every edge's weight times the mean of its ends' factors.
+CloudNeighborGraph ScaledByFactors(CloudNeighborGraph graph, const std::vector<double>& factor)
+{
+  for (std::size_t a = 0; a + 1 < graph.Offsets.size(); ++a)
+  {
+    for (std::size_t e = graph.Offsets[a]; e < graph.Offsets[a + 1]; ++e)
+    {
+      graph.Weights[e] *= 0.5 * (factor[a] + factor[static_cast<std::size_t>(graph.Targets[e])]);
+    }
+  }
+  return graph;
+}
 
 /// Stage 2, the seeds: every segment node claims the points of P of its component within
 /// seedRadiusFactor * radius, and the nearest one, with their distance to it (ties: lower node).
@@ -691,6 +715,68 @@ private:
 
 } // namespace
 
+std::vector<double> SheetFactors(const ProjectedCloud& cloud, const ThinnedCloud& thinned, const RayCaster& volume,
+  double exponent, const ParallelFor& parallelFor)
+{
+  CheckRange(exponent, SheetClearanceExponentRange, "skeleton: SheetClearanceExponent");
+  constexpr double lineSpread = 0.1;   // second variance below this share of the first: a line
+  constexpr double flatSpread = 0.25;  // smallest above this share of the second: not flat
+  constexpr double smallestFactor = 0.25; // a sheet's middle at most 4 times cheaper
+  constexpr int rays = 8;
+  const std::size_t count = cloud.Size();
+  std::vector<double> factor(count, 1.0);
+  if (exponent == 0.0)
+  {
+    return factor;
+  }
+  if (static_cast<std::size_t>(thinned.LocalSpread.rows()) != count ||
+    static_cast<std::size_t>(thinned.LocalNormal.rows()) != count)
+  {
+    throw Error("skeleton: the thinned cloud's local spread does not match the cloud");
+  }
+  parallelFor(count, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      const auto row = static_cast<Eigen::Index>(i);
+      const Eigen::Vector3d spread = thinned.LocalSpread.row(row).transpose();
+      const double radius = cloud.Radius[i];
+      if (!(radius > 0.0) || !(spread(2) > 0.0) || spread(1) < lineSpread * spread(2) ||
+        spread(0) > flatSpread * spread(1))
+      {
+        continue; // undefined, a line (a tube's axis) or a blob: Euclidean lengths
+      }
+      const Eigen::Vector3d normal = thinned.LocalNormal.row(row).transpose();
+      const Eigen::Vector3d first = Perpendicular(normal);
+      const Eigen::Vector3d second = normal.cross(first);
+      // Rays reach no farther than where the factor reaches its smallest value.
+      const double reach = radius * std::pow(1.0 / smallestFactor, 1.0 / exponent);
+      double clearance = reach;
+      RayOrigin origin;
+      origin.MaxDistance = reach;
+      for (int c = 0; c < 3; ++c)
+      {
+        origin.Point[c] = cloud.Positions(row, c);
+      }
+      for (int k = 0; k < rays; ++k)
+      {
+        const double angle = 2.0 * 3.14159265358979323846 * k / rays;
+        const Eigen::Vector3d direction = std::cos(angle) * first + std::sin(angle) * second;
+        const double along[3] = { direction(0), direction(1), direction(2) };
+        for (int c = 0; c < 3; ++c)
+        {
+          origin.Normal[c] = -direction(c); // any non-zero normal: the ray leaves from inside
+        }
+        clearance = std::min(clearance, volume.ClosestValidHit(origin, along));
+      }
+      if (clearance > 0.0)
+      {
+        factor[i] = std::clamp(std::pow(radius / clearance, exponent), smallestFactor, 1.0);
+      }
+    }
+  });
+  return factor;
+}
+
 SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
   const std::vector<PolySegment>& segments, const std::vector<std::int64_t>& pointComponent,
   const SkeletonConnectionOptions& options, const ParallelFor& parallelFor,
@@ -730,7 +816,14 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
   const PathVertices vertices(segments, thinned.Positions, positions);
   Growth growth =
     SeedGrowth(tree, cloud, thinned, segments, component, options.SeedRadiusFactor, vertices);
-  GrowFromSeeds(neighbours, growth);
+  // Costs that follow the middle of sheets (the header comment); step 5 reads the Euclidean
+  // graph.
+  const bool sheets = volume && options.SheetClearanceExponent > 0.0;
+  const CloudNeighborGraph growthGraph = sheets
+    ? ScaledByFactors(neighbours, SheetFactors(cloud, thinned, *volume, options.SheetClearanceExponent, parallelFor))
+    : CloudNeighborGraph();
+  const CloudNeighborGraph& costs = sheets ? growthGraph : neighbours;
+  GrowFromSeeds(costs, growth);
   if (!report(0.8))
   {
     return {};
@@ -738,7 +831,7 @@ SkeletonGraph ConnectPolySegments(const ProjectedCloud& cloud, const ThinnedClou
 
   // 3. Joins where growths meet; 4. the accepted joins' merged paths as thinned chains.
   PathAdjacency paths = MergedJoinPaths(
-    JoinsWhereGrowthsMeet(neighbours, growth), growth, segments.size(), vertices);
+    JoinsWhereGrowthsMeet(costs, growth), growth, segments.size(), vertices);
   std::vector<std::vector<std::int64_t>> chains =
     ThinnedChains(paths, vertices, cloud.Radius, options.SpacingFactor);
 

@@ -40,6 +40,8 @@ struct Projection
   Eigen::Vector3d Position;
   Eigen::Vector3d Axis;
   double Confidence;
+  Eigen::Vector3d Spread = Eigen::Vector3d::Zero(); ///< variances, increasing
+  Eigen::Vector3d Normal = Eigen::Vector3d::Zero(); ///< the axis of the smallest
 };
 
 /// One MLS step for a point at `position` with neighbourhood radius h.
@@ -88,7 +90,7 @@ Projection ProjectOntoRegressionLine(const SkeletonPointTree& tree,
   {
     return unchanged;
   }
-  return { moved, axis, std::clamp(confidence, 0.0, 1.0) };
+  return { moved, axis, std::clamp(confidence, 0.0, 1.0), eigenvalues, solver.eigenvectors().col(0).normalized() };
 }
 
 } // namespace
@@ -104,6 +106,8 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
   result.Positions = cloud.Positions;
   result.Axis = PointMatrix::Zero(rows, 3);
   result.Confidence.assign(count, 0.0);
+  result.LocalSpread = PointMatrix::Zero(rows, 3);
+  result.LocalNormal = PointMatrix::Zero(rows, 3);
   if (count == 0)
   {
     return result;
@@ -139,6 +143,11 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
           nextPositions.row(i) = projection.Position.transpose();
           result.Axis.row(i) = projection.Axis.transpose();
           result.Confidence[k] = projection.Confidence;
+          if (iteration == 0 && projection.Normal.allFinite())
+          {
+            result.LocalSpread.row(i) = projection.Spread.transpose();
+            result.LocalNormal.row(i) = projection.Normal.transpose();
+          }
         }
       });
       const double done = (static_cast<double>(iteration) +

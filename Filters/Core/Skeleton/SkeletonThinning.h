@@ -117,6 +117,11 @@ struct ThinnedCloud
   PointMatrix Axis;
   /// confidence(p) in [1/3, 1], or 0 where undefined.
   std::vector<double> Confidence;
+  /// The principal variances of P within h of each point's own position (the first
+  /// iteration's neighbourhood), increasing, and the axis of the smallest; zero rows where
+  /// undefined. Step 4 (SkeletonConnection.h) finds sheets with them.
+  PointMatrix LocalSpread;
+  PointMatrix LocalNormal;
   /// The threshold that was applied: min(ConfidenceThreshold, the MinimumConfidentShare one).
   double AppliedConfidenceThreshold = 0.0;
   /// T: indices into P of the kept points, by decreasing confidence (ties: lower index).

@@ -402,4 +402,26 @@ TEST(RayCasters, EmbreeCompactBvhGivesTheSameHits)
   EXPECT_GT(hits, 9 * origins.Points.rows() / 10);
 }
 
+TEST(RayCasters, MaxDistanceStopsTheSearchForBothCasters)
+{
+  // From the centre of a unit sphere every ray leaves about 1 away: found within 1.5, not
+  // within 0.9; NaN finds nothing. Embree and the brute-force caster agree.
+  const TestMesh sphere = testshapes::MakeSphere(1.0, 48, 24);
+  const EmbreeRayCaster embree(sphere.Points, sphere.Triangles);
+  const BruteForceRayCaster brute(sphere.Points, sphere.Triangles);
+  const double direction[3] = { 0.3, -0.5, 0.8 };
+  for (const RayCaster* caster : { static_cast<const RayCaster*>(&embree), static_cast<const RayCaster*>(&brute) })
+  {
+    RayOrigin origin = Origin(0, 0, 0, -0.3, 0.5, -0.8, -1);
+    const double unlimited = caster->ClosestValidHit(origin, direction);
+    ASSERT_NEAR(unlimited, 1.0, 0.01);
+    origin.MaxDistance = 1.5;
+    EXPECT_EQ(caster->ClosestValidHit(origin, direction), unlimited);
+    origin.MaxDistance = 0.9;
+    EXPECT_EQ(caster->ClosestValidHit(origin, direction), std::numeric_limits<double>::infinity());
+    origin.MaxDistance = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(caster->ClosestValidHit(origin, direction), std::numeric_limits<double>::infinity());
+  }
+}
+
 } // namespace

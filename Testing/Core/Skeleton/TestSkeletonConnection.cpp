@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Step 4 of the skeleton (SkeletonConnection.h) through ComputeSkeleton: segments joined into
 // one tree per component (tripod, star of eight, cross: one junction), separate components
-// give separate trees, a blob one node.
+// give separate trees, a blob one node; step 2's sheet factors on a plate and a tube.
+#include "RayCasting/EmbreeRayCaster.h"
 #include "Skeleton/Skeleton.h"
+#include "Skeleton/SkeletonConnection.h"
 #include "Skeleton/SkeletonTestSupport.h"
 #include "TestShapes.h"
 
@@ -215,3 +217,82 @@ TEST(Skeleton, CrossHasOneJunctionAndFourBones)
 }
 
 } // namespace
+
+namespace
+{
+
+/// Points of P on a grid in the plane z = zMid, over [x0, x1] x [y0, y1], with one radius.
+ProjectedCloud GridCloud(double x0, double x1, double y0, double y1, double zMid, double step, double radius)
+{
+  std::vector<Eigen::Vector3d> points;
+  for (double x = x0; x <= x1 + 1e-9; x += step)
+  {
+    for (double y = y0; y <= y1 + 1e-9; y += step)
+    {
+      points.emplace_back(x, y, zMid);
+    }
+  }
+  ProjectedCloud cloud;
+  cloud.Positions.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    cloud.Positions.row(static_cast<Eigen::Index>(i)) = points[i].transpose();
+    cloud.Radius.push_back(radius);
+    cloud.SourceFace.push_back(0);
+  }
+  return cloud;
+}
+
+std::size_t NearestRow(const ProjectedCloud& cloud, const Eigen::Vector3d& p)
+{
+  Eigen::Index row = 0;
+  (cloud.Positions.rowwise() - p.transpose()).rowwise().squaredNorm().minCoeff(&row);
+  return static_cast<std::size_t>(row);
+}
+
+} // namespace
+
+TEST(SheetFactors, AreSmallInTheMiddleOfASheetAndOneAtItsRimAndInATube)
+{
+  // A plate 4 x 4 x 0.4: its projected points lie in the middle plane, radius 0.2. In-plane
+  // clearance from the centre is 2 (the rays stop at 4 radii: factor 1/4), 0.4 from a point
+  // 0.4 inside a side (0.2 / 0.4), 0.1 at the rim (1).
+  const TestMesh plate = MakeBox(Eigen::Vector3d(4.0, 4.0, 0.4), 20);
+  const EmbreeRayCaster plateVolume(plate.Points, plate.Triangles);
+  const ProjectedCloud sheet = GridCloud(0.1, 3.9, 0.1, 3.9, 0.2, 0.1, 0.2);
+  const ThinnedCloud sheetThinned = ThinProjectedCloud(sheet, SkeletonThinningOptions(), SerialFor);
+  const auto factors = [&](double exponent, const ParallelFor& parallelFor) {
+    return SheetFactors(sheet, sheetThinned, plateVolume, exponent, parallelFor);
+  };
+  const std::vector<double> onSheet = factors(1.0, SerialFor);
+  EXPECT_DOUBLE_EQ(onSheet[NearestRow(sheet, { 2.0, 2.0, 0.2 })], 0.25);
+  EXPECT_NEAR(onSheet[NearestRow(sheet, { 2.0, 0.4, 0.2 })], 0.5, 1e-6);
+  EXPECT_DOUBLE_EQ(onSheet[NearestRow(sheet, { 2.0, 0.1, 0.2 })], 1.0);
+  // The exponent: (0.2 / 0.4)^2.
+  EXPECT_NEAR(factors(2.0, SerialFor)[NearestRow(sheet, { 2.0, 0.4, 0.2 })], 0.25, 1e-6);
+  // Exponent 0: Euclidean lengths everywhere; out of range: an error.
+  const std::vector<double> off = factors(0.0, SerialFor);
+  EXPECT_TRUE(std::all_of(off.begin(), off.end(), [](double f) { return f == 1.0; }));
+  EXPECT_THROW(factors(4.5, SerialFor), Error);
+  // The same on two threads.
+  EXPECT_EQ(factors(1.0, ThreadedFor(2)), onSheet);
+
+  // Along a capsule's axis (radius 0.5) the cloud is a line: Euclidean lengths.
+  const TestMesh capsule = MakeCapsule(0.5, 3.0);
+  const EmbreeRayCaster capsuleVolume(capsule.Points, capsule.Triangles);
+  ProjectedCloud axis;
+  axis.Positions.resize(61, 3);
+  axis.Radius.assign(61, 0.5);
+  axis.SourceFace.assign(61, 0);
+  for (Eigen::Index i = 0; i < 61; ++i)
+  {
+    // Scattered by 0.02 across the axis, as the SDF's noise scatters P.
+    axis.Positions.row(i) << 0.02 * std::sin(1.7 * static_cast<double>(i)), 0.02 * std::cos(2.3 * static_cast<double>(i)),
+      -3.0 + 0.1 * static_cast<double>(i);
+  }
+  const ThinnedCloud axisThinned = ThinProjectedCloud(axis, SkeletonThinningOptions(), SerialFor);
+  const std::vector<double> onAxis = SheetFactors(axis, axisThinned, capsuleVolume, 1.0, SerialFor);
+  EXPECT_TRUE(std::all_of(onAxis.begin(), onAxis.end(), [](double f) { return f == 1.0; }));
+  // A thinned cloud of another size is an error.
+  EXPECT_THROW(SheetFactors(axis, sheetThinned, capsuleVolume, 1.0, SerialFor), Error);
+}
