@@ -725,9 +725,9 @@ std::vector<double> SheetFactors(const ProjectedCloud& cloud, const ThinnedCloud
   constexpr int rays = 8;
   const std::size_t count = cloud.Size();
   std::vector<double> factor(count, 1.0);
-  if (exponent == 0.0)
+  if (exponent == 0.0 || (thinned.LocalSpread.rows() == 0 && thinned.LocalNormal.rows() == 0))
   {
-    return factor;
+    return factor; // off, or a thinned cloud made without its local spread
   }
   if (static_cast<std::size_t>(thinned.LocalSpread.rows()) != count ||
     static_cast<std::size_t>(thinned.LocalNormal.rows()) != count)

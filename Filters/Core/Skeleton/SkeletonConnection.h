@@ -156,7 +156,9 @@ CloudNeighborGraph BuildCloudNeighborGraph(const ProjectedCloud& cloud,
 
 /// Step 2's sheet factor of every point of P (see the header comment), from the thinning's
 /// local spread (ThinnedCloud::LocalSpread, LocalNormal). The result does not depend on the
-/// thread count. Throws Error on an exponent out of range or a thinned cloud of another size.
+/// thread count. A thinned cloud without its local spread (empty LocalSpread and LocalNormal)
+/// gives 1 everywhere. Throws Error on an exponent out of range or a local spread of another
+/// size than the cloud.
 std::vector<double> SheetFactors(const ProjectedCloud& cloud, const ThinnedCloud& thinned, const RayCaster& volume,
   double exponent, const ParallelFor& parallelFor);
 

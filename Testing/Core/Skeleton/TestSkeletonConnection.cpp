@@ -293,6 +293,12 @@ TEST(SheetFactors, AreSmallInTheMiddleOfASheetAndOneAtItsRimAndInATube)
   const ThinnedCloud axisThinned = ThinProjectedCloud(axis, SkeletonThinningOptions(), SerialFor);
   const std::vector<double> onAxis = SheetFactors(axis, axisThinned, capsuleVolume, 1.0, SerialFor);
   EXPECT_TRUE(std::all_of(onAxis.begin(), onAxis.end(), [](double f) { return f == 1.0; }));
-  // A thinned cloud of another size is an error.
+  // A local spread of another size is an error; none at all (a thinned cloud made by hand)
+  // gives Euclidean lengths.
   EXPECT_THROW(SheetFactors(axis, sheetThinned, capsuleVolume, 1.0, SerialFor), Error);
+  ThinnedCloud withoutSpread = sheetThinned;
+  withoutSpread.LocalSpread = PointMatrix();
+  withoutSpread.LocalNormal = PointMatrix();
+  const std::vector<double> unknown = SheetFactors(sheet, withoutSpread, plateVolume, 1.0, SerialFor);
+  EXPECT_TRUE(std::all_of(unknown.begin(), unknown.end(), [](double f) { return f == 1.0; }));
 }
