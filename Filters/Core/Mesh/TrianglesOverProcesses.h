@@ -16,8 +16,8 @@
 // Contract
 //   Collective over the group. Bad shares (arrays of the wrong size, ids outside [0, 2^53),
 //   triangle cells out of order) throw Error before the first collective; a corner that no
-//   process sent, or a cell two processes triangulate differently, throws Error where the
-//   whole mesh is assembled.
+//   process sent, or a cell two processes triangulate differently, throws Error on the first
+//   process, after the last collective (the others have returned their empty result).
 #pragma once
 
 #include "Mesh/MeshTypes.h"

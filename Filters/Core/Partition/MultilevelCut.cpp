@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <limits>
 #include <mutex>
-#include <tuple>
 #include <utility>
 #include <vector>
 

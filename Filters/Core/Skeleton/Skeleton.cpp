@@ -10,9 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <set>
-#include <tuple>
 #include <unordered_map>
 #include <utility>
 

@@ -729,6 +729,8 @@ std::vector<double> SheetFactors(const ProjectedCloud& cloud, const ThinnedCloud
   {
     return factor; // off, or a thinned cloud made without its local spread
   }
+  // Rays reach no farther than where the factor reaches its smallest value.
+  const double reachRadii = std::pow(1.0 / smallestFactor, 1.0 / exponent);
   if (static_cast<std::size_t>(thinned.LocalSpread.rows()) != count ||
     static_cast<std::size_t>(thinned.LocalNormal.rows()) != count)
   {
@@ -748,8 +750,7 @@ std::vector<double> SheetFactors(const ProjectedCloud& cloud, const ThinnedCloud
       const Eigen::Vector3d normal = thinned.LocalNormal.row(row).transpose();
       const Eigen::Vector3d first = Perpendicular(normal);
       const Eigen::Vector3d second = normal.cross(first);
-      // Rays reach no farther than where the factor reaches its smallest value.
-      const double reach = radius * std::pow(1.0 / smallestFactor, 1.0 / exponent);
+      const double reach = radius * reachRadii;
       double clearance = reach;
       RayOrigin origin;
       origin.MaxDistance = reach;
