@@ -151,17 +151,24 @@ def bone_paths(node_count, edges):
     return paths
 
 
-def surface_distances(surface, points):
-    """Distance from every point to the surface (a vtkPolyData of triangles)."""
+def closest_cells(surface, points):
+    """(distance to the surface, id of the nearest cell) of every point (a vtkPolyData of triangles)."""
     locator = vtkStaticCellLocator()
     locator.SetDataSet(surface)
     locator.BuildLocator()
     closest, cell, cell_id, sub_id, distance2 = [0.0, 0.0, 0.0], vtkGenericCell(), mutable(0), mutable(0), mutable(0.0)
-    result = np.empty(len(points))
+    distances = np.empty(len(points))
+    cells = np.empty(len(points), dtype=np.int64)
     for i, point in enumerate(points):
         locator.FindClosestPoint(point.tolist(), closest, cell, cell_id, sub_id, distance2)
-        result[i] = np.sqrt(float(distance2))
-    return result
+        distances[i] = np.sqrt(float(distance2))
+        cells[i] = int(cell_id)
+    return distances, cells
+
+
+def surface_distances(surface, points):
+    """Distance from every point to the surface (a vtkPolyData of triangles)."""
+    return closest_cells(surface, points)[0]
 
 
 def turning_angles(polyline):
