@@ -26,8 +26,11 @@
  *    branch); then short leaf stubs are pruned.
  * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor),
  *    and every thin limb among the smaller ones (ThinLimbFactor), gets a branch through P to
- *    the centre of its far end; junctions it creates closer than one
- *    radius to another are merged (its leaves are not pruned).
+ *    the centre of its far end; a large group that is several limbs (a head with its snout
+ *    and ears) gets one more to each other far end that leaves the group near where the group
+ *    meets the tree (segmentation benchmark, Armadillo: limbs reached 83.5 -> 92.9 %);
+ *    junctions it creates closer than one radius to another are merged (its leaves are not
+ *    pruned).
  * 6. (ours, with the segment link below) A large segment left without a bone of its own whose
  *    farthest projected point is far from the skeleton (PartUncoveredFactor) gets a branch.
  * 7. (ours) Every bone is made a smooth curve through the volume (BoneSmoothing): its nodes

@@ -16,10 +16,11 @@
 //                                end; then the junctions are cleaned (CleanGraphJunctions),
 //                                so that a stub is judged by its part's length
 //     5. ReachUncoveredParts   - (ours) a branch into every large group of projected points
-//                                far from the tree, and into every thin limb (a small group
-//                                along a line, far out: a tail): parts with no confident
-//                                segment (a bent or stubby limb, an ear) still get one, in
-//                                every pose;
+//                                far from the tree and into each other limb of such a group
+//                                (a side limb: an ear beside a snout), and into every thin
+//                                limb (a small group along a line, far out: a tail): parts
+//                                with no confident segment (a bent or stubby limb, an ear)
+//                                still get one, in every pose;
 //                                then the inner branches it made shorter than
 //                                MinimumBranchFactor radii are contracted (CleanGraphJunctions
 //                                without leaf pruning), so the output keeps step 4's rule

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <queue>
@@ -18,6 +19,7 @@ void ValidateCoverageOptions(const SkeletonCoverageOptions& options)
 {
   CheckRange(options.UncoveredFactor, UncoveredFactorRange, "skeleton: UncoveredFactor");
   CheckRange(options.MinimumShare, CoverageMinimumShareRange, "skeleton: coverage MinimumShare");
+  CheckRange(options.SideLimbJoinDepth, SideLimbJoinDepthRange, "skeleton: coverage SideLimbJoinDepth");
   CheckRange(options.PartMinimumShare, PartMinimumShareRange, "skeleton: coverage PartMinimumShare");
   CheckRange(options.PartUncoveredFactor, PartUncoveredFactorRange, "skeleton: coverage PartUncoveredFactor");
   CheckRange(options.ThinLimbFactor, ThinLimbFactorRange, "skeleton: ThinLimbFactor");
@@ -173,6 +175,8 @@ struct PointGroups
   /// Largest eigenvalue / sum of the covariance of the group's points (1 = on a line); 0 for a
   /// group of fewer than 3 points.
   std::vector<double> Linearity;
+  /// Per point of the cloud: its group, -1 for a point not flagged.
+  std::vector<std::int64_t> GroupOf;
 };
 
 /// Linearity (PointGroups::Linearity) of the points `members` of `positions`, centred first so
@@ -238,6 +242,7 @@ PointGroups GroupFlaggedPoints(const CloudNeighborGraph& neighbours, const Proje
   const std::vector<std::int64_t>& nearestNode)
 {
   PointGroups groups;
+  groups.GroupOf.assign(flagged.size(), -1);
   std::vector<char> visited(flagged.size(), 0);
   for (std::size_t seed = 0; seed < flagged.size(); ++seed)
   {
@@ -254,6 +259,7 @@ PointGroups GroupFlaggedPoints(const CloudNeighborGraph& neighbours, const Proje
       const std::size_t point = stack.back();
       stack.pop_back();
       members.push_back(point);
+      groups.GroupOf[point] = static_cast<std::int64_t>(groups.Size.size());
       if (gap[point] > gap[tip] || (gap[point] == gap[tip] && point < tip))
       {
         tip = point;
@@ -280,6 +286,136 @@ PointGroups GroupFlaggedPoints(const CloudNeighborGraph& neighbours, const Proje
     groups.Linearity.push_back(Linearity(cloud.Positions, members));
   }
   return groups;
+}
+
+/// Depth of every point of group `group`: its shortest distance through the group's edges
+/// (bridges not used) from a point of the group with a neighbour outside it (a covered point);
+/// +inf for the points of other groups and for those the group's edges do not reach.
+std::vector<double> DepthsInGroup(
+  const CloudNeighborGraph& neighbours, const PointGroups& groups, std::int64_t group)
+{
+  const std::size_t n = groups.GroupOf.size();
+  std::vector<double> depth(n, std::numeric_limits<double>::infinity());
+  using Entry = std::pair<double, std::int64_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    if (groups.GroupOf[p] != group)
+    {
+      continue;
+    }
+    for (std::size_t e = neighbours.Offsets[p]; e < neighbours.Offsets[p + 1]; ++e)
+    {
+      if (!neighbours.IsBridge[e] && groups.GroupOf[static_cast<std::size_t>(neighbours.Targets[e])] < 0)
+      {
+        depth[p] = 0.0;
+        queue.push({ 0.0, static_cast<std::int64_t>(p) });
+        break;
+      }
+    }
+  }
+  while (!queue.empty())
+  {
+    const auto [reached, point] = queue.top();
+    queue.pop();
+    const auto p = static_cast<std::size_t>(point);
+    if (reached > depth[p])
+    {
+      continue;
+    }
+    for (std::size_t e = neighbours.Offsets[p]; e < neighbours.Offsets[p + 1]; ++e)
+    {
+      const auto q = static_cast<std::size_t>(neighbours.Targets[e]);
+      if (!neighbours.IsBridge[e] && groups.GroupOf[q] == group && reached + neighbours.Weights[e] < depth[q])
+      {
+        depth[q] = reached + neighbours.Weights[e];
+        queue.push({ depth[q], static_cast<std::int64_t>(q) });
+      }
+    }
+  }
+  return depth;
+}
+
+/// The side limbs of group `group` (the header comment, step 4), in index order: the points
+/// deepest first (ties: the lower index) each start a region or join their neighbours'; where
+/// two regions meet, the one with the shallower far end ends there, and it is a limb of its
+/// own when the meeting point lies within joinDepth of its far end's depth and at least
+/// lengthFactor of the far end's radii below it, and the region holds minimumPoints points.
+/// The region that is left at the end is a limb too. The limb whose region holds `reached`
+/// (the end of the group's first branch) has its branch; the far ends of the others are
+/// returned.
+std::vector<std::int64_t> SideLimbEnds(const CloudNeighborGraph& neighbours, const ProjectedCloud& cloud,
+  const PointGroups& groups, std::int64_t group, std::int64_t reached, double joinDepth, double lengthFactor,
+  double minimumPoints)
+{
+  const std::vector<double> depth = DepthsInGroup(neighbours, groups, group);
+  std::vector<std::size_t> order;
+  for (std::size_t p = 0; p < depth.size(); ++p)
+  {
+    if (std::isfinite(depth[p]))
+    {
+      order.push_back(p);
+    }
+  }
+  const auto deeper = [&](std::size_t a, std::size_t b) {
+    return depth[a] > depth[b] || (depth[a] == depth[b] && a < b);
+  };
+  std::sort(order.begin(), order.end(), deeper);
+  // Union-find over the regions; a root holds its region's far end, its size, and whether
+  // `reached` is in it and not in a limb that ended inside it.
+  std::vector<std::size_t> parent(depth.size()), farEnd(depth.size()), size(depth.size(), 0);
+  std::vector<char> holdsReached(depth.size(), 0);
+  const auto find = [&](std::size_t x) {
+    while (parent[x] != x)
+    {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  };
+  std::vector<std::int64_t> ends;
+  for (const std::size_t p : order)
+  {
+    parent[p] = p;
+    farEnd[p] = p;
+    size[p] = 1;
+    holdsReached[p] = static_cast<std::int64_t>(p) == reached;
+    for (std::size_t e = neighbours.Offsets[p]; e < neighbours.Offsets[p + 1]; ++e)
+    {
+      const auto q = static_cast<std::size_t>(neighbours.Targets[e]);
+      if (neighbours.IsBridge[e] || size[q] == 0 || groups.GroupOf[q] != group)
+      {
+        continue; // not yet taken, or outside the group
+      }
+      const std::size_t a = find(p), b = find(q);
+      if (a == b)
+      {
+        continue;
+      }
+      const bool aKeeps = deeper(farEnd[a], farEnd[b]);
+      const std::size_t kept = aKeeps ? a : b, ended = aKeeps ? b : a;
+      const std::size_t end = farEnd[ended];
+      const bool limb = depth[p] <= joinDepth * depth[end] &&
+        depth[end] - depth[p] >= lengthFactor * cloud.Radius[end] && static_cast<double>(size[ended]) >= minimumPoints;
+      if (limb && !holdsReached[ended])
+      {
+        ends.push_back(static_cast<std::int64_t>(end));
+      }
+      parent[ended] = kept;
+      size[kept] += size[ended];
+      holdsReached[kept] = holdsReached[kept] || (holdsReached[ended] && !limb);
+    }
+  }
+  if (!order.empty())
+  {
+    const std::size_t last = find(order.front());
+    if (!holdsReached[last] && std::find(ends.begin(), ends.end(), static_cast<std::int64_t>(farEnd[last])) == ends.end())
+    {
+      ends.push_back(static_cast<std::int64_t>(farEnd[last]));
+    }
+  }
+  std::sort(ends.begin(), ends.end());
+  return ends;
 }
 
 } // namespace
@@ -328,10 +464,19 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
       size >= options.ThinLimbMinimumShare * static_cast<double>(n) &&
       groups.Linearity[g] >= options.ThinLimbLinearity &&
       gap[tip] >= options.ThinLimbFactor * cloud.Radius[tip];
-    if ((large || thinLimb) &&
-      AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, groups.End[g]), nearestNode, pointComponent))
+    if (!(large || thinLimb) ||
+      !AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, groups.End[g]), nearestNode, pointComponent))
     {
-      ++added;
+      continue;
+    }
+    ++added;
+    if (large && options.SideLimbJoinDepth > 0.0)
+    {
+      for (const std::int64_t end : SideLimbEnds(neighbours, cloud, groups, static_cast<std::int64_t>(g),
+             groups.End[g], options.SideLimbJoinDepth, options.UncoveredFactor, std::max(2.0, options.MinimumShare * static_cast<double>(n))))
+      {
+        added += AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, end), nearestNode, pointComponent) ? 1 : 0;
+      }
     }
   }
   if (added > 0)

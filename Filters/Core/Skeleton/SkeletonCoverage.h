@@ -31,6 +31,20 @@
 //        Its nodes are the MLS-projected positions (ThinnedCloud::Positions) of the path's
 //        points, kept when at least half their radius from the previous node (the end is
 //        always kept). It is a connecting path (IsConnection 1).
+//     4. (side limbs) A large group can be several limbs: a head with its snout and two ears
+//        is one group when all of it lies far from the tree, and step 3 gives it one branch,
+//        to the snout (the armadillo meshes of the segmentation benchmark: ears missed in 5 of
+//        15). So every far end of a large group gets a branch of its own, along the shortest
+//        path from it to the first covered point, when it is a limb and not a lobe of one:
+//        the depth of a point is its distance through the group from where the group meets
+//        covered points; taking the points deepest first, each local maximum of the depth
+//        starts a region, and where two regions meet, the one with the shallower far end ends
+//        (ties: the lower index). Such a far end is a side limb when its region meets the rest
+//        within SideLimbJoinDepth (1/3) of its own depth (ears and snout meet where they leave
+//        the head: at 0-0.12 of their depth), reaches at least UncoveredFactor of its radii
+//        beyond the meeting point, and holds at least MinimumShare of all points. The flaps of
+//        one sheet meet deep inside it (an elephant's ear: at 0.47-0.78 of their depth), and
+//        they get no branch of their own.
 //   Then the bones are assigned again (AssignBranchBones). A branch joins the nearest node,
 //   which can lie a node or two from a junction: ComputeSkeleton then contracts the inner
 //   branches shorter than MinimumBranchFactor radii (CleanGraphJunctions with
@@ -60,6 +74,10 @@
 // parts and says why; the measurements are in docs/skeleton.md.
 //
 // Parameters (SkeletonCoverageOptions)
+//   SideLimbJoinDepth    1/3    [0, 1]    step 4: a side limb's region meets the rest of its
+//                                         group within this share of its far end's depth; 0 =
+//                                         no side limbs. Why 1/3: between the ears' 0.12 and
+//                                         the elephant ear flaps' 0.47 (docs/skeleton.md).
 //   UncoveredFactor      3      [0, 1e6]  in units of the point's radius; 0 = step off. It was
 //                                         4 until the libigl hand's wrist (a stub as thick as it
 //                                         is long, its points 2–3.5 radii from the tree) showed
@@ -101,6 +119,10 @@ struct SkeletonCoverageOptions
   /// A group of uncovered points gets a branch when it holds this share of all points.
   /// CoverageMinimumShareRange [0, 1].
   double MinimumShare = 0.01;
+  /// Another far end of a large group gets a branch of its own when its region meets the rest
+  /// of the group within this share of its depth (the header comment, step 4); 0 = none.
+  /// SideLimbJoinDepthRange [0, 1].
+  double SideLimbJoinDepth = 1.0 / 3.0;
   /// Step 6 (with part labels): a part without a bone of its own gets a branch when it holds
   /// this share of all points of P, PartMinimumShareRange [0, 1]; 1 = step 6 off in practice.
   double PartMinimumShare = 0.05;
@@ -123,6 +145,8 @@ inline constexpr Range<double> UncoveredFactorRange{ 0.0, 1e6 };
 /// Not a filter property.
 inline constexpr Range<double> CoverageMinimumShareRange{ 0.0, 1.0 };
 /// Not a filter property.
+inline constexpr Range<double> SideLimbJoinDepthRange{ 0.0, 1.0 };
+/// Not a filter property.
 inline constexpr Range<double> PartMinimumShareRange{ 0.0, 1.0 };
 inline constexpr Range<double> PartUncoveredFactorRange{ 0.0, 1e6 };
 inline constexpr Range<double> ThinLimbFactorRange{ 0.0, 1e6 };
@@ -134,8 +158,8 @@ inline constexpr Range<double> ThinLimbMinimumShareRange{ 0.0, 1.0 };
 /// Throws Error if an option is outside its documented range.
 void ValidateCoverageOptions(const SkeletonCoverageOptions& options);
 
-/// Step 5: adds a branch into every large group of uncovered points (see the header comment)
-/// and assigns the bones again when it added any. pointComponent: surface component of each
+/// Step 5: adds a branch into every large group of uncovered points, into its side limbs and
+/// into every thin limb (see the header comment) and assigns the bones again when it added any. pointComponent: surface component of each
 /// point of P, or empty for one component. neighbours: the neighbour graph of P that the
 /// connection step used (ConnectPolySegments' neighboursOut, or BuildCloudNeighborGraph);
 /// throws Error if it does not have one row per point of P. Returns the number of

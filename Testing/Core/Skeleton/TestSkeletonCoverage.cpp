@@ -219,6 +219,77 @@ TEST(SkeletonCoverage, SmallGroupsFactorZeroAndThreadsDoNotChangeTheResult)
   EXPECT_EQ(serial.Graph.Polylines, threaded.Graph.Polylines);
 }
 
+namespace
+{
+
+/// Points every 0.02 from `from` to `to`, `from` left out.
+std::vector<Eigen::Vector3d> Segment(const Eigen::Vector3d& from, const Eigen::Vector3d& to)
+{
+  std::vector<Eigen::Vector3d> points;
+  const auto count = static_cast<int>(std::lround((to - from).norm() / 0.02));
+  for (int i = 1; i <= count; ++i)
+  {
+    points.push_back(from + (to - from) * i / count);
+  }
+  return points;
+}
+
+/// Off the covered line at (20,0,0): a stem up to (20,`forkAt`,0), an arm on up to
+/// (20,2.5,0), and a side arm from the fork along x for `sideLength`; radius 0.1 throughout.
+/// The stem above 0.3 (three radii), both arms and the side arm are one uncovered group.
+LCloud MakeFork(double forkAt, double sideLength)
+{
+  std::vector<Eigen::Vector3d> extra = Segment({ 20, 0, 0 }, { 20, 2.5, 0 });
+  const std::vector<Eigen::Vector3d> side = Segment({ 20, forkAt, 0 }, { 20 + sideLength, forkAt, 0 });
+  extra.insert(extra.end(), side.begin(), side.end());
+  return MakeLineWith(extra, 0.1);
+}
+
+} // namespace
+
+TEST(SkeletonCoverage, TwoLimbsOfOneGroupMeetingNearTheTreeGetABranchEach)
+{
+  // The side arm (1.5 long) leaves the stem 0.2 above where the group meets the covered
+  // points, at 0.12 of its far end's depth (1.7): a limb of its own, as an ear beside a snout.
+  LCloud fork = MakeFork(0.5, 1.5);
+  ASSERT_EQ(Reach(fork), 2u) << "the farthest arm, then the side arm";
+  const Eigen::RowVector3d sideEnd(21.5, 0.5, 0.0);
+  const Eigen::RowVector3d armEnd(20.0, 2.5, 0.0);
+  const auto endOf = [&](std::size_t polyline) {
+    return Eigen::RowVector3d(fork.Graph.NodePositions.row(fork.Graph.Polylines[polyline].back()));
+  };
+  const std::size_t count = fork.Graph.Polylines.size();
+  EXPECT_NEAR((endOf(count - 1) - sideEnd).norm(), 0.0, 1e-12);
+  EXPECT_LT((endOf(count - 2) - armEnd).norm(), 0.05) << "the first branch ends at the arm's far end";
+  // Without side limbs, or with a side arm under three radii (0.25), one branch.
+  SkeletonCoverageOptions off;
+  off.SideLimbJoinDepth = 0.0;
+  LCloud single = MakeFork(0.5, 1.5);
+  EXPECT_EQ(Reach(single, {}, off), 1u);
+  LCloud stub = MakeFork(0.5, 0.24);
+  EXPECT_EQ(Reach(stub), 1u);
+  // Threads do not change it.
+  LCloud threaded = MakeFork(0.5, 1.5);
+  ASSERT_EQ(Reach(threaded, {}, {}, ThreadedFor(3)), 2u);
+  EXPECT_TRUE(threaded.Graph.NodePositions == fork.Graph.NodePositions);
+  EXPECT_EQ(threaded.Graph.Polylines, fork.Graph.Polylines);
+}
+
+TEST(SkeletonCoverage, AFlapThatMeetsItsGroupDeepInsideGetsNoBranchOfItsOwn)
+{
+  // The side arm leaves at 2.0, 1.7 deep, and reaches 2.7: its region and the arm's meet at
+  // 0.77 of the arm's depth (2.2), beyond SideLimbJoinDepth (1/3): the lobes of one limb, as
+  // an elephant ear's flaps. One branch, to the farthest point (the arm's end).
+  LCloud flap = MakeFork(2.0, 1.0);
+  ASSERT_EQ(Reach(flap), 1u);
+  EXPECT_LT((flap.Graph.NodePositions.row(flap.Graph.Polylines.back().back()) - Eigen::RowVector3d(20, 2.5, 0)).norm(), 0.05);
+  // Allowed to meet anywhere, the region without the branch gets one.
+  SkeletonCoverageOptions anywhere;
+  anywhere.SideLimbJoinDepth = 1.0;
+  LCloud both = MakeFork(2.0, 1.0);
+  EXPECT_EQ(Reach(both, {}, anywhere), 2u);
+}
+
 TEST(SkeletonCoverage, PointsOfAnotherComponentAreNotJoined)
 {
   // The arm is another surface component with no node of its own: nothing to join it to.
@@ -308,6 +379,9 @@ TEST(SkeletonCoverage, OptionsOutsideTheirRangeThrow)
   EXPECT_THROW(ValidateCoverageOptions(options), Error);
   options = {};
   options.ThinLimbMinimumShare = std::nan("");
+  EXPECT_THROW(ValidateCoverageOptions(options), Error);
+  options = {};
+  options.SideLimbJoinDepth = 1.5;
   EXPECT_THROW(ValidateCoverageOptions(options), Error);
   EXPECT_NO_THROW(ValidateCoverageOptions({}));
 }
