@@ -138,6 +138,8 @@ inline bool SegmentCrossesSurface(const RayCaster& caster, const Eigen::Vector3d
     origin.Point[c] = a(c);
     origin.Normal[c] = direction(c);
   }
+  // Hits beyond the segment cannot make it cross: the search stops at its end (Embree's tfar).
+  origin.MaxDistance = length;
   origin.Rule = HitRule::FirstHitLeaving;
   const double closestLeaving = caster.ClosestValidHit(origin, direction.data());
   if (std::isfinite(closestLeaving))

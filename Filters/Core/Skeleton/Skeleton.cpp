@@ -204,10 +204,10 @@ struct CloudView
 /// junctions are cleaned too, but its leaves are not pruned: a branch reaching a part far
 /// from the skeleton (an ear) can be shorter than the radius at its junction (the torso's).
 void ReachUncoveredPartsAndCleanJunctions(SkeletonGraph& graph, const CloudView& cloud,
-  const SkeletonOptions& options, const ParallelFor& parallelFor)
+  const SkeletonOptions& options, const ParallelFor& parallelFor, const RayCaster* volume)
 {
   if (ReachUncoveredParts(graph, cloud.Cloud, cloud.Thinned, cloud.PointComponent, cloud.Neighbours,
-        options.Coverage, parallelFor) > 0)
+        options.Coverage, parallelFor, volume) > 0)
   {
     CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor, LeafPruning::Keep);
   }
@@ -626,7 +626,7 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   }
   ExtendLeavesAndCleanJunctions(graph, volume, options);
   const CloudView cloudView{ cloud, thinned, pointComponent, neighbours };
-  ReachUncoveredPartsAndCleanJunctions(graph, cloudView, options, parallelFor);
+  ReachUncoveredPartsAndCleanJunctions(graph, cloudView, options, parallelFor, &volume);
   if (progress && !progress(0.92))
   {
     return AbortedResult();

@@ -423,7 +423,7 @@ std::vector<std::int64_t> SideLimbEnds(const CloudNeighborGraph& neighbours, con
 std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& cloud,
   const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
   const CloudNeighborGraph& neighbours, const SkeletonCoverageOptions& options,
-  const ParallelFor& parallelFor)
+  const ParallelFor& parallelFor, const RayCaster* volume)
 {
   ValidateCoverageOptions(options);
   const std::size_t n = cloud.Size();
@@ -442,6 +442,22 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
   {
     // A point without thickness (SDF 0) has no scale to be far at.
     uncovered[i] = nearestNode[i] >= 0 && cloud.Radius[i] > 0.0 && gap[i] > options.UncoveredFactor * cloud.Radius[i];
+  }
+  // Through the volume: a node behind the surface does not cover a point (a hind leg's points
+  // near the nodes of a tail hanging against it).
+  if (volume)
+  {
+    parallelFor(n, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        if (!uncovered[i] && nearestNode[i] >= 0 && cloud.Radius[i] > 0.0 &&
+          SegmentCrossesSurface(*volume, cloud.Positions.row(static_cast<Eigen::Index>(i)).transpose(),
+            graph.NodePositions.row(nearestNode[i]).transpose()))
+        {
+          uncovered[i] = 1;
+        }
+      }
+    });
   }
 
   if (std::none_of(uncovered.begin(), uncovered.end(), [](char u) { return u != 0; }))

@@ -5,6 +5,8 @@
 // step's neighbour graph (SkeletonConnection.h).
 #include "Skeleton/SkeletonCoverage.h"
 
+#include "RayCasting/BruteForceRayCaster.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -288,6 +290,30 @@ TEST(SkeletonCoverage, AFlapThatMeetsItsGroupDeepInsideGetsNoBranchOfItsOwn)
   anywhere.SideLimbJoinDepth = 1.0;
   LCloud both = MakeFork(2.0, 1.0);
   EXPECT_EQ(Reach(both, {}, anywhere), 2u);
+}
+
+TEST(SkeletonCoverage, APointWhoseNearestNodeIsBehindTheSurfaceIsUncovered)
+{
+  // A wall across the arm at y = 0.15 (two triangles, x 3.5-4.5, z -1-1): the arm's points
+  // between 0.15 and 0.3 lie within three radii of the corner node (4,0,0) but behind the
+  // wall from it, as a hind leg's points lie near a tail's nodes. Without the volume they are
+  // covered and the branch's first step goes above 0.3; with it, it starts below the wall.
+  PointMatrix wallPoints(4, 3);
+  wallPoints << 3.5, 0.15, -1.0, 4.5, 0.15, -1.0, 4.5, 0.15, 1.0, 3.5, 0.15, 1.0;
+  TriangleMatrix wallTriangles(2, 3);
+  wallTriangles << 0, 1, 2, 0, 2, 3;
+  const BruteForceRayCaster wall(wallPoints, wallTriangles);
+  const auto secondNodeHeight = [](const LCloud& l) {
+    return l.Graph.NodePositions(l.Graph.Polylines.back()[1], 1);
+  };
+  LCloud open = MakeL(100);
+  ASSERT_EQ(Reach(open), 1u);
+  EXPECT_GT(secondNodeHeight(open), 0.3);
+  LCloud walled = MakeL(100);
+  const CloudNeighborGraph neighbours = BuildCloudNeighborGraph(walled.Cloud, {}, 8, SerialFor);
+  ASSERT_EQ(ReachUncoveredParts(walled.Graph, walled.Cloud, walled.Thinned, {}, neighbours, {}, SerialFor, &wall), 1u);
+  EXPECT_LT(secondNodeHeight(walled), 0.3);
+  EXPECT_LT(secondNodeHeight(walled), secondNodeHeight(open) - 0.1);
 }
 
 TEST(SkeletonCoverage, PointsOfAnotherComponentAreNotJoined)
