@@ -396,7 +396,8 @@ std::vector<std::int64_t> SideLimbEnds(const CloudNeighborGraph& neighbours, con
       const std::size_t kept = aKeeps ? a : b, ended = aKeeps ? b : a;
       const std::size_t end = farEnd[ended];
       const bool limb = depth[p] <= joinDepth * depth[end] &&
-        depth[end] - depth[p] >= lengthFactor * cloud.Radius[end] && static_cast<double>(size[ended]) >= minimumPoints;
+        depth[end] - depth[p] >= lengthFactor * cloud.Radius[end] &&
+        static_cast<double>(size[ended]) >= minimumPoints;
       if (limb && !holdsReached[ended])
       {
         ends.push_back(static_cast<std::int64_t>(end));
@@ -406,13 +407,10 @@ std::vector<std::int64_t> SideLimbEnds(const CloudNeighborGraph& neighbours, con
       holdsReached[kept] = holdsReached[kept] || (holdsReached[ended] && !limb);
     }
   }
-  if (!order.empty())
+  // The region left at the end (its far end the deepest point, which never ends) is a limb.
+  if (!order.empty() && !holdsReached[find(order.front())])
   {
-    const std::size_t last = find(order.front());
-    if (!holdsReached[last] && std::find(ends.begin(), ends.end(), static_cast<std::int64_t>(farEnd[last])) == ends.end())
-    {
-      ends.push_back(static_cast<std::int64_t>(farEnd[last]));
-    }
+    ends.push_back(static_cast<std::int64_t>(farEnd[find(order.front())]));
   }
   std::sort(ends.begin(), ends.end());
   return ends;
@@ -481,17 +479,20 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
       groups.Linearity[g] >= options.ThinLimbLinearity &&
       gap[tip] >= options.ThinLimbFactor * cloud.Radius[tip];
     if (!(large || thinLimb) ||
-      !AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, groups.End[g]), nearestNode, pointComponent))
+      !AddBranch(
+        graph, cloud, thinned, PathToCovered(neighbours, uncovered, groups.End[g]), nearestNode, pointComponent))
     {
       continue;
     }
     ++added;
     if (large && options.SideLimbJoinDepth > 0.0)
     {
+      const double minimumPoints = std::max(2.0, options.MinimumShare * static_cast<double>(n));
       for (const std::int64_t end : SideLimbEnds(neighbours, cloud, groups, static_cast<std::int64_t>(g),
-             groups.End[g], options.SideLimbJoinDepth, options.UncoveredFactor, std::max(2.0, options.MinimumShare * static_cast<double>(n))))
+             groups.End[g], options.SideLimbJoinDepth, options.UncoveredFactor, minimumPoints))
       {
-        added += AddBranch(graph, cloud, thinned, PathToCovered(neighbours, uncovered, end), nearestNode, pointComponent) ? 1 : 0;
+        const std::vector<std::int64_t> path = PathToCovered(neighbours, uncovered, end);
+        added += AddBranch(graph, cloud, thinned, path, nearestNode, pointComponent) ? 1 : 0;
       }
     }
   }
