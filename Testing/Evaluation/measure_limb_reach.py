@@ -40,6 +40,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersVerdict import vtkCellSizeFilter
 
 import chain_settings
+import run_psb_chain
 import skeleton_measures
 
 CATEGORIES = [("Human", 1, 20), ("Cup", 21, 40), ("Glasses", 41, 60), ("Airplane", 61, 80),
@@ -54,18 +55,6 @@ def category_of(mesh_id):
         if first <= mesh_id <= last:
             return name
     return "other"
-
-
-def id_list(text):
-    """'1-20,81-100,121' -> sorted ids (argparse type)."""
-    ids = set()
-    try:
-        for field in text.split(","):
-            first, dash, last = field.partition("-")
-            ids.update(range(int(first), int(last if dash else first) + 1))
-    except ValueError:
-        raise argparse.ArgumentTypeError("expected ids and ranges such as 1-20,81-100, got %r" % text)
-    return sorted(ids)
 
 
 def read_labels(path, face_count):
@@ -127,11 +116,8 @@ def reach_and_stray(leaf_faces, segmentations, pairs, areas, minimum_area):
             float(np.mean(strays)) if strays else 0.0, limb_counts)
 
 
-def measure_mesh(folder, mesh_id, arguments, scratch):
-    """{name: (reach, stray, leaves)} for ours (and the peer), or None when the mesh is absent."""
-    path = os.path.join(folder, "%d.off.gz" % mesh_id)
-    if not os.path.exists(path):
-        return None
+def measure_mesh(folder, mesh_id, path, arguments, scratch):
+    """{name: (reach, stray, leaves)} for ours (and the peer), or None without segmentations."""
     surface = skeleton_measures.read_triangles(path, scratch)
     triangles = vtk_to_numpy(surface.GetPolys().GetConnectivityArray()).reshape(-1, 3)
     sizes = vtkCellSizeFilter()
@@ -164,7 +150,7 @@ def measure_mesh(folder, mesh_id, arguments, scratch):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("folder")
-    parser.add_argument("--ids", type=id_list, default=None, help="mesh ids, e.g. 1-20,81-100 (default: all)")
+    parser.add_argument("--ids", default=None, help="mesh ids and ranges, e.g. 1-20,81-100 (default: all)")
     parser.add_argument("--minimum-area", type=float, default=0.005, help="a limb's least share of the area")
     parser.add_argument("--peer-mcf", metavar="PROGRAM", help="Testing/Peers/cgal-mcf's sdf-peer-mcf")
     parser.add_argument("--verbose", action="store_true", help="a line per mesh")
@@ -176,12 +162,11 @@ def main():
     if not os.path.isdir(arguments.folder):
         print("SKIP: %s does not exist (the shared development data is not on this machine)" % arguments.folder)
         return
-    ids = arguments.ids or sorted(int(name.split(".")[0]) for name in os.listdir(arguments.folder)
-                                  if name.endswith(".off.gz"))
+    files = run_psb_chain.mesh_files(arguments.folder)
     per_category = {}
     with tempfile.TemporaryDirectory() as scratch:
-        for mesh_id in ids:
-            figures = measure_mesh(arguments.folder, mesh_id, arguments, scratch)
+        for mesh_id in run_psb_chain.select_ids(arguments.ids, files, arguments.folder):
+            figures = measure_mesh(arguments.folder, mesh_id, files[mesh_id], arguments, scratch)
             if figures is None:
                 continue
             for name, (reach, stray, leaves, limbs) in figures.items():
