@@ -93,9 +93,10 @@
  *   parts, such as an ear's across the head, no longer joins them in some poses only; above
  *   0.5 = each segment the bone holding most of it).
  * - PartUncoveredFactor 2, [0, 1e6]: with the segment link, step 6 (ours): a segment holding
- *   at least 5 % of the projected points that got no bone of its own, and whose farthest
+ *   at least 3 % of the projected points that got no bone of its own, and whose farthest
  *   projected point lies more than this many radii from the skeleton, gets a branch into it
- *   (an elephant's lowered head whose only bones were its ears'); 0 = off.
+ *   (an elephant's lowered head whose only bones were its ears'; a teddy's stubby arm that the
+ *   spine's path crosses at its base); 0 = off.
  * - BoneSmoothing 1, [0, 100]: step 7's Gaussian weights along a bone, standard deviation in
  *   node radii (deviation: the paper's nodes as connected zig-zag about the medial axis by
  *   the SDF's noise, 90th percentile of the turning angle 24–30° on the camel, man and
@@ -241,7 +242,7 @@ public:
   ///@}
 
   ///@{
-  /// With LinkBySegment: a segment holding 5 % of the projected points that got no bone of its
+  /// With LinkBySegment: a segment holding 3 % of the projected points that got no bone of its
   /// own, and whose farthest projected point lies more than this many radii from the skeleton,
   /// gets a branch into it (step 6; default 2, range [0, 1e6]; 0 = off; not in the paper, see
   /// Filters/Core/Skeleton/Skeleton.h).

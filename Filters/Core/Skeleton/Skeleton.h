@@ -25,7 +25,7 @@
 //                                MinimumBranchFactor radii are contracted (CleanGraphJunctions
 //                                without leaf pruning), so the output keeps step 4's rule
 //     6. ReachPartsWithoutBones - (ours, with part labels) after the part link below: a part
-//                                holding at least PartMinimumShare (5 %) of P's points that
+//                                holding at least PartMinimumShare (3 %) of P's points that
 //                                got no bone of its own, and whose point farthest from the
 //                                skeleton lies more than PartUncoveredFactor (2) of its radii
 //                                away, gets a branch from that point to where the part ends
