@@ -25,7 +25,7 @@
  *    ball of its radius touches that end (exit normal within MaximumExitAngle of the
  *    branch); then short leaf stubs are pruned.
  * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor),
- *    and every thin limb among the smaller ones (ThinLimbFactor), gets a branch through P to
+ *    and every thin or small limb among the smaller ones (ThinLimbFactor), gets a branch through P to
  *    the centre of its far end; a large group that is several limbs (a head with its snout
  *    and ears) gets one more to each other far end that leaves the group near where the group
  *    meets the tree (segmentation benchmark, Armadillo: limbs reached 83.5 -> 92.9 %); a
@@ -81,10 +81,11 @@
  *   only joins confident segments, so a bent or stubby limb or an ear gets a branch in some
  *   poses and not in others; 0 = the paper's; Filters/Core/Skeleton/SkeletonCoverage.h).
  * - ThinLimbFactor 6, [0, 1e6]: in step 5, a group of far points holding less than 1 % of
- *   them still gets a branch when it is a thin limb: its points lie along a line (linearity
- *   0.95) and its tip lies at least this many radii from the skeleton (deviation: area-weighted
- *   sampling gives a tail or a finger so few points that it never forms a confident segment
- *   nor a large group: the camel's tail had no branch; 0 = off; Filters/Core/Skeleton/SkeletonCoverage.h).
+ *   them still gets a branch when its tip lies at least this many radii from the skeleton and
+ *   it is a thin limb (its points along a line, linearity 0.95) or a small one (at least 0.5 %
+ *   of the points, any shape: a hand, a fin) (deviation: area-weighted sampling gives a tail or
+ *   a finger so few points that it never forms a confident segment nor a large group: the
+ *   camel's tail had no branch; 0 = off; Filters/Core/Skeleton/SkeletonCoverage.h).
  * - LinkBySegment on: the segment link above (deviation: the paper draws the parts on the
  *   projected points but does not say how faces are assigned to bones).
  * - OwnBoneShare 0.15, [0, 1]: with the segment link, segments first get bones of their own,

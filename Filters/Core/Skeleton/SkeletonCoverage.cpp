@@ -25,6 +25,7 @@ void ValidateCoverageOptions(const SkeletonCoverageOptions& options)
   CheckRange(options.ThinLimbFactor, ThinLimbFactorRange, "skeleton: ThinLimbFactor");
   CheckRange(options.ThinLimbLinearity, ThinLimbLinearityRange, "skeleton: coverage ThinLimbLinearity");
   CheckRange(options.ThinLimbMinimumShare, ThinLimbMinimumShareRange, "skeleton: coverage ThinLimbMinimumShare");
+  CheckRange(options.SmallLimbMinimumShare, SmallLimbMinimumShareRange, "skeleton: coverage SmallLimbMinimumShare");
 }
 
 namespace
@@ -467,18 +468,19 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
   // points (the graph's edges stay within a surface component; bridges are not used).
   const PointGroups groups = GroupFlaggedPoints(neighbours, cloud, uncovered, gap, graph, nearestNode);
 
-  // 3. One branch per large group, and per thin limb.
+  // 3. One branch per large group, and per thin or small limb.
   std::size_t added = 0;
   for (std::size_t g = 0; g < groups.Size.size(); ++g)
   {
     const auto size = static_cast<double>(groups.Size[g]);
     const auto tip = static_cast<std::size_t>(groups.Tip[g]);
     const bool large = size >= options.MinimumShare * static_cast<double>(n);
-    const bool thinLimb = options.ThinLimbFactor > 0.0 &&
-      size >= options.ThinLimbMinimumShare * static_cast<double>(n) &&
-      groups.Linearity[g] >= options.ThinLimbLinearity &&
-      gap[tip] >= options.ThinLimbFactor * cloud.Radius[tip];
-    if (!(large || thinLimb) ||
+    const bool farTip = options.ThinLimbFactor > 0.0 && gap[tip] >= options.ThinLimbFactor * cloud.Radius[tip];
+    const bool thinLimb = farTip && size >= options.ThinLimbMinimumShare * static_cast<double>(n) &&
+      groups.Linearity[g] >= options.ThinLimbLinearity;
+    const bool smallLimb = farTip && options.SmallLimbMinimumShare > 0.0 &&
+      size >= options.SmallLimbMinimumShare * static_cast<double>(n);
+    if (!(large || thinLimb || smallLimb) ||
       !AddBranch(
         graph, cloud, thinned, PathToCovered(neighbours, uncovered, groups.End[g]), nearestNode, pointComponent))
     {

@@ -178,24 +178,50 @@ TEST(SkeletonCoverage, AThinLimbBelowTheShareGetsABranch)
   EXPECT_EQ(Reach(few), 0u);
 }
 
-TEST(SkeletonCoverage, AFlatPadBelowTheShareGetsNoBranch)
+namespace
 {
-  // 16 points of radius 0.02 in a 4 x 4 grid 0.3 wide rising from the line up to 0.4 (20
-  // radii; a toe pad, a sheet): long enough, but not along a line (linearity 0.5).
+
+/// side x side points of radius 0.02, 0.1 apart, in a square centred on x = 20 rising from the
+/// line (y = 0.1 ... 0.1 side): a flat group, not along a line (linearity 0.5).
+std::vector<Eigen::Vector3d> FlatPad(int side)
+{
   std::vector<Eigen::Vector3d> pad;
-  for (int i = 0; i < 4; ++i)
+  for (int i = 0; i < side; ++i)
   {
-    for (int j = 0; j < 4; ++j)
+    for (int j = 0; j < side; ++j)
     {
-      pad.emplace_back(19.85 + 0.1 * i, 0.1 + 0.1 * j, 0.0);
+      pad.emplace_back(20.0 + 0.1 * (i - 0.5 * (side - 1)), 0.1 + 0.1 * j, 0.0);
     }
   }
-  LCloud sheet = MakeLineWith(pad, 0.02);
-  EXPECT_EQ(Reach(sheet), 0u);
-  // The same points count as a large group when the share allows it.
+  return pad;
+}
+
+} // namespace
+
+TEST(SkeletonCoverage, ASmallFlatLimbGetsABranchASmallerPadNone)
+{
+  // 16 points up to 0.4 (tip 20 radii away): 0.79 % of the cloud, under the 1 % a group needs,
+  // not along a line, but above SmallLimbMinimumShare (0.5 %): a hand, a fin.
+  LCloud hand = MakeLineWith(FlatPad(4), 0.02);
+  ASSERT_EQ(Reach(hand), 1u);
+  EXPECT_NEAR(hand.Graph.NodePositions(hand.Graph.Polylines.back().back(), 1), 0.4, 0.05)
+    << "to the far end";
+  // 9 points (0.45 %, a toe pad): none; nor with small limbs off, nor with the tip closer than
+  // ThinLimbFactor radii.
+  LCloud pad = MakeLineWith(FlatPad(3), 0.02);
+  EXPECT_EQ(Reach(pad), 0u);
+  SkeletonCoverageOptions off;
+  off.SmallLimbMinimumShare = 0.0;
+  LCloud same = MakeLineWith(FlatPad(4), 0.02);
+  EXPECT_EQ(Reach(same, {}, off), 0u);
+  SkeletonCoverageOptions farther;
+  farther.ThinLimbFactor = 25.0;
+  LCloud near = MakeLineWith(FlatPad(4), 0.02);
+  EXPECT_EQ(Reach(near, {}, farther), 0u);
+  // The small pad counts as a large group when the share allows it.
   SkeletonCoverageOptions anySize;
   anySize.MinimumShare = 0.001;
-  LCloud large = MakeLineWith(pad, 0.02);
+  LCloud large = MakeLineWith(FlatPad(3), 0.02);
   EXPECT_EQ(Reach(large, {}, anySize), 1u);
 }
 
@@ -408,6 +434,9 @@ TEST(SkeletonCoverage, OptionsOutsideTheirRangeThrow)
   EXPECT_THROW(ValidateCoverageOptions(options), Error);
   options = {};
   options.SideLimbJoinDepth = 1.5;
+  EXPECT_THROW(ValidateCoverageOptions(options), Error);
+  options = {};
+  options.SmallLimbMinimumShare = 2.0;
   EXPECT_THROW(ValidateCoverageOptions(options), Error);
   EXPECT_NO_THROW(ValidateCoverageOptions({}));
 }
