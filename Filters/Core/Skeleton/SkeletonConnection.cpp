@@ -270,6 +270,17 @@ CloudNeighborGraph NeighborGraphOnCloud(const SkeletonPointTree& tree, const Pro
   const std::size_t unbridged = edges.size();
   BridgeGraphPieces(tree, cloud.Positions, component, edges);
   std::vector<Edge> bridges(edges.begin() + static_cast<std::ptrdiff_t>(unbridged), edges.end());
+  // A bridge that stays inside the volume is an edge the k nearest missed (a thin ear whose
+  // points' neighbours are all its own), not a gap: step 5 may walk it.
+  if (volume)
+  {
+    bridges.erase(std::remove_if(bridges.begin(), bridges.end(),
+                    [&](const Edge& bridge) {
+                      return !SegmentCrossesSurface(*volume, cloud.Positions.row(bridge.first).transpose(),
+                        cloud.Positions.row(bridge.second).transpose());
+                    }),
+      bridges.end());
+  }
   std::sort(bridges.begin(), bridges.end());
   return MakeGraph(cloud.Positions, std::move(edges), bridges);
 }

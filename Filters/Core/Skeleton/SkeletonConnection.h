@@ -15,7 +15,9 @@
 //      never from a trunk into the foot it touches or is pushed into. Deviation: the paper has
 //      no such test (evidence: docs/skeleton.md). If this graph splits a surface
 //      component into several pieces, the pieces are linked by their shortest gaps
-//      (Boruvka rounds), so that every surface component is one graph component.
+//      (Boruvka rounds), so that every surface component is one graph component; a gap whose
+//      segment meets the surface is flagged a bridge (CloudNeighborGraph::IsBridge), which
+//      step 5 does not walk.
 //      The graph (CloudNeighborGraph) is handed on to step 5 (SkeletonCoverage.h), which walks
 //      it instead of building its own.
 //   2. k-terminal growth: the points of P within SeedRadiusFactor * radius(node) of a segment
@@ -142,8 +144,9 @@ struct CloudNeighborGraph
   std::vector<std::size_t> Offsets;
   std::vector<std::int64_t> Targets;
   std::vector<double> Weights;
-  /// 1 for an edge that links two pieces of a component (BridgeGraphPieces): the shortest
-  /// gap, not tested against the surface.
+  /// 1 for an edge that links two pieces of a component (BridgeGraphPieces), the shortest
+  /// gap, whose straight segment meets the surface (any such edge when the graph was built
+  /// without a volume); 0 for the others, a bridge inside the volume included.
   std::vector<char> IsBridge;
 };
 

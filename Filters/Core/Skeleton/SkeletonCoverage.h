@@ -21,9 +21,12 @@
 //        pieces of a component bridged): a group is a connected set of uncovered points
 //        linked by edges between uncovered points. The graph is the connection's, not one
 //        of its own, so that the work is done once and the paths obey the same edges. Its
-//        bridges (IsBridge: shortest gaps, not tested against the surface) are not used, so
+//        bridges (IsBridge: shortest gaps whose segment meets the surface) are not used, so
 //        that a branch runs through the volume only and a piece the inside test cuts off
-//        gets none (with them, spurious leaves appeared: docs/skeleton.md).
+//        gets none (with them, spurious leaves appeared: docs/skeleton.md). A bridge inside
+//        the volume is an ordinary edge (a thin ear whose points' nearest neighbours are all
+//        its own is linked to the head by one; the segmentation benchmark's sheep 391 had no
+//        leaf in its right ear).
 //     3. Every group holding at least MinimumShare of all points, and every thin limb (below),
 //        gets one branch: the shortest path through the neighbour graph from the centre of the
 //        group's far end to the first covered point, joined to that point's nearest node. The

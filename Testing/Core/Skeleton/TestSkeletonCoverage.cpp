@@ -371,6 +371,38 @@ TEST(SkeletonCoverage, APieceReachedOnlyByABridgeGetsNoBranch)
   EXPECT_EQ(l.Graph.Polylines.size(), 1u);
 }
 
+TEST(SkeletonCoverage, APieceLinkedByABridgeInsideTheVolumeGetsABranch)
+{
+  // The arm 1 up as above, built with a volume: a wall (two triangles, y = 0.5, z -1-1) across
+  // the gap between the line's end and the arm keeps the link a bridge (no branch); the same
+  // wall beside the gap (x 10-11) leaves the link inside the volume, an edge the k nearest
+  // missed (a thin ear whose points' neighbours are all its own), and the arm gets its branch.
+  const auto shiftedArm = [] {
+    LCloud l = MakeL(100);
+    for (Eigen::Index p = 201; p < l.Cloud.Positions.rows(); ++p)
+    {
+      l.Cloud.Positions(p, 1) += 1.0;
+    }
+    l.Thinned.Positions = l.Cloud.Positions;
+    return l;
+  };
+  TriangleMatrix wallTriangles(2, 3);
+  wallTriangles << 0, 1, 2, 0, 2, 3;
+  PointMatrix across(4, 3), beside(4, 3);
+  across << 3.5, 0.5, -1.0, 4.5, 0.5, -1.0, 4.5, 0.5, 1.0, 3.5, 0.5, 1.0;
+  beside << 10.0, 0.5, -1.0, 11.0, 0.5, -1.0, 11.0, 0.5, 1.0, 10.0, 0.5, 1.0;
+  const BruteForceRayCaster wallAcross(across, wallTriangles);
+  const BruteForceRayCaster wallBeside(beside, wallTriangles);
+  for (const auto& [wall, branches] :
+    { std::make_pair(&wallAcross, std::size_t{ 0 }), std::make_pair(&wallBeside, std::size_t{ 1 }) })
+  {
+    LCloud l = shiftedArm();
+    const CloudNeighborGraph neighbours = BuildCloudNeighborGraph(l.Cloud, {}, 8, SerialFor, wall);
+    EXPECT_EQ(std::count(neighbours.IsBridge.begin(), neighbours.IsBridge.end(), 1), 2 * (1 - static_cast<int>(branches)));
+    EXPECT_EQ(ReachUncoveredParts(l.Graph, l.Cloud, l.Thinned, {}, neighbours, {}, SerialFor, wall), branches);
+  }
+}
+
 TEST(SkeletonCoverage, APartWithoutABoneGetsABranchWhenItsTipIsFarFromTheSkeleton)
 {
   // Step 6: an arm of 0.3 (three radii): within step 5's four radii, so step 5 leaves it, but
