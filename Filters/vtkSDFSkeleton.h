@@ -25,10 +25,10 @@
  *    ball of its radius touches that end (exit normal within MaximumExitAngle of the
  *    branch); then short leaf stubs are pruned.
  * 5. (ours) Every large group of projected points far from that tree (UncoveredFactor),
- *    and every thin or small limb among the smaller ones (ThinLimbFactor), gets a branch through P to
- *    the centre of its far end; a large group that is several limbs (a head with its snout
- *    and ears) gets one more to each other far end that leaves the group near where the group
- *    meets the tree (segmentation benchmark, Armadillo: limbs reached 83.5 -> 92.9 %); a
+ *    and every thin or small limb among the smaller ones (ThinLimbFactor), gets a branch
+ *    through P to the centre of its far end; a large group that is several limbs (a head with
+ *    its snout and ears) gets one more to each other far end that leaves the group near where
+ *    the group meets the tree (segmentation benchmark, Armadillo: limbs reached 83.5 -> 92.9 %); a
  *    node behind the surface covers no point (FourLeg: a tail against a hind leg kept its
  *    leaf, 91.4 -> 93.2 %);
  *    junctions it creates closer than one radius to another are merged (its leaves are not

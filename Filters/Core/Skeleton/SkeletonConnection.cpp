@@ -271,7 +271,7 @@ CloudNeighborGraph NeighborGraphOnCloud(const SkeletonPointTree& tree, const Pro
   BridgeGraphPieces(tree, cloud.Positions, component, edges);
   std::vector<Edge> bridges(edges.begin() + static_cast<std::ptrdiff_t>(unbridged), edges.end());
   // A bridge that stays inside the volume is an edge the k nearest missed (a thin ear whose
-  // points' neighbours are all its own), not a gap: step 5 may walk it.
+  // points' neighbours are all its own), not a gap: steps 5 and 6 may walk it.
   if (volume)
   {
     bridges.erase(std::remove_if(bridges.begin(), bridges.end(),

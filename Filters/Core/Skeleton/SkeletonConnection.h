@@ -17,7 +17,7 @@
 //      component into several pieces, the pieces are linked by their shortest gaps
 //      (Boruvka rounds), so that every surface component is one graph component; a gap whose
 //      segment meets the surface is flagged a bridge (CloudNeighborGraph::IsBridge), which
-//      step 5 does not walk.
+//      steps 5 and 6 do not walk.
 //      The graph (CloudNeighborGraph) is handed on to step 5 (SkeletonCoverage.h), which walks
 //      it instead of building its own.
 //   2. k-terminal growth: the points of P within SeedRadiusFactor * radius(node) of a segment

@@ -27,15 +27,16 @@
 //        the volume is an ordinary edge (a thin ear whose points' nearest neighbours are all
 //        its own is linked to the head by one; the segmentation benchmark's sheep 391 had no
 //        leaf in its right ear).
-//     3. Every group holding at least MinimumShare of all points, and every thin limb (below),
-//        gets one branch: the shortest path through the neighbour graph from the centre of the
-//        group's far end to the first covered point, joined to that point's nearest node. The
-//        far end's centre: the group's tip is its point farthest from the skeleton; of the
-//        points within one tip radius of the tip's distance, the centroid, moved out along the
-//        direction from the tip's nearest node to the tip's depth; the point nearest to it
-//        (ties: lowest index). On a tube it is the tip; on a stub as thick as it is long the
-//        farthest point is a corner of its end, and a branch to it ran sideways (the libigl
-//        hand's wrist: its rig leaf 0.054 of the diagonal from the skeleton, 0.017 now).
+//     3. Every group holding at least MinimumShare of all points, and every thin or small
+//        limb (below), gets one branch: the shortest path through the neighbour graph from
+//        the centre of the group's far end to the first covered point, joined to that point's
+//        nearest node. The far end's centre: the group's tip is its point farthest from the
+//        skeleton; of the points within one tip radius of the tip's distance, the centroid,
+//        moved out along the direction from the tip's nearest node to the tip's depth; the
+//        point nearest to it (ties: lowest index). On a tube it is the tip; on a stub as thick
+//        as it is long the farthest point is a corner of its end, and a branch to it ran
+//        sideways (the libigl hand's wrist: its rig leaf 0.054 of the diagonal from the
+//        skeleton, 0.017 now).
 //        Its nodes are the MLS-projected positions (ThinnedCloud::Positions) of the path's
 //        points, kept when at least half their radius from the previous node (the end is
 //        always kept). It is a connecting path (IsConnection 1).
@@ -102,7 +103,7 @@
 //                                         89.5 %, the bundled meshes' bones unchanged
 //                                         (docs/skeleton.md).
 //   MinimumShare         0.01   [0, 1]    of all projected points, per group.
-//   ThinLimbFactor       6      [0, 1e6]  a thin limb's tip, in its radii; 0 = thin limbs off.
+//   ThinLimbFactor       6      [0, 1e6]  a thin or small limb's tip, in its radii; 0 = both off.
 //   ThinLimbLinearity    0.95   [0, 1]    a thin limb's points' linearity.
 //   ThinLimbMinimumShare 0.002  [0, 1]    of all projected points, per thin limb.
 //   SmallLimbMinimumShare 0.005 [0, 1]    of all projected points, per small limb of any
@@ -152,8 +153,9 @@ struct SkeletonCoverageOptions
   /// Step 6: ... and when its point farthest from the skeleton lies more than this many of
   /// its radii away, PartUncoveredFactorRange [0, 1e6]; 0 = step 6 off.
   double PartUncoveredFactor = 2.0;
-  /// A group below MinimumShare still gets a branch when it is a thin limb: its tip lies at
-  /// least this many of its radii from the skeleton, ... ThinLimbFactorRange [0, 1e6]; 0 = off.
+  /// A group below MinimumShare still gets a branch when it is a thin or small limb: its tip
+  /// lies at least this many of its radii from the skeleton, ... ThinLimbFactorRange [0, 1e6];
+  /// 0 = off (both).
   double ThinLimbFactor = 6.0;
   /// ... its points lie along a line (largest eigenvalue / sum of their covariance at least
   /// this), ThinLimbLinearityRange [0, 1] ...
