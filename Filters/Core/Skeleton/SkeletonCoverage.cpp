@@ -31,17 +31,22 @@ void ValidateCoverageOptions(const SkeletonCoverageOptions& options)
 namespace
 {
 
-/// Shortest path through the graph from `tip` to the nearest covered point (ties: lowest
-/// index), listed from that point to the tip; empty if no covered point is reachable.
-std::vector<std::int64_t> PathToCovered(
-  const CloudNeighborGraph& neighbours, const std::vector<char>& uncovered, std::int64_t tip)
+/// Dijkstra through the graph's edges that are not bridges (through the volume only, see the
+/// header comment) from `sources` (at distance 0), entering only the points mayEnter accepts;
+/// stops at the first point settled that isGoal accepts (ties: lowest index) and returns it,
+/// -1 when none is. distance (one per point, +inf) receives the distances reached, previous
+/// (if given, one per point, -1) each point's predecessor.
+template <typename MayEnter, typename IsGoal>
+std::int64_t WalkThroughVolume(const CloudNeighborGraph& neighbours, const std::vector<std::int64_t>& sources,
+  MayEnter mayEnter, IsGoal isGoal, std::vector<double>& distance, std::vector<std::int64_t>* previous)
 {
-  std::vector<double> distance(uncovered.size(), std::numeric_limits<double>::infinity());
-  std::vector<std::int64_t> previous(uncovered.size(), -1);
   using Entry = std::pair<double, std::int64_t>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  distance[static_cast<std::size_t>(tip)] = 0.0;
-  queue.push({ 0.0, tip });
+  for (const std::int64_t source : sources)
+  {
+    distance[static_cast<std::size_t>(source)] = 0.0;
+    queue.push({ 0.0, source });
+  }
   while (!queue.empty())
   {
     const auto [reached, point] = queue.top();
@@ -51,33 +56,45 @@ std::vector<std::int64_t> PathToCovered(
     {
       continue;
     }
-    if (!uncovered[p])
+    if (isGoal(p))
     {
-      std::vector<std::int64_t> path;
-      for (std::int64_t v = point; v >= 0; v = previous[static_cast<std::size_t>(v)])
-      {
-        path.push_back(v);
-      }
-      return path;
+      return point;
     }
-    // Only uncovered points are expanded: the path ends at the first covered point.
     for (std::size_t e = neighbours.Offsets[p]; e < neighbours.Offsets[p + 1]; ++e)
     {
-      if (neighbours.IsBridge[e])
-      {
-        continue; // through the volume only (see the header comment)
-      }
       const std::int64_t next = neighbours.Targets[e];
       const auto q = static_cast<std::size_t>(next);
-      if (reached + neighbours.Weights[e] < distance[q])
+      if (!neighbours.IsBridge[e] && mayEnter(q) && reached + neighbours.Weights[e] < distance[q])
       {
         distance[q] = reached + neighbours.Weights[e];
-        previous[q] = point;
+        if (previous)
+        {
+          (*previous)[q] = point;
+        }
         queue.push({ distance[q], next });
       }
     }
   }
-  return {};
+  return -1;
+}
+
+/// Shortest path through the graph from `tip` to the nearest covered point (ties: lowest
+/// index), listed from that point to the tip; empty if no covered point is reachable. Only
+/// uncovered points are expanded: the path ends at the first covered point.
+std::vector<std::int64_t> PathToCovered(
+  const CloudNeighborGraph& neighbours, const std::vector<char>& uncovered, std::int64_t tip)
+{
+  std::vector<double> distance(uncovered.size(), std::numeric_limits<double>::infinity());
+  std::vector<std::int64_t> previous(uncovered.size(), -1);
+  const std::int64_t covered = WalkThroughVolume(
+    neighbours, { tip }, [](std::size_t) { return true; }, [&](std::size_t p) { return !uncovered[p]; },
+    distance, &previous);
+  std::vector<std::int64_t> path;
+  for (std::int64_t v = covered; v >= 0; v = previous[static_cast<std::size_t>(v)])
+  {
+    path.push_back(v);
+  }
+  return path;
 }
 
 /// Adds the branch along `path` (from its first point, outside the region, to the tip): it
@@ -296,9 +313,7 @@ std::vector<double> DepthsInGroup(
   const CloudNeighborGraph& neighbours, const PointGroups& groups, std::int64_t group)
 {
   const std::size_t n = groups.GroupOf.size();
-  std::vector<double> depth(n, std::numeric_limits<double>::infinity());
-  using Entry = std::pair<double, std::int64_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  std::vector<std::int64_t> border;
   for (std::size_t p = 0; p < n; ++p)
   {
     if (groups.GroupOf[p] != group)
@@ -309,31 +324,15 @@ std::vector<double> DepthsInGroup(
     {
       if (!neighbours.IsBridge[e] && groups.GroupOf[static_cast<std::size_t>(neighbours.Targets[e])] < 0)
       {
-        depth[p] = 0.0;
-        queue.push({ 0.0, static_cast<std::int64_t>(p) });
+        border.push_back(static_cast<std::int64_t>(p));
         break;
       }
     }
   }
-  while (!queue.empty())
-  {
-    const auto [reached, point] = queue.top();
-    queue.pop();
-    const auto p = static_cast<std::size_t>(point);
-    if (reached > depth[p])
-    {
-      continue;
-    }
-    for (std::size_t e = neighbours.Offsets[p]; e < neighbours.Offsets[p + 1]; ++e)
-    {
-      const auto q = static_cast<std::size_t>(neighbours.Targets[e]);
-      if (!neighbours.IsBridge[e] && groups.GroupOf[q] == group && reached + neighbours.Weights[e] < depth[q])
-      {
-        depth[q] = reached + neighbours.Weights[e];
-        queue.push({ depth[q], static_cast<std::int64_t>(q) });
-      }
-    }
-  }
+  std::vector<double> depth(n, std::numeric_limits<double>::infinity());
+  WalkThroughVolume(
+    neighbours, border, [&](std::size_t q) { return groups.GroupOf[q] == group; },
+    [](std::size_t) { return false; }, depth, nullptr);
   return depth;
 }
 
