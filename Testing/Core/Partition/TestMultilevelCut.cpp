@@ -170,6 +170,81 @@ TEST(MultilevelCut, BandComponentsGiveTheSameCutOnAnyNumberOfThreads)
   EXPECT_EQ(aborted.Labels.size(), energy.FaceCount);
 }
 
+/// The costs of `energy` read in ranges of `range` faces, as a distributed partition's first
+/// process reads them; counts how many rows it handed out.
+class RangedCosts final : public shapediameter::DataCostSource
+{
+public:
+  RangedCosts(const PartitionEnergy& energy, std::size_t range)
+    : Energy(energy)
+    , Range(range)
+  {
+  }
+
+  void VisitInOrder(const std::function<void(std::size_t, const std::vector<double>&)>& visit) const override
+  {
+    const auto k = static_cast<std::size_t>(this->Energy.LabelCount);
+    for (std::size_t first = 0; first < this->Energy.FaceCount; first += this->Range)
+    {
+      const std::size_t last = std::min(this->Energy.FaceCount, first + this->Range);
+      const std::vector<double> rows(this->Energy.DataCosts.begin() + static_cast<std::ptrdiff_t>(first * k),
+        this->Energy.DataCosts.begin() + static_cast<std::ptrdiff_t>(last * k));
+      this->RowsRead += last - first;
+      visit(first, rows);
+    }
+  }
+
+  std::vector<double> Rows(const std::vector<std::size_t>& faces) const override
+  {
+    const auto k = static_cast<std::size_t>(this->Energy.LabelCount);
+    EXPECT_TRUE(std::is_sorted(faces.begin(), faces.end()));
+    std::vector<double> rows;
+    for (const std::size_t f : faces)
+    {
+      rows.insert(rows.end(), this->Energy.DataCosts.begin() + static_cast<std::ptrdiff_t>(f * k),
+        this->Energy.DataCosts.begin() + static_cast<std::ptrdiff_t>((f + 1) * k));
+    }
+    this->RowsRead += faces.size();
+    return rows;
+  }
+
+  mutable std::size_t RowsRead = 0;
+
+private:
+  const PartitionEnergy& Energy;
+  std::size_t Range;
+};
+
+TEST(MultilevelCut, CostsReadFromASourceGiveTheSameCutBitForBit)
+{
+  const PartitionEnergy energy = NoisyBands(120, 2.0);
+  PartitionEnergy pairs = energy;
+  pairs.DataCosts.clear();
+  for (const std::size_t direct : { std::size_t{ 500 }, std::size_t{ 20000 } })
+  {
+    MultilevelOptions options;
+    options.DirectBelowFaces = direct; // coarsened twice, or solved directly
+    const AlphaExpansionResult held = MinimizeMultilevel(energy, options);
+    RangedCosts costs(energy, 1000);
+    const AlphaExpansionResult read =
+      MinimizeMultilevel(pairs, costs, options, {}, nullptr, shapediameter::ThreadedFor(2));
+    EXPECT_EQ(read.Labels, held.Labels) << direct;
+    EXPECT_EQ(read.Energy, held.Energy) << direct;
+    EXPECT_EQ(read.InitialEnergy, held.InitialEnergy) << direct;
+    EXPECT_EQ(read.Moves, held.Moves) << direct;
+    if (direct == 500)
+    {
+      // Three passes over the faces (most probable labels, coarse costs, energy) and the band:
+      // never every face's costs at once.
+      EXPECT_GT(costs.RowsRead, 3 * energy.FaceCount);
+      EXPECT_LT(costs.RowsRead, 4 * energy.FaceCount);
+    }
+  }
+  EXPECT_THROW(MinimizeMultilevel(energy, RangedCosts(energy, 10)), Error) << "costs given twice";
+  pairs.PairWeight[3] = -1.0;
+  EXPECT_THROW(MinimizeMultilevel(pairs, RangedCosts(energy, 10), MultilevelOptions{ 500 }), Error);
+}
+
 TEST(MultilevelCut, AbortIsReported)
 {
   const PartitionEnergy energy = NoisyBands(60, 2.0);
