@@ -667,8 +667,8 @@ std::vector<double> TwoThicknesses(const testshapes::TestMesh& mesh)
 
 /// PartitionBySDF on `share` with the thread group; global ids = whole face index x idStep
 /// (1: dense ids, as the reader's; larger: sparse ids, in the same order).
-PartitionResult PartitionShareOf(const Share& share, const ProcessGroup& group, std::int64_t idStep = 1,
-  bool pointIds = false, const PartitionOptions& options = {})
+PartitionResult PartitionShareOf(
+  const Share& share, const ProcessGroup& group, std::int64_t idStep = 1, bool pointIds = false)
 {
   std::vector<std::int64_t> ids;
   for (const std::size_t f : share.WholeFace)
@@ -678,7 +678,7 @@ PartitionResult PartitionShareOf(const Share& share, const ProcessGroup& group, 
   const PartitionShare partitionShare{ ids, share.Own, group, pointIds ? &share.WholePoint : nullptr };
   const Eigen::Map<const Eigen::VectorXd> values(share.Values.data(), static_cast<Eigen::Index>(share.Values.size()));
   return PartitionBySDF(
-    PartitionInput{ share.Points, share.Offsets, share.Connectivity, values, nullptr, &partitionShare }, options);
+    PartitionInput{ share.Points, share.Offsets, share.Connectivity, values, nullptr, &partitionShare });
 }
 
 /// Every own face of `share` has the serial partition's results; returns how many faces it checked.
@@ -758,43 +758,6 @@ TEST(PartitionOnShares, OwnFacesGetTheSerialPartitionBitForBit)
     const Share share = MakeShare(mesh, values, whole, owns, width * 1.001);
     ExpectSerialPartition(serial, PartitionShareOf(share, group), share);
   });
-}
-
-TEST(PartitionOnShares, TheCutOverProcessesAndTheGatheredGraphGiveTheSerialPartition)
-{
-  // The multilevel cut on the first process reads the other processes' data costs in ranges
-  // and for its bands (forced here on a small mesh); with the refinement on, the first process
-  // partitions the whole graph instead. Both must be the serial partition, bit for bit.
-  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
-  const std::vector<double> values = TwoThicknesses(mesh);
-  const Eigen::Map<const Eigen::VectorXd> wholeValues(values.data(), static_cast<Eigen::Index>(values.size()));
-  PartitionOptions multilevel;
-  multilevel.Multilevel.DirectBelowFaces = 64;
-  multilevel.Multilevel.BandRings = 2;
-  PartitionOptions refined;
-  refined.Refinement.Enabled = true;
-  refined.Refinement.MinimumAreaShare = 0.01;
-  for (const PartitionOptions& options : { multilevel, refined })
-  {
-    const PartitionResult serial = PartitionBySDF(mesh.Points, mesh.Triangles, wholeValues, options);
-    ASSERT_GE(serial.Segments.SegmentCount(), 2);
-    ASSERT_TRUE(options.Refinement.Enabled ||
-      static_cast<std::size_t>(mesh.Faces()) > 8 * options.Multilevel.DirectBelowFaces); // coarsened at least once
-    const FaceGraph& whole = *serial.Graph;
-    const double width = *std::max_element(whole.CenterDistances.begin(), whole.CenterDistances.end());
-    for (const int processes : { 2, 3 })
-    {
-      OnThreads(processes, [&](int rank, const ProcessGroup& group) {
-        const auto owns = [&](std::size_t f) {
-          // Interleaved pieces: every process owns faces all along the capsule.
-          return static_cast<int>(std::floor((whole.Centers(static_cast<Eigen::Index>(f), 0) + 1.0) * 4.0)) %
-            processes == rank;
-        };
-        const Share share = MakeShare(mesh, values, whole, owns, width * 1.001);
-        ExpectSerialPartition(serial, PartitionShareOf(share, group, 1, false, options), share);
-      });
-    }
-  }
 }
 
 TEST(PartitionOnShares, AHaloThatMissesANeighbourThrowsOnEveryProcess)

@@ -40,7 +40,10 @@ void ValidateLabels(const PartitionEnergy& energy, const std::vector<int>& label
 
 void ValidateEnergyForCut(const PartitionEnergy& energy)
 {
-  if (energy.DataCosts.size() != energy.FaceCount * static_cast<std::size_t>(std::max(0, energy.LabelCount)))
+  if (energy.LabelCount < 1 ||
+    energy.DataCosts.size() != energy.FaceCount * static_cast<std::size_t>(energy.LabelCount) ||
+    energy.PairFirst.size() != energy.PairWeight.size() ||
+    energy.PairSecond.size() != energy.PairWeight.size())
   {
     throw Error("alpha expansion: the energy has inconsistent sizes");
   }
@@ -50,16 +53,6 @@ void ValidateEnergyForCut(const PartitionEnergy& energy)
     {
       throw Error("alpha expansion: a data cost is NaN or infinite");
     }
-  }
-  ValidatePairsForCut(energy);
-}
-
-void ValidatePairsForCut(const PartitionEnergy& energy)
-{
-  if (energy.LabelCount < 1 || energy.PairFirst.size() != energy.PairWeight.size() ||
-    energy.PairSecond.size() != energy.PairWeight.size())
-  {
-    throw Error("alpha expansion: the energy has inconsistent sizes");
   }
   const auto n = static_cast<std::int64_t>(energy.FaceCount);
   for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)

@@ -87,10 +87,6 @@ AlphaExpansionResult MinimizeByAlphaExpansion(const PartitionEnergy& energy,
 /// are consistent (finite, weights >= 0).
 void ValidateEnergyForCut(const PartitionEnergy& energy);
 
-/// ValidateEnergyForCut without the data costs (an energy whose costs are held elsewhere: its
-/// DataCosts may be empty, MultilevelCut.h's DataCostSource).
-void ValidatePairsForCut(const PartitionEnergy& energy);
-
 /// One expansion move: the labelling of lowest energy among those where every face keeps its
 /// label or takes `alpha` (ties may go either way). For tests and custom schedules.
 std::vector<int> OptimalExpansionMove(

@@ -2,7 +2,6 @@
 #include "Partition/MultilevelCut.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <mutex>
@@ -96,7 +95,7 @@ std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(
 }
 
 /// The energy of labellings constant on clusters.
-PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const DataCostSource& costs, const Adjacency& adjacency,
+PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const Adjacency& adjacency,
   const std::vector<std::size_t>& cluster, std::size_t clusterCount)
 {
   const auto k = static_cast<std::size_t>(energy.LabelCount);
@@ -104,18 +103,13 @@ PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const DataCostSource
   coarse.FaceCount = clusterCount;
   coarse.LabelCount = energy.LabelCount;
   coarse.DataCosts.assign(clusterCount * k, 0.0);
-  costs.VisitInOrder([&](std::size_t first, const std::vector<double>& rows) {
-    for (std::size_t i = 0; i * k < rows.size(); ++i)
-    {
-      for (std::size_t l = 0; l < k; ++l)
-      {
-        coarse.DataCosts[cluster[first + i] * k + l] += rows[i * k + l];
-      }
-    }
-  });
   std::vector<std::size_t> memberStart(clusterCount + 1, 0);
   for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      coarse.DataCosts[cluster[f] * k + l] += energy.DataCosts[f * k + l];
+    }
     ++memberStart[cluster[f] + 1];
   }
   for (std::size_t c = 0; c < clusterCount; ++c)
@@ -281,11 +275,9 @@ std::vector<std::vector<std::size_t>> BandComponents(const Adjacency& adjacency,
 }
 
 /// The energy of `faces` (a band component, increasing) with every other face fixed at
-/// `labels`: pairs with fixed faces become data costs. bandRows: the data costs of every band
-/// face, at its bandIndex.
+/// `labels`: pairs with fixed faces become data costs.
 PartitionEnergy BandEnergy(const PartitionEnergy& energy, const Adjacency& adjacency, const std::vector<std::uint8_t>& inBand,
-  const std::vector<std::size_t>& faces, const std::vector<int>& labels, const std::vector<double>& bandRows,
-  const std::vector<std::size_t>& bandIndex)
+  const std::vector<std::size_t>& faces, const std::vector<int>& labels)
 {
   const auto k = static_cast<std::size_t>(energy.LabelCount);
   PartitionEnergy part;
@@ -297,7 +289,7 @@ PartitionEnergy BandEnergy(const PartitionEnergy& energy, const Adjacency& adjac
     const std::size_t f = faces[b];
     for (std::size_t l = 0; l < k; ++l)
     {
-      part.DataCosts[b * k + l] = bandRows[bandIndex[f] * k + l];
+      part.DataCosts[b * k + l] = energy.DataCosts[f * k + l];
     }
     for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
     {
@@ -322,100 +314,6 @@ PartitionEnergy BandEnergy(const PartitionEnergy& energy, const Adjacency& adjac
     }
   }
   return part;
-}
-
-/// The costs of an energy that holds them.
-class EnergyCosts final : public DataCostSource
-{
-public:
-  explicit EnergyCosts(const PartitionEnergy& energy)
-    : Energy(energy)
-  {
-  }
-
-  void VisitInOrder(const std::function<void(std::size_t, const std::vector<double>&)>& visit) const override
-  {
-    visit(0, this->Energy.DataCosts);
-  }
-
-  std::vector<double> Rows(const std::vector<std::size_t>& faces) const override
-  {
-    const auto k = static_cast<std::size_t>(this->Energy.LabelCount);
-    std::vector<double> rows;
-    rows.reserve(faces.size() * k);
-    for (const std::size_t f : faces)
-    {
-      rows.insert(rows.end(), this->Energy.DataCosts.begin() + static_cast<std::ptrdiff_t>(f * k),
-        this->Energy.DataCosts.begin() + static_cast<std::ptrdiff_t>((f + 1) * k));
-    }
-    return rows;
-  }
-
-private:
-  const PartitionEnergy& Energy;
-};
-
-/// The sum of the cut pairs' weights, as PartitionEnergy::Evaluate sums them.
-double CutWeight(const PartitionEnergy& energy, const std::vector<int>& labels)
-{
-  double smoothness = 0.0;
-  for (std::size_t p = 0; p < energy.PairWeight.size(); ++p)
-  {
-    if (labels[static_cast<std::size_t>(energy.PairFirst[p])] != labels[static_cast<std::size_t>(energy.PairSecond[p])])
-    {
-      smoothness += energy.PairWeight[p];
-    }
-  }
-  return smoothness;
-}
-
-/// PartitionEnergy::Evaluate with the costs read from `costs`: the same sums in the same order.
-double EvaluateWith(const PartitionEnergy& energy, const DataCostSource& costs, const std::vector<int>& labels)
-{
-  if (!energy.DataCosts.empty())
-  {
-    return energy.Evaluate(labels);
-  }
-  const auto k = static_cast<std::size_t>(energy.LabelCount);
-  double data = 0.0;
-  costs.VisitInOrder([&](std::size_t first, const std::vector<double>& rows) {
-    for (std::size_t i = 0; i * k < rows.size(); ++i)
-    {
-      data += rows[i * k + static_cast<std::size_t>(labels[first + i])];
-    }
-  });
-  return data + CutWeight(energy, labels);
-}
-
-/// The most probable label of every face (MostProbableLabels), read from `costs`, whose
-/// finiteness it checks as ValidateEnergyForCut does; `energy` receives the labelling's E
-/// (EvaluateWith, in the same pass).
-std::vector<int> MostProbableLabelsOf(const PartitionEnergy& energy, const DataCostSource& costs, double& energyOfThem)
-{
-  double data = 0.0;
-  const auto k = static_cast<std::size_t>(energy.LabelCount);
-  std::vector<int> labels(energy.FaceCount, 0);
-  costs.VisitInOrder([&](std::size_t first, const std::vector<double>& rows) {
-    for (std::size_t i = 0; i * k < rows.size(); ++i)
-    {
-      const double* row = rows.data() + i * k;
-      int& best = labels[first + i];
-      for (std::size_t l = 0; l < k; ++l)
-      {
-        if (!std::isfinite(row[l]))
-        {
-          throw Error("alpha expansion: a data cost is NaN or infinite");
-        }
-        if (row[l] < row[static_cast<std::size_t>(best)])
-        {
-          best = static_cast<int>(l);
-        }
-      }
-      data += row[static_cast<std::size_t>(best)];
-    }
-  });
-  energyOfThem = data + CutWeight(energy, labels);
-  return labels;
 }
 
 /// Progress of parts solved concurrently, each weighted by its size; the callback is called
@@ -465,68 +363,33 @@ ProgressCallback SubRange(const ProgressCallback& progress, double from, double 
 
 } // namespace
 
-namespace
-{
-
-/// The energy with every data cost in it: `energy` itself when it holds them, else a copy of
-/// its pairs with every row read from `costs` (held in `whole`).
-const PartitionEnergy& WithEveryCost(const PartitionEnergy& energy, const DataCostSource& costs, PartitionEnergy& whole)
-{
-  if (!energy.DataCosts.empty() || energy.FaceCount == 0 || energy.LabelCount < 1)
-  {
-    return energy;
-  }
-  whole = energy;
-  whole.DataCosts.reserve(energy.FaceCount * static_cast<std::size_t>(energy.LabelCount));
-  costs.VisitInOrder([&](std::size_t, const std::vector<double>& rows) {
-    whole.DataCosts.insert(whole.DataCosts.end(), rows.begin(), rows.end());
-  });
-  return whole;
-}
-
-AlphaExpansionResult MinimizeMultilevelWith(const PartitionEnergy& energy, const DataCostSource& costs,
-  const MultilevelOptions& multilevel, const AlphaExpansionOptions& options, const ProgressCallback& progress,
-  const ParallelFor& parallelFor)
+AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel,
+  const AlphaExpansionOptions& options, const ProgressCallback& progress, const ParallelFor& parallelFor)
 {
   if (multilevel.DirectBelowFaces < 16 || multilevel.ClusterSize < 2 || multilevel.ClusterSize > 1024 ||
     multilevel.BandRings < 1 || multilevel.BandRings > 64 || multilevel.LostRegionFaces < 1)
   {
     throw Error("multilevel cut: options out of range");
   }
-  PartitionEnergy whole;
   if (energy.FaceCount <= multilevel.DirectBelowFaces || energy.LabelCount < 2)
   {
-    return MinimizeByAlphaExpansion(WithEveryCost(energy, costs, whole), options, progress);
+    return MinimizeByAlphaExpansion(energy, options, progress);
   }
-  if (energy.DataCosts.empty())
-  {
-    ValidatePairsForCut(energy);
-  }
-  else
-  {
-    ValidateEnergyForCut(energy);
-  }
-  double initialEnergy = 0.0;
-  const std::vector<int> mostProbable = energy.DataCosts.empty() ? MostProbableLabelsOf(energy, costs, initialEnergy)
-                                                                 : MostProbableLabels(energy);
-  if (!energy.DataCosts.empty())
-  {
-    initialEnergy = energy.Evaluate(mostProbable);
-  }
+  ValidateEnergyForCut(energy);
+  const std::vector<int> mostProbable = MostProbableLabels(energy);
   const Adjacency adjacency(energy);
   const auto [cluster, clusterCount] = GrowClusters(adjacency, mostProbable, multilevel.ClusterSize);
   if (2 * clusterCount > energy.FaceCount)
   {
-    // Too fragmented to coarsen.
-    return MinimizeByAlphaExpansion(WithEveryCost(energy, costs, whole), options, progress);
+    return MinimizeByAlphaExpansion(energy, options, progress); // too fragmented to coarsen
   }
 
   // Coarse solve, projected onto the faces.
-  const PartitionEnergy coarse = CoarseEnergy(energy, costs, adjacency, cluster, clusterCount);
+  const PartitionEnergy coarse = CoarseEnergy(energy, adjacency, cluster, clusterCount);
   const AlphaExpansionResult coarseResult =
     MinimizeMultilevel(coarse, multilevel, options, SubRange(progress, 0.0, 0.5), parallelFor);
   AlphaExpansionResult result;
-  result.InitialEnergy = initialEnergy;
+  result.InitialEnergy = energy.Evaluate(mostProbable);
   result.Labels.resize(energy.FaceCount);
   for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
@@ -537,7 +400,7 @@ AlphaExpansionResult MinimizeMultilevelWith(const PartitionEnergy& energy, const
   if (coarseResult.Aborted)
   {
     result.Aborted = true;
-    result.Energy = EvaluateWith(energy, costs, result.Labels);
+    result.Energy = energy.Evaluate(result.Labels);
     return result;
   }
 
@@ -559,14 +422,13 @@ AlphaExpansionResult MinimizeMultilevelWith(const PartitionEnergy& energy, const
   // components is the union of their cuts (the source side is the set reachable from s), so
   // this is the joint alpha-expansion up to moves that change nothing or below the tolerance.
   const std::vector<std::vector<std::size_t>> components = BandComponents(adjacency, inBand, bandFaces, bandIndex);
-  const std::vector<double> bandRows = costs.Rows(bandFaces);
   std::vector<AlphaExpansionResult> solved(components.size());
   SharedProgress bandProgress(SubRange(progress, 0.5, 1.0), bandFaces.size());
   parallelFor(components.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t c = begin; c < end; ++c)
     {
       const std::vector<std::size_t>& faces = components[c];
-      const PartitionEnergy part = BandEnergy(energy, adjacency, inBand, faces, result.Labels, bandRows, bandIndex);
+      const PartitionEnergy part = BandEnergy(energy, adjacency, inBand, faces, result.Labels);
       std::vector<int> partLabels(faces.size());
       for (std::size_t i = 0; i < faces.size(); ++i)
       {
@@ -587,32 +449,13 @@ AlphaExpansionResult MinimizeMultilevelWith(const PartitionEnergy& energy, const
     result.Converged = result.Converged && solved[c].Converged;
     result.Aborted = result.Aborted || solved[c].Aborted;
   }
-  result.Energy = EvaluateWith(energy, costs, result.Labels);
+  result.Energy = energy.Evaluate(result.Labels);
   result.EnergyTrace.push_back(result.Energy);
   if (progress)
   {
     progress(1.0);
   }
   return result;
-}
-
-} // namespace
-
-AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel,
-  const AlphaExpansionOptions& options, const ProgressCallback& progress, const ParallelFor& parallelFor)
-{
-  return MinimizeMultilevelWith(energy, EnergyCosts(energy), multilevel, options, progress, parallelFor);
-}
-
-AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& pairs, const DataCostSource& costs,
-  const MultilevelOptions& multilevel, const AlphaExpansionOptions& options, const ProgressCallback& progress,
-  const ParallelFor& parallelFor)
-{
-  if (!pairs.DataCosts.empty())
-  {
-    throw Error("multilevel cut: an energy with data costs and a source of them");
-  }
-  return MinimizeMultilevelWith(pairs, costs, multilevel, options, progress, parallelFor);
 }
 
 } // namespace shapediameter

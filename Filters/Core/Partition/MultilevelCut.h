@@ -69,9 +69,6 @@
 
 #include "Partition/AlphaExpansion.h"
 
-#include <functional>
-#include <vector>
-
 namespace shapediameter
 {
 
@@ -87,31 +84,5 @@ struct MultilevelOptions
 AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel = {},
   const AlphaExpansionOptions& options = {}, const ProgressCallback& progress = nullptr,
   const ParallelFor& parallelFor = SerialFor);
-
-/**
- * The data costs of a cut's faces, where they are not in one array: the first process of a
- * distributed partition asks the processes that computed them for a range of faces at a time
- * (Partition/DistributedPartition.h), so that it never holds every face's costs. The multilevel
- * cut reads the fine faces' costs only in three ways: all of them in face order, a few times
- * (the most probable labels, the coarse costs, the energy), and the rows of the band faces.
- */
-class DataCostSource
-{
-public:
-  virtual ~DataCostSource() = default;
-  /// Calls visit(first, rows) for consecutive ranges of faces that cover every face once, in
-  /// increasing order; rows holds the LabelCount costs of each face of the range, face after face.
-  virtual void VisitInOrder(const std::function<void(std::size_t first, const std::vector<double>& rows)>& visit) const = 0;
-  /// The cost rows of `faces` (increasing), LabelCount values each, one after another.
-  virtual std::vector<double> Rows(const std::vector<std::size_t>& faces) const = 0;
-};
-
-/// MinimizeMultilevel on `pairs` (an energy whose DataCosts are empty: its pairs, face and label
-/// counts) with the data costs read from `costs`: the labels, moves and energy are those of the
-/// same energy with the costs in it, bit for bit (every sum is taken in the same order). Below
-/// DirectBelowFaces, or when the faces do not coarsen, every row is read at once.
-AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& pairs, const DataCostSource& costs,
-  const MultilevelOptions& multilevel = {}, const AlphaExpansionOptions& options = {},
-  const ProgressCallback& progress = nullptr, const ParallelFor& parallelFor = SerialFor);
 
 } // namespace shapediameter

@@ -31,6 +31,20 @@ PartitionResult AbortedResult()
   return result;
 }
 
+/// Step 2: the mixture of the clusters, fitted as the options say.
+GaussianMixtureModel FitClusterModel(ValuesView values, const std::vector<double>& faceAreas, const PartitionOptions& options)
+{
+  if (options.ClusterModel == PartitionClusterModel::DensityModes)
+  {
+    DensityModesOptions modes = options.Modes;
+    modes.MaximumModes = options.NumberOfClusters > 0 ? options.NumberOfClusters : options.MaximumClusters;
+    const Eigen::Map<const Eigen::VectorXd> areas(faceAreas.data(), static_cast<Eigen::Index>(faceAreas.size()));
+    return FitDensityModes(values, areas, modes).Model;
+  }
+  return options.NumberOfClusters == 0
+    ? FitGaussianMixtureBic(values, 2, options.MaximumClusters, options.Mixture).Model
+    : FitGaussianMixture(values, options.NumberOfClusters, options.Mixture);
+}
 
 /// Throws Error unless there is one value per face.
 void CheckValueCount(ValuesView values, std::size_t faceCount)
@@ -52,20 +66,6 @@ PartRefinementOptions RefinementOptions(const PartitionOptions& options)
 }
 
 } // namespace
-
-GaussianMixtureModel FitClusterModel(ValuesView values, const std::vector<double>& faceAreas, const PartitionOptions& options)
-{
-  if (options.ClusterModel == PartitionClusterModel::DensityModes)
-  {
-    DensityModesOptions modes = options.Modes;
-    modes.MaximumModes = options.NumberOfClusters > 0 ? options.NumberOfClusters : options.MaximumClusters;
-    const Eigen::Map<const Eigen::VectorXd> areas(faceAreas.data(), static_cast<Eigen::Index>(faceAreas.size()));
-    return FitDensityModes(values, areas, modes).Model;
-  }
-  return options.NumberOfClusters == 0
-    ? FitGaussianMixtureBic(values, 2, options.MaximumClusters, options.Mixture).Model
-    : FitGaussianMixture(values, options.NumberOfClusters, options.Mixture);
-}
 
 void ValidatePartitionOptions(const PartitionOptions& options)
 {

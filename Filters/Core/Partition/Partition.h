@@ -213,10 +213,6 @@ struct PartitionResult
   bool Aborted = false;
 };
 
-/// Step 2: the mixture of the clusters, fitted to the values and their faces' areas as the
-/// options say (ClusterModel, k, Modes, Mixture).
-GaussianMixtureModel FitClusterModel(ValuesView values, const std::vector<double>& faceAreas, const PartitionOptions& options);
-
 /// Throws Error if an option of the partition itself is outside its documented range
 /// (the steps check their own options when they run).
 void ValidatePartitionOptions(const PartitionOptions& options);

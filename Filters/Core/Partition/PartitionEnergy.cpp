@@ -118,21 +118,15 @@ struct GeometricWeights
   double perUnitLength = 0.0; ///< 0 = all pair factors 1
 };
 
-GeometricWeights ComputeGeometricWeights(
-  const DualGraphView& graph, const PartitionEnergyOptions& options, const WholeSurfaceArea* whole)
+GeometricWeights ComputeGeometricWeights(const DualGraphView& graph, const PartitionEnergyOptions& options)
 {
   GeometricWeights weights;
   if (!options.GeometricWeights || graph.FaceCount == 0)
   {
     return weights;
   }
-  const double totalArea =
-    whole ? whole->TotalArea : std::accumulate(graph.FaceArea, graph.FaceArea + graph.FaceCount, 0.0);
-  const auto faceCount = static_cast<double>(whole ? whole->FaceCount : graph.FaceCount);
-  if (whole && !(totalArea > 0.0 && std::isfinite(totalArea) && whole->FaceCount > 0))
-  {
-    throw Error("partition energy: the whole surface's total area must be positive and finite");
-  }
+  const double totalArea = std::accumulate(graph.FaceArea, graph.FaceArea + graph.FaceCount, 0.0);
+  const auto faceCount = static_cast<double>(graph.FaceCount);
   if (totalArea > 0.0 && std::isfinite(totalArea))
   {
     const double meanArea = totalArea / faceCount;
@@ -258,8 +252,7 @@ namespace
 {
 /// BuildPartitionEnergy after the checks of the options and of the graph.
 PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posteriors,
-  const DualGraphView& graph, const PartitionEnergyOptions& options, const ParallelFor& parallelFor,
-  const WholeSurfaceArea* whole = nullptr)
+  const DualGraphView& graph, const PartitionEnergyOptions& options, const ParallelFor& parallelFor)
 {
   const std::size_t n = graph.FaceCount;
   if (static_cast<std::size_t>(posteriors.rows()) != n || posteriors.cols() < 1)
@@ -281,7 +274,7 @@ PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> po
   energy.LabelCount = static_cast<int>(posteriors.cols());
   const auto k = static_cast<std::size_t>(energy.LabelCount);
   energy.DataCosts.resize(n * k);
-  const GeometricWeights weights = ComputeGeometricWeights(graph, options, whole);
+  const GeometricWeights weights = ComputeGeometricWeights(graph, options);
   // Pairs in the order of their lower face: each face writes its own data costs and pairs
   // (slots from a prefix sum), so the result does not depend on the thread split.
   std::vector<std::size_t> pairStart(n + 1, 0);
@@ -346,13 +339,6 @@ PartitionEnergy BuildPartitionEnergyOnValidGraph(Eigen::Ref<const PosteriorMatri
 {
   ValidateOptions(options);
   return BuildCheckedPartitionEnergy(posteriors, graph, options, parallelFor);
-}
-
-PartitionEnergy BuildPartitionEnergyOfPart(Eigen::Ref<const PosteriorMatrix> posteriors, const DualGraphView& graph,
-  const WholeSurfaceArea& whole, const PartitionEnergyOptions& options, const ParallelFor& parallelFor)
-{
-  ValidateOptions(options);
-  return BuildCheckedPartitionEnergy(posteriors, graph, options, parallelFor, &whole);
 }
 
 std::vector<int> MostProbableLabels(const PartitionEnergy& energy)

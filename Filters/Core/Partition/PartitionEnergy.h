@@ -153,21 +153,6 @@ PartitionEnergy BuildPartitionEnergy(Eigen::Ref<const PosteriorMatrix> posterior
 PartitionEnergy BuildPartitionEnergyOnValidGraph(Eigen::Ref<const PosteriorMatrix> posteriors,
   const DualGraphView& graph, const PartitionEnergyOptions& options = {}, const ParallelFor& parallelFor = SerialFor);
 
-/// The two measures of the whole surface that the geometric weights read: its total face area
-/// (the sum of the areas in face order, as BuildPartitionEnergy takes it) and its face count.
-struct WholeSurfaceArea
-{
-  double TotalArea = 0.0;
-  std::size_t FaceCount = 0;
-};
-
-/// BuildPartitionEnergyOnValidGraph on a part of a surface (a process's share of it,
-/// Partition/DistributedPartition.h) with the whole surface's measures: every face's data costs
-/// and every pair's weight are those of the whole surface's energy, bit for bit. The total area
-/// must be positive and finite (the fallback weights read every edge of the surface) -> Error.
-PartitionEnergy BuildPartitionEnergyOfPart(Eigen::Ref<const PosteriorMatrix> posteriors, const DualGraphView& graph,
-  const WholeSurfaceArea& whole, const PartitionEnergyOptions& options = {}, const ParallelFor& parallelFor = SerialFor);
-
 /// argmin_l e1(f, l) per face (= argmax posterior; lowest label on ties).
 std::vector<int> MostProbableLabels(const PartitionEnergy& energy);
 
