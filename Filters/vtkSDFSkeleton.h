@@ -11,7 +11,13 @@
  * 2. MLS thinning, NumberOfIterations times: PCA of each point's neighbours within
  *    radius(p) (k-d tree), projection onto the regression line, confidence =
  *    max(e)/(e1+e2+e3); points with confidence ≥ ConfidenceThreshold are kept and thinned
- *    to a minimal spacing SpacingFactor·radius(p) → T.
+ *    to a minimal spacing SpacingFactor·radius(p) → T. (ours) Only points whose medial ball
+ *    fits are kept: no surface within a quarter of radius(p) along the axes and diagonals
+ *    (14 short rays; the core's SkeletonThinningOptions::MinimumClearance 0.25, 0 = off; not
+ *    a filter property). Deviation: beside a box's convex edges the faces' short SDF lines
+ *    their points up along the edge, inside the ball of the face across it, and MLS finds
+ *    them confident: without the test the skeleton of a machined part traced its edges and
+ *    left its bosses without a leaf (Filters/Core/Skeleton/SkeletonThinning.h).
  * 3. Poly-segments grow from the most confident unused point of T along its regression
  *    line in both directions.
  * 4. k-terminal shortest paths through P (a priority-queue growth from all segments at

@@ -600,15 +600,15 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   }
   const std::vector<std::int64_t> pointComponent = PointComponents(cloud, faceComponent);
 
+  // Thinning keeps only points whose medial ball fits; growth, connection and coverage move
+  // only through the volume.
+  const EmbreeRayCaster volume(points, triangles, VolumeOptions());
   const ThinnedCloud thinned =
-    ThinProjectedCloud(cloud, options.Thinning, parallelFor, SubProgress(progress, 0.05, 0.65));
+    ThinProjectedCloud(cloud, options.Thinning, parallelFor, SubProgress(progress, 0.05, 0.65), &volume);
   if (thinned.Aborted)
   {
     return AbortedResult();
   }
-
-  // Growth, connection and coverage move only through the volume.
-  const EmbreeRayCaster volume(points, triangles, VolumeOptions());
   const std::vector<PolySegment> segments =
     GrowPolySegments(cloud, thinned, pointComponent, options.Segments, &volume);
   if (progress && !progress(0.7))

@@ -7,7 +7,8 @@
 //   between the skeleton and the surface:
 //     1. SampleProjectedCloud  - N area-weighted samples pushed inward by SDF/2 -> cloud P
 //     2. ThinProjectedCloud    - MLS projection onto local regression lines, confidence,
-//                                epsilon-thinning -> T
+//                                (ours) only points whose medial ball fits, epsilon-thinning
+//                                -> T
 //     3. GrowPolySegments      - ordered poly-segments grown through T
 //     4. ConnectPolySegments   - k-terminal shortest paths through P join the segments into
 //                                one tree per connected surface component

@@ -30,6 +30,7 @@ void ValidateThinningOptions(const SkeletonThinningOptions& options)
   CheckRange(options.MinimumConfidentShare, MinimumConfidentShareRange, "skeleton: MinimumConfidentShare");
   CheckRange(options.SpacingFactor, ThinningSpacingFactorRange, "skeleton: thinning SpacingFactor");
   CheckRange(options.MinimumNeighbors, MinimumNeighborsRange, "skeleton: MinimumNeighbors");
+  CheckRange(options.MinimumClearance, MinimumClearanceRange, "skeleton: MinimumClearance");
 }
 
 namespace
@@ -93,11 +94,38 @@ Projection ProjectOntoRegressionLine(const SkeletonPointTree& tree,
   return { moved, axis, std::clamp(confidence, 0.0, 1.0), eigenvalues, solver.eigenvectors().col(0).normalized() };
 }
 
+/// Whether no surface lies within `reach` of `centre` along the axes and the diagonals.
+bool BallFits(const RayCaster& volume, const Eigen::Vector3d& centre, double reach)
+{
+  constexpr double d = 0.57735026918962576; // 1 / sqrt(3)
+  static const double directions[14][3] = { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 },
+    { 0, 0, -1 }, { d, d, d }, { d, d, -d }, { d, -d, d }, { d, -d, -d }, { -d, d, d }, { -d, d, -d }, { -d, -d, d },
+    { -d, -d, -d } };
+  RayOrigin origin;
+  origin.MaxDistance = reach;
+  for (int a = 0; a < 3; ++a)
+  {
+    origin.Point[a] = centre(a);
+  }
+  for (const auto& direction : directions)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      origin.Normal[a] = -direction[a]; // the ray leaves from inside
+    }
+    if (std::isfinite(volume.ClosestValidHit(origin, direction)))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 } // namespace
 
 ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
   const SkeletonThinningOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress)
+  const ProgressCallback& progress, const RayCaster* volume)
 {
   ValidateThinningOptions(options);
   ThinnedCloud result;
@@ -188,6 +216,27 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
     {
       candidates.push_back(static_cast<std::int64_t>(k));
     }
+  }
+  if (volume && options.MinimumClearance > 0.0)
+  {
+    std::vector<char> fits(candidates.size(), 0);
+    parallelFor(candidates.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t c = begin; c < end; ++c)
+      {
+        const auto k = static_cast<std::size_t>(candidates[c]);
+        fits[c] = BallFits(*volume, cloud.Positions.row(static_cast<Eigen::Index>(k)).transpose(),
+          options.MinimumClearance * cloud.Radius[k]);
+      }
+    });
+    std::size_t kept = 0;
+    for (std::size_t c = 0; c < candidates.size(); ++c)
+    {
+      if (fits[c])
+      {
+        candidates[kept++] = candidates[c];
+      }
+    }
+    candidates.resize(kept);
   }
   std::sort(candidates.begin(), candidates.end(), [&result](std::int64_t a, std::int64_t b) {
     return result.Confidence[a] > result.Confidence[b] ||

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Step 2 of the skeleton (SkeletonThinning.h): MLS projection, confidence, the confident
 // share and epsilon-thinning on lines, blobs and circles; option validation.
+#include "RayCasting/EmbreeRayCaster.h"
+#include "SDF/SDF.h"
 #include "Skeleton/Skeleton.h"
 #include "TestShapes.h"
 
@@ -154,6 +156,41 @@ TEST(SkeletonThinning, InvalidOptionsThrow)
   options = {};
   options.NeighborhoodScale = 0.0;
   EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), Error);
+  options = SkeletonThinningOptions();
+  options.MinimumClearance = 1.5;
+  EXPECT_THROW(ThinProjectedCloud(cloud, options, SerialFor), Error);
+}
+
+TEST(SkeletonThinning, PointsLinedUpAlongABoxsEdgesAreNotInT)
+{
+  // A box's faces beside an edge have a short SDF: their projected points line up along the
+  // edge, inside the ball of the face across it. With the volume, every point of T has its
+  // ball: no face closer than MinimumClearance x radius (for a box the nearest face lies along
+  // an axis, one of the rays, so the test is exact). Without it, many points of T hug the edges.
+  const Eigen::Vector3d size(2.0, 1.5, 1.0);
+  const TestMesh box = MakeBox(size, 16);
+  const std::vector<double> sdf =
+    ComputeFaceShapeDiameter(box.Points, box.Triangles, ShapeDiameterOptions(), SerialFor).Values;
+  const ProjectedCloud cloud = SampleProjectedCloud(box.Points, box.Triangles, sdf, PointMatrix(), {});
+  const EmbreeRayCaster volume(box.Points, box.Triangles);
+  const auto clearanceShare = [&](std::int64_t k) {
+    const Eigen::Vector3d p = cloud.Positions.row(k).transpose();
+    return std::min({ p.minCoeff(), (size - p).minCoeff() }) / cloud.Radius[static_cast<std::size_t>(k)];
+  };
+  const SkeletonThinningOptions options;
+  const ThinnedCloud plain = ThinProjectedCloud(cloud, options, SerialFor);
+  const ThinnedCloud tested = ThinProjectedCloud(cloud, options, ThreadedFor(2), {}, &volume);
+  const auto hugging = [&](const ThinnedCloud& thinned) {
+    return std::count_if(thinned.Thinned.begin(), thinned.Thinned.end(),
+      [&](std::int64_t k) { return clearanceShare(k) < options.MinimumClearance; });
+  };
+  ASSERT_GE(plain.Thinned.size(), 20u);
+  EXPECT_GT(hugging(plain), static_cast<std::ptrdiff_t>(plain.Thinned.size() / 3)) << "the test has edges to remove";
+  EXPECT_EQ(hugging(tested), 0);
+  EXPECT_EQ(ThinProjectedCloud(cloud, options, SerialFor, {}, &volume).Thinned, tested.Thinned) << "threads";
+  SkeletonThinningOptions off = options;
+  off.MinimumClearance = 0.0;
+  EXPECT_EQ(ThinProjectedCloud(cloud, off, SerialFor, {}, &volume).Thinned, plain.Thinned);
 }
 
 } // namespace
