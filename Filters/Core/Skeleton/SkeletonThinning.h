@@ -57,7 +57,9 @@
 //                        (median of the confident points of a cube with a boss), against 0.8 on
 //                        limbs (camel, armadillo: 5 % of their confident points below 0.52).
 //                        Measured from 0.2 to 0.35 on the segmentation benchmark: limbs reached
-//                        92.4-92.7 % (91.8 % without; docs/skeleton.md).
+//                        92.4-92.7 % (91.8 % without), the mechanical parts 88-91 % (77 %);
+//                        with other sampling seeds +0.2 / -0.1 points overall, the mechanical
+//                        parts +4 / +2 (docs/skeleton.md).
 //   ContractCloud        false (default): the regression line is always fitted to the
 //                        original cloud P, only the query point moves (the MLS projection of
 //                        Levin and Lee). true: each iteration fits to the cloud moved by the
