@@ -4,7 +4,7 @@
     pvpython Testing/Evaluation/measure_limb_reach.py PSB_FOLDER [--ids 1-20,81-100]
              [--minimum-area 0.005] [--peer-mcf PROGRAM] [--verbose]
              [--expect-reach-at-least PERCENT] [--expect-stray-at-most PERCENT]
-             [--hit-rule 0|1] [--set Class.Property=value ...]
+             [--seeds S1,S2,...] [--hit-rule 0|1] [--set Class.Property=value ...]
 
 PSB_FOLDER is the segmentation benchmark's layout (../shared/data/psb: <id>.off.gz and
 <id>/<id>_<k>.seg.gz, one segment label per face). Every mesh runs through the product chain
@@ -24,7 +24,11 @@ this measures only whether each limb has a branch, on the 345 development meshes
 eleven segmentations each, so that a change is not judged on three rigs alone. --peer-mcf adds
 the same figures for CGAL's mean-curvature-flow skeleton (Testing/Peers/cgal-mcf, built
 separately; never part of the product). --expect-reach-at-least and --expect-stray-at-most make
-the means over all meshes a test (exit status 1 beyond either). A missing folder prints 'SKIP: ...' and exits 0.
+the means over all meshes a test (exit status 1 beyond either). --seeds runs our skeleton again
+with each sampling seed (vtkSDFSkeleton's Seed; the chain before it is not re-run): a column per
+seed, and "ours" is then each mesh's mean over the seeds, which the expectations judge. One
+seed's figures are one draw: a change judged on the default seed alone can look larger or
+smaller than it is (docs/skeleton.md). A missing folder prints 'SKIP: ...' and exits 0.
 
 Needs PYTHONPATH to contain build/lib/python3.11/site-packages (the README's pvpython setup).
 """
@@ -131,7 +135,14 @@ def measure_mesh(folder, mesh_id, path, arguments, scratch):
                      for name in sorted(os.listdir(segmentation_dir)) if ".seg" in name]
     if not segmentations:
         return None
-    skeletons = {"ours": skeleton_measures.graph_of(skeleton_measures.product_skeleton(surface, arguments).GetSkeleton())}
+    skeleton = skeleton_measures.product_skeleton(surface, arguments)
+    skeletons = {}
+    for seed in arguments.seeds or [None]:
+        if seed is not None:
+            skeleton.SetSeed(seed)
+            skeleton.Update()
+        points, edges = skeleton_measures.graph_of(skeleton.GetSkeleton())
+        skeletons["ours" if seed is None else "seed %d" % seed] = (np.array(points), np.array(edges))
     if arguments.peer_mcf:
         try:
             points, edges, _ = skeleton_measures.run_peer_mcf(arguments.peer_mcf, surface, scratch)
@@ -144,7 +155,23 @@ def measure_mesh(folder, mesh_id, path, arguments, scratch):
         reach, stray, limb_counts = reach_and_stray(skeleton_measures.closest_cells(surface, leaves)[1], segmentations, pairs, areas,
                                                     arguments.minimum_area)
         figures[name] = (reach, stray, len(leaves), float(np.mean(limb_counts)))
+    if arguments.seeds:
+        draws = [figures["seed %d" % seed] for seed in arguments.seeds]
+        reaches = [draw[0] for draw in draws]
+        figures["ours"] = (None if None in reaches else float(np.mean(reaches)),
+                           float(np.mean([draw[1] for draw in draws])), float(np.mean([draw[2] for draw in draws])), draws[0][3])
     return figures
+
+
+def seed_list(text):
+    """The sampling seeds of --seeds: distinct integers, comma separated."""
+    try:
+        seeds = [int(word) for word in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError("seeds are integers separated by commas: %r" % text)
+    if not seeds or len(set(seeds)) != len(seeds):
+        raise argparse.ArgumentTypeError("seeds must be distinct: %r" % text)
+    return seeds
 
 
 def main():
@@ -156,6 +183,8 @@ def main():
     parser.add_argument("--verbose", action="store_true", help="a line per mesh")
     parser.add_argument("--expect-reach-at-least", type=float, default=None, metavar="PERCENT")
     parser.add_argument("--expect-stray-at-most", type=float, default=None, metavar="PERCENT")
+    parser.add_argument("--seeds", type=seed_list, default=None, metavar="S1,S2,...",
+                        help="our skeleton with each sampling seed; 'ours' = the mean over them")
     chain_settings.add_arguments(parser)
     arguments = parser.parse_args()
     skeleton_measures.check_peer_program(parser, arguments.peer_mcf)
@@ -182,7 +211,9 @@ def main():
             sys.exit("FAIL: " + message)
         print(message)
         return
-    names = sorted({name for name, _ in per_category}, key=lambda n: n != "ours")
+    present = {name for name, _ in per_category}
+    names = [n for n in ["ours"] + ["seed %d" % seed for seed in arguments.seeds or []] if n in present]
+    names += sorted(present - set(names))
     print("| category | meshes | limbs | " + " | ".join("%s: reach / stray / leaves" % n for n in names) + " |")
     print("|---|---:|---:|" + "---:|" * len(names))
     overall = {name: [] for name in names}
