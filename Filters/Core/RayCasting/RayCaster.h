@@ -116,6 +116,24 @@ protected:
   RayCaster& operator=(const RayCaster&) = delete;
 };
 
+/// Distance along `direction` (unit) at which a ray from `from`, a point inside the volume,
+/// first leaves it (HitRule::FirstHitLeaving), looked for no farther than maxDistance; +inf
+/// when it does not (it meets nothing, or enters first). The skeleton's clearance tests (the
+/// thinning's medial ball, the connection's sheet factors) and its leaf extensions use it.
+inline double ExitDistance(const RayCaster& caster, const Eigen::Vector3d& from, const Eigen::Vector3d& direction,
+  double maxDistance = std::numeric_limits<double>::infinity())
+{
+  RayOrigin origin;
+  for (int c = 0; c < 3; ++c)
+  {
+    origin.Point[c] = from(c);
+    origin.Normal[c] = direction(c); // any non-zero normal: under FirstHitLeaving only its presence counts
+  }
+  origin.MaxDistance = maxDistance;
+  origin.Rule = HitRule::FirstHitLeaving;
+  return caster.ClosestValidHit(origin, direction.data());
+}
+
 /// True when the straight segment from a to b meets the surface of the mesh anywhere
 /// between its ends. Used by the skeleton to keep its paths inside one part of the volume:
 /// two parts that touch (a trunk resting on a foot) are close in space but not through the

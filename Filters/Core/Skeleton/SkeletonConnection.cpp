@@ -763,22 +763,12 @@ std::vector<double> SheetFactors(const ProjectedCloud& cloud, const ThinnedCloud
       const Eigen::Vector3d second = normal.cross(first);
       const double reach = radius * reachRadii;
       double clearance = reach;
-      RayOrigin origin;
-      origin.MaxDistance = reach;
-      for (int c = 0; c < 3; ++c)
-      {
-        origin.Point[c] = cloud.Positions(row, c);
-      }
+      const Eigen::Vector3d position = cloud.Positions.row(row).transpose();
       for (int k = 0; k < rays; ++k)
       {
         const double angle = 2.0 * 3.14159265358979323846 * k / rays;
         const Eigen::Vector3d direction = std::cos(angle) * first + std::sin(angle) * second;
-        const double along[3] = { direction(0), direction(1), direction(2) };
-        for (int c = 0; c < 3; ++c)
-        {
-          origin.Normal[c] = -direction(c); // any non-zero normal: the ray leaves from inside
-        }
-        clearance = std::min(clearance, volume.ClosestValidHit(origin, along));
+        clearance = std::min(clearance, ExitDistance(volume, position, direction, reach));
       }
       if (clearance > 0.0)
       {

@@ -21,20 +21,6 @@ void ValidateLeafExtensionOptions(const SkeletonLeafExtensionOptions& options)
 namespace
 {
 
-/// Distance along `direction` (unit) at which a ray from `from` leaves the volume; +inf if it
-/// does not (it enters first or meets nothing).
-double ExitDistance(const RayCaster& volume, const Eigen::Vector3d& from, const Eigen::Vector3d& direction)
-{
-  RayOrigin origin;
-  for (int c = 0; c < 3; ++c)
-  {
-    origin.Point[c] = from(c);
-    origin.Normal[c] = direction(c);
-  }
-  origin.Rule = HitRule::FirstHitLeaving;
-  return volume.ClosestValidHit(origin, direction.data());
-}
-
 /// Neighbours of every node in the union of the polylines' edges.
 std::vector<std::vector<std::int64_t>> NodeAdjacency(const SkeletonGraph& graph)
 {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iterator>
 #include <memory>
 
 namespace shapediameter
@@ -98,27 +99,11 @@ Projection ProjectOntoRegressionLine(const SkeletonPointTree& tree,
 bool BallFits(const RayCaster& volume, const Eigen::Vector3d& centre, double reach)
 {
   constexpr double d = 0.57735026918962576; // 1 / sqrt(3)
-  static const double directions[14][3] = { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 },
+  static const Eigen::Vector3d directions[14] = { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 },
     { 0, 0, -1 }, { d, d, d }, { d, d, -d }, { d, -d, d }, { d, -d, -d }, { -d, d, d }, { -d, d, -d }, { -d, -d, d },
     { -d, -d, -d } };
-  RayOrigin origin;
-  origin.MaxDistance = reach;
-  for (int a = 0; a < 3; ++a)
-  {
-    origin.Point[a] = centre(a);
-  }
-  for (const auto& direction : directions)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      origin.Normal[a] = -direction[a]; // the ray leaves from inside
-    }
-    if (std::isfinite(volume.ClosestValidHit(origin, direction)))
-    {
-      return false;
-    }
-  }
-  return true;
+  return std::none_of(std::begin(directions), std::end(directions),
+    [&](const Eigen::Vector3d& direction) { return std::isfinite(ExitDistance(volume, centre, direction, reach)); });
 }
 
 } // namespace
