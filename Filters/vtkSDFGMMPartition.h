@@ -26,8 +26,9 @@
  *    over the surface, so λ means the same at every resolution and in every unit
  *    (Filters/Core/Partition/PartitionEnergy.h). It starts from the per-face most probable cluster
  *    and never increases E. Above 60,000 faces the cut is multilevel
- *    (Filters/Core/Partition/MultilevelCut.h): alpha-expansion on clusters of 8 faces, then on an
- *    8-ring band around the boundaries at full resolution, because with this energy the
+ *    (Filters/Core/Partition/MultilevelCut.h): alpha-expansion on clusters of faces (connected,
+ *    one most probable cluster, inside a cube of about 8 faces: decided by where a face lies,
+ *    not by the face order), then on an 8-ring band around the boundaries at full resolution, because with this energy the
  *    plain alpha-expansion's cost grows as faces^1.5 (docs/performance.md).
  * 3. Clusters are numbered by GMM mean, largest first (`SDFCluster` 0 = thickest parts);
  *    the hierarchy `SDFLevel1` … `SDFLevel{k−1}` has level L = min(SDFCluster, L) (the

@@ -18,6 +18,8 @@ namespace
 struct OwnRows
 {
   std::vector<double> Ids, Values, Areas, Degrees;
+  /// Per own face its centre: x, y, z.
+  std::vector<double> Centers;
   std::vector<double> Neighbors, NormalAngles, EdgeLengths, Concave;
   /// Per side of an own face that no other face of the share has: the face's id, then the
   /// side's two corners (lexicographically ordered, so both faces of a side give the same).
@@ -82,6 +84,10 @@ OwnRows RowsOfOwnFaces(const PartitionInput& input, const FaceGraph& graph, cons
     rows.Ids.push_back(static_cast<double>(share.GlobalIds[f]));
     rows.Values.push_back(values[static_cast<Eigen::Index>(f)]);
     rows.Areas.push_back(graph.Areas[f]);
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      rows.Centers.push_back(graph.Centers(static_cast<Eigen::Index>(f), axis));
+    }
     const auto begin = static_cast<std::size_t>(graph.NeighborBegin(static_cast<std::int64_t>(f)));
     const auto end = static_cast<std::size_t>(graph.NeighborEnd(static_cast<std::int64_t>(f)));
     rows.Degrees.push_back(static_cast<double>(end - begin));
@@ -105,6 +111,8 @@ struct WholeGraph
   GatheredOrder Order;
   std::vector<std::int64_t> Offsets, Neighbors;
   std::vector<double> NormalAngles, EdgeLengths, Areas, Values;
+  /// Per face x, y, z: read by the cut's coarsening (CoarseningCells.h).
+  std::vector<double> Centers;
   std::vector<std::uint8_t> Concave;
   /// A missing adjacency found (empty: none): every process then throws HaloTooNarrowError.
   std::string HaloProblem;
@@ -118,22 +126,25 @@ struct WholeGraph
     view.Concave = this->Concave.data();
     view.EdgeLength = this->EdgeLengths.data();
     view.FaceArea = this->Areas.data();
+    view.FaceCenter = this->Centers.empty() ? nullptr : this->Centers.data();
     view.FaceCount = this->Areas.size();
     return view;
   }
 };
 
-/// Per-face values of the used rows, in the whole graph's order.
-std::vector<double> WholeFaceField(const std::vector<std::vector<double>>& processValues, const WholeGraph& whole)
+/// Per-face values of the used rows (`width` per face), in the whole graph's order.
+std::vector<double> WholeFaceField(
+  const std::vector<std::vector<double>>& processValues, const WholeGraph& whole, std::size_t width = 1)
 {
-  std::vector<double> field(whole.Order.Ids.size(), 0.0);
+  std::vector<double> field(whole.Order.Ids.size() * width, 0.0);
   for (std::size_t p = 0; p < processValues.size(); ++p)
   {
-    for (std::size_t i = 0; i < processValues[p].size(); ++i)
+    for (std::size_t i = 0; i < processValues[p].size() / width; ++i)
     {
       if (whole.Order.Used[p][i])
       {
-        field[static_cast<std::size_t>(whole.Order.Index[p][i])] = processValues[p][i];
+        std::copy_n(processValues[p].begin() + static_cast<std::ptrdiff_t>(i * width), width,
+          field.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(whole.Order.Index[p][i]) * width));
       }
     }
   }
@@ -225,10 +236,11 @@ WholeGraph GatherWholeGraph(const OwnRows& rows, const ProcessGroup& group)
     whole.Order = OrderGatheredIds(group.GatherOnFirst(rows.Ids));
     whole.Values = WholeFaceField(group.GatherOnFirst(rows.Values), whole);
     whole.Areas = WholeFaceField(group.GatherOnFirst(rows.Areas), whole);
+    whole.Centers = WholeFaceField(group.GatherOnFirst(rows.Centers), whole, 3);
   }
   else
   {
-    for (const std::vector<double>* field : { &rows.Ids, &rows.Values, &rows.Areas })
+    for (const std::vector<double>* field : { &rows.Ids, &rows.Values, &rows.Areas, &rows.Centers })
     {
       group.GatherOnFirst(*field);
     }
@@ -423,6 +435,7 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
       whole.NormalAngles = {};
       whole.EdgeLengths = {};
       whole.Concave = {};
+      whole.Centers = {};
     };
     if (progress && !progress(0.1))
     {

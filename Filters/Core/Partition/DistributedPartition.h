@@ -10,8 +10,8 @@
 //        that holds every face sharing an edge with one of them (the VTK adapter's halo: the
 //        faces sharing a corner with an own face, Filters/DistributedSupport.h);
 //     2. each process sends the first process the dual-graph rows of its own faces (the face's
-//        value and area; per neighbour its global id, normal angle, concave flag and shared
-//        edge length): about 90 bytes per face;
+//        value, area and centre; per neighbour its global id, normal angle, concave flag and
+//        shared edge length): about 115 bytes per face;
 //     3. the first process orders the rows by global id (a face several processes own is taken
 //        once), checks that every adjacency is listed from both sides and that no two faces
 //        report the same side as open (no face of their share has it: an adjacency both halos
@@ -23,9 +23,10 @@
 //   surface's order, so the rows, and everything computed from them, equal the serial ones.
 //
 // Why not more distributed
-//   The graph cut (MultilevelCut.h) coarsens in face order and solves max-flows whose result
-//   depends on the whole graph; a cut of pieces with a coarse cut and band refinement per
-//   process would not give the serial labels (docs/distributed.md says what it would take).
+//   The graph cut (MultilevelCut.h) solves max-flows whose result depends on the whole graph.
+//   Its clusters are decided by cells of space, the same for any split (CoarseningCells.h), so
+//   a cut that clusters on every process, solves the coarse graph on one and refines the bands
+//   where they lie can give the serial labels; it is not built yet (docs/distributed.md).
 //   The first process holds the dual graph and the cut's working set, but not the polygons,
 //   the points or the face geometry that the serial run's face graph has.
 //

@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "Partition/MultilevelCut.h"
 
+#include "Partition/CoarseningCells.h"
+
 #include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <mutex>
+#include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -83,6 +87,42 @@ std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(
       {
         const std::size_t g = adjacency.neighbor[e];
         if (cluster[g] == unassigned && seedLabels[g] == seedLabels[seed])
+        {
+          cluster[g] = count;
+          queue.push_back(g);
+        }
+      }
+    }
+    ++count;
+  }
+  return { std::move(cluster), count };
+}
+
+/// Clusters of connected faces with the same most probable label and the same cell: each face's
+/// cluster is the same set of faces for any face order. Numbered by their lowest face.
+std::pair<std::vector<std::size_t>, std::size_t> CellClusters(
+  const Adjacency& adjacency, const std::vector<int>& seedLabels, const std::vector<std::uint64_t>& cells)
+{
+  const std::size_t n = seedLabels.size();
+  constexpr std::size_t unassigned = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> cluster(n, unassigned);
+  std::vector<std::size_t> queue;
+  std::size_t count = 0;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (cluster[seed] != unassigned)
+    {
+      continue;
+    }
+    queue.assign(1, seed);
+    cluster[seed] = count;
+    for (std::size_t head = 0; head < queue.size(); ++head)
+    {
+      const std::size_t f = queue[head];
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+      {
+        const std::size_t g = adjacency.neighbor[e];
+        if (cluster[g] == unassigned && seedLabels[g] == seedLabels[seed] && cells[g] == cells[seed])
         {
           cluster[g] = count;
           queue.push_back(g);
@@ -352,6 +392,19 @@ private:
   bool Continue = true;
 };
 
+void CheckCellCount(const PartitionEnergy& energy, const std::vector<std::uint64_t>& faceCells)
+{
+  if (!faceCells.empty() && faceCells.size() != energy.FaceCount)
+  {
+    throw Error("multilevel cut: " + std::to_string(faceCells.size()) + " cells for " +
+      std::to_string(energy.FaceCount) + " faces");
+  }
+}
+
+/// Cells doubled at most this often when a level's cell clusters coarsen the graph by less
+/// than half.
+constexpr int MaximumCellDoublings = 3;
+
 ProgressCallback SubRange(const ProgressCallback& progress, double from, double to)
 {
   if (!progress)
@@ -363,8 +416,20 @@ ProgressCallback SubRange(const ProgressCallback& progress, double from, double 
 
 } // namespace
 
+std::pair<std::vector<std::size_t>, std::size_t> FirstLevelClusters(
+  const PartitionEnergy& energy, const std::vector<std::uint64_t>& faceCells, int clusterSize)
+{
+  ValidateEnergyForCut(energy);
+  CheckCellCount(energy, faceCells);
+  const Adjacency adjacency(energy);
+  const std::vector<int> mostProbable = MostProbableLabels(energy);
+  return faceCells.empty() ? GrowClusters(adjacency, mostProbable, clusterSize)
+                           : CellClusters(adjacency, mostProbable, faceCells);
+}
+
 AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel,
-  const AlphaExpansionOptions& options, const ProgressCallback& progress, const ParallelFor& parallelFor)
+  const AlphaExpansionOptions& options, const ProgressCallback& progress, const ParallelFor& parallelFor,
+  const std::vector<std::uint64_t>& faceCells)
 {
   if (multilevel.DirectBelowFaces < 16 || multilevel.ClusterSize < 2 || multilevel.ClusterSize > 1024 ||
     multilevel.BandRings < 1 || multilevel.BandRings > 64 || multilevel.LostRegionFaces < 1)
@@ -378,7 +443,28 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   ValidateEnergyForCut(energy);
   const std::vector<int> mostProbable = MostProbableLabels(energy);
   const Adjacency adjacency(energy);
-  const auto [cluster, clusterCount] = GrowClusters(adjacency, mostProbable, multilevel.ClusterSize);
+  CheckCellCount(energy, faceCells);
+  std::vector<std::uint64_t> cells(faceCells);
+  std::vector<std::size_t> cluster;
+  std::size_t clusterCount = 0;
+  if (cells.empty())
+  {
+    std::tie(cluster, clusterCount) = GrowClusters(adjacency, mostProbable, multilevel.ClusterSize);
+  }
+  else
+  {
+    // Where the faces are large against the cells (a coarse region, or a far-away face that
+    // stretched the grid), larger cells.
+    for (int doubling = 0;; ++doubling)
+    {
+      std::tie(cluster, clusterCount) = CellClusters(adjacency, mostProbable, cells);
+      if (2 * clusterCount <= energy.FaceCount || doubling == MaximumCellDoublings)
+      {
+        break;
+      }
+      std::transform(cells.begin(), cells.end(), cells.begin(), ParentCell);
+    }
+  }
   if (2 * clusterCount > energy.FaceCount)
   {
     return MinimizeByAlphaExpansion(energy, options, progress); // too fragmented to coarsen
@@ -386,8 +472,18 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
 
   // Coarse solve, projected onto the faces.
   const PartitionEnergy coarse = CoarseEnergy(energy, adjacency, cluster, clusterCount);
+  std::vector<std::uint64_t> coarseCells;
+  if (!cells.empty())
+  {
+    coarseCells.resize(clusterCount);
+    for (std::size_t f = 0; f < energy.FaceCount; ++f)
+    {
+      coarseCells[cluster[f]] = ParentCell(cells[f]);
+    }
+    cells = std::vector<std::uint64_t>();
+  }
   const AlphaExpansionResult coarseResult =
-    MinimizeMultilevel(coarse, multilevel, options, SubRange(progress, 0.0, 0.5), parallelFor);
+    MinimizeMultilevel(coarse, multilevel, options, SubRange(progress, 0.0, 0.5), parallelFor, coarseCells);
   AlphaExpansionResult result;
   result.InitialEnergy = energy.Evaluate(mostProbable);
   result.Labels.resize(energy.FaceCount);

@@ -11,8 +11,16 @@
 //
 // What it computes
 //   1. The most probable label of each face (MostProbableLabels).
-//   2. Clusters of at most ClusterSize faces, grown breadth-first in face order over faces
-//      with the same most probable label (deterministic).
+//   2. Clusters: with the faces' cells (CoarseningCells.h, cubes of about ClusterSize faces;
+//      the product's default, PartitionOnDualGraph passes them when the graph has face
+//      centres) the connected sets of faces with the same most probable label inside one cube,
+//      the cubes doubled at each coarser level (and doubled more, at most three times, while a
+//      level would not halve the nodes). Each face's cluster is decided by where it lies and by
+//      its neighbours in its cube, not by the face order: the same for any order of the faces
+//      and for any split of the surface over processes (the way to a cut on every process's
+//      faces, docs/distributed.md). Without cells: clusters of at most ClusterSize faces, grown
+//      breadth-first in face order over faces with the same most probable label (what the
+//      cut did before; used by the refinement's sub-problems and by callers without centres).
 //   3. The coarse energy: a cluster's data cost is the sum of its faces', the weight between
 //      two clusters the sum of the weights of the face pairs between them (pairs inside a
 //      cluster are never cut by a labelling constant on clusters, so for such labellings the
@@ -53,8 +61,12 @@
 //
 // Parameters (MultilevelOptions)
 //   DirectBelowFaces  60000  [16, inf)  solve directly up to this many faces/nodes.
-//   ClusterSize       8      [2, 1024]  faces per cluster at most (coarsening factor); 16
-//                                        was a little faster but moved more faces.
+//   ClusterSize       8      [2, 1024]  the cells' side is sqrt(ClusterSize) mean spacings of
+//                                        adjacent face centres (about half as many faces per
+//                                        cluster, as labels and cubes split them); without
+//                                        cells, faces per cluster at most. 16 was a little
+//                                        faster but moved more faces; cells of sqrt(12) or more
+//                                        lost a band of the elephant.
 //   BandRings         8      [1, 64]    rings around the projected boundaries that are
 //                                        re-solved; 4 raised E, 16 gained little over 8.
 //   LostRegionFaces   1024   [1, inf)   smallest region off its most probable label that is
@@ -69,6 +81,10 @@
 
 #include "Partition/AlphaExpansion.h"
 
+#include <cstdint>
+#include <utility>
+#include <vector>
+
 namespace shapediameter
 {
 
@@ -81,8 +97,17 @@ struct MultilevelOptions
 };
 
 /// See the header. Throws Error on an inconsistent energy or bad options.
+/// faceCells (optional, per face; CoarseningCells.h): cluster by cells of space at every level
+/// instead of breadth-first in face order.
 AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel = {},
   const AlphaExpansionOptions& options = {}, const ProgressCallback& progress = nullptr,
-  const ParallelFor& parallelFor = SerialFor);
+  const ParallelFor& parallelFor = SerialFor, const std::vector<std::uint64_t>& faceCells = {});
+
+/// Step 2's clusters of the first level, with the faces' cells as given (not doubled) or, when
+/// faceCells is empty, breadth-first: per face its cluster (numbered by their lowest face) and
+/// the cluster count. What MinimizeMultilevel coarsens by; for tests and a coarsening run on
+/// every process's faces.
+std::pair<std::vector<std::size_t>, std::size_t> FirstLevelClusters(
+  const PartitionEnergy& energy, const std::vector<std::uint64_t>& faceCells, int clusterSize);
 
 } // namespace shapediameter

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "Partition/Partition.h"
 
+#include "Partition/CoarseningCells.h"
 #include "Partition/DistributedPartition.h"
 
 #include <algorithm>
@@ -146,19 +147,26 @@ PartitionResult PartitionOnDualGraph(DualGraphView view, const std::vector<doubl
   // it (the same function of the same values, so the same bits). The cut is the step's peak,
   // which this lowers by k doubles per face (33 MB at 832k faces and k = 5).
   result.Probabilities = PosteriorMatrix();
+  std::vector<std::uint64_t> cells;
+  if (view.FaceCount > options.Multilevel.DirectBelowFaces)
+  {
+    cells = CoarseningCells(view, options.Multilevel.ClusterSize);
+  }
   if (releaseEdgeGeometry && !options.Refinement.Enabled)
   {
     releaseEdgeGeometry();
     view.NormalAngle = nullptr;
     view.Concave = nullptr;
     view.EdgeLength = nullptr;
+    view.FaceCenter = nullptr;
   }
   result.Timings.EnergyMs = Lap(start);
 
   // 5. The k-way graph cut.
   AlphaExpansionResult cut = MinimizeMultilevel(
-    *energy, options.Multilevel, options.AlphaExpansion, SubProgress(progress, 0.2, 0.95), parallelFor);
+    *energy, options.Multilevel, options.AlphaExpansion, SubProgress(progress, 0.2, 0.95), parallelFor, cells);
   energy.reset();
+  cells = std::vector<std::uint64_t>();
   result.Timings.CutMs = Lap(start);
   if (cut.Aborted)
   {

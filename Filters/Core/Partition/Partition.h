@@ -230,10 +230,10 @@ PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptio
  * no Graph and no FaceGraphMs; progress as PartitionBySDF's, from 0.1.
  *
  * releaseEdgeGeometry, if given, is called once the energy is built when nothing after it reads
- * the graph's normal angles, concave flags or edge lengths (the refinement, step 7, does: not
- * called when it is enabled); the caller may free them then. Why: a distributed run's process 0
- * owns the assembled graph, whose angles, flags and lengths (about 51 bytes per face) would
- * otherwise stay resident through the cut, the step's peak.
+ * the graph's normal angles, concave flags, edge lengths or face centres (the refinement, step 7,
+ * does: not called when it is enabled); the caller may free them then. Why: a distributed run's
+ * process 0 owns the assembled graph, whose angles, flags, lengths and centres (about 75 bytes
+ * per face) would otherwise stay resident through the cut, the step's peak.
  */
 PartitionResult PartitionOnDualGraph(DualGraphView graph, const std::vector<double>& faceAreas,
   ValuesView faceValues, const GaussianMixtureModel* familyModel, const PartitionOptions& options = {},

@@ -167,6 +167,7 @@ DualGraphView MakeDualGraphView(const FaceGraph& graph)
   view.Concave = graph.Concave.data();
   view.EdgeLength = graph.SharedEdgeLengths.data();
   view.FaceArea = graph.Areas.data();
+  view.FaceCenter = graph.Centers.data();
   view.FaceCount = graph.FaceCount();
   return view;
 }

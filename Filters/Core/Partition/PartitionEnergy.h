@@ -88,6 +88,9 @@ struct DualGraphView
   const double* EdgeLength = nullptr;       ///< per entry; may be null without geometric weights
   const double* FaceArea = nullptr;         ///< per face; may be null without geometric weights
   std::size_t FaceCount = 0;
+  /// Optional, per face: its centre (x, y, z). With it the multilevel cut groups faces by cells
+  /// of space (CoarseningCells.h), independently of the face order; without, in face order.
+  const double* FaceCenter = nullptr;
 };
 
 /// The view of a FaceGraph (which must outlive it), with every array set.

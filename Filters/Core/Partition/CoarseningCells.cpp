@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Partition/CoarseningCells.h"
+
+#include "ExactSum.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace shapediameter
+{
+namespace
+{
+constexpr int AxisBits = 21;
+constexpr std::uint64_t AxisMask = (std::uint64_t{ 1 } << AxisBits) - 1;
+} // namespace
+
+std::vector<std::uint64_t> CoarseningCells(const DualGraphView& graph, int clusterSize)
+{
+  const std::size_t n = graph.FaceCount;
+  const double* centre = graph.FaceCenter;
+  if (!centre || n == 0 || clusterSize < 1)
+  {
+    return {};
+  }
+  std::array<double, 3> low{}, high{};
+  low.fill(std::numeric_limits<double>::infinity());
+  high.fill(-std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < 3 * n; ++i)
+  {
+    if (!std::isfinite(centre[i]))
+    {
+      return {};
+    }
+    low[i % 3] = std::min(low[i % 3], centre[i]);
+    high[i % 3] = std::max(high[i % 3], centre[i]);
+  }
+  ExactSum spacing;
+  std::size_t pairs = 0;
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    for (std::int64_t e = graph.Offsets[f]; e < graph.Offsets[f + 1]; ++e)
+    {
+      const auto g = static_cast<std::size_t>(graph.Neighbors[e]);
+      if (g > f)
+      {
+        spacing.Add(std::hypot(centre[3 * f] - centre[3 * g], centre[3 * f + 1] - centre[3 * g + 1],
+          centre[3 * f + 2] - centre[3 * g + 2]));
+        ++pairs;
+      }
+    }
+  }
+  if (pairs == 0)
+  {
+    return {};
+  }
+  double side = std::sqrt(static_cast<double>(clusterSize)) * spacing.Rounded() / static_cast<double>(pairs);
+  const double extent = std::max({ high[0] - low[0], high[1] - low[1], high[2] - low[2] });
+  side = std::max(side, extent / static_cast<double>(AxisMask));
+  if (!(side > 0.0) || !std::isfinite(side))
+  {
+    return {};
+  }
+  std::vector<std::uint64_t> cells(n);
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    std::uint64_t cell = 0;
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      const double index = std::floor((centre[3 * f + static_cast<std::size_t>(axis)] - low[static_cast<std::size_t>(axis)]) / side);
+      cell |= std::min(AxisMask, static_cast<std::uint64_t>(std::max(0.0, index))) << (AxisBits * axis);
+    }
+    cells[f] = cell;
+  }
+  return cells;
+}
+
+std::uint64_t ParentCell(std::uint64_t cell)
+{
+  std::uint64_t parent = 0;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    parent |= (((cell >> (AxisBits * axis)) & AxisMask) >> 1) << (AxisBits * axis);
+  }
+  return parent;
+}
+
+} // namespace shapediameter
