@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <functional>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -35,6 +36,42 @@ inline ProgressCallback SubProgress(const ProgressCallback& progress, double beg
   }
   return [&progress, begin, end](double fraction) { return progress(begin + (end - begin) * fraction); };
 }
+
+/// Progress of parts solved concurrently, each weighted by its size; the callback is called
+/// under a lock and never goes backwards. Any part's abort request is seen by all.
+class SharedProgress
+{
+public:
+  SharedProgress(ProgressCallback progress, std::size_t total)
+    : Progress(std::move(progress))
+    , Total(static_cast<double>(std::max<std::size_t>(1, total)))
+  {
+  }
+
+  ProgressCallback ForPart(std::size_t size)
+  {
+    if (!Progress)
+    {
+      return nullptr;
+    }
+    return [this, size = static_cast<double>(size), reported = 0.0](double fraction) mutable {
+      const std::lock_guard<std::mutex> lock(Mutex);
+      Done += (fraction - reported) * size;
+      reported = fraction;
+      Highest = std::max(Highest, std::min(1.0, Done / Total));
+      Continue = Continue && Progress(Highest);
+      return Continue;
+    };
+  }
+
+private:
+  ProgressCallback Progress;
+  double Total;
+  std::mutex Mutex;
+  double Done = 0.0;
+  double Highest = 0.0;
+  bool Continue = true;
+};
 
 inline void SerialFor(std::size_t count, const RangeBody& body)
 {

@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <condition_variable>
 #include <functional>
 #include <limits>
@@ -667,8 +668,8 @@ std::vector<double> TwoThicknesses(const testshapes::TestMesh& mesh)
 
 /// PartitionBySDF on `share` with the thread group; global ids = whole face index x idStep
 /// (1: dense ids, as the reader's; larger: sparse ids, in the same order).
-PartitionResult PartitionShareOf(
-  const Share& share, const ProcessGroup& group, std::int64_t idStep = 1, bool pointIds = false)
+PartitionResult PartitionShareOf(const Share& share, const ProcessGroup& group, std::int64_t idStep = 1,
+  bool pointIds = false, const PartitionOptions& options = {})
 {
   std::vector<std::int64_t> ids;
   for (const std::size_t f : share.WholeFace)
@@ -678,7 +679,7 @@ PartitionResult PartitionShareOf(
   const PartitionShare partitionShare{ ids, share.Own, group, pointIds ? &share.WholePoint : nullptr };
   const Eigen::Map<const Eigen::VectorXd> values(share.Values.data(), static_cast<Eigen::Index>(share.Values.size()));
   return PartitionBySDF(
-    PartitionInput{ share.Points, share.Offsets, share.Connectivity, values, nullptr, &partitionShare });
+    PartitionInput{ share.Points, share.Offsets, share.Connectivity, values, nullptr, &partitionShare }, options);
 }
 
 /// Every own face of `share` has the serial partition's results; returns how many faces it checked.
@@ -758,6 +759,39 @@ TEST(PartitionOnShares, OwnFacesGetTheSerialPartitionBitForBit)
     const Share share = MakeShare(mesh, values, whole, owns, width * 1.001);
     ExpectSerialPartition(serial, PartitionShareOf(share, group), share);
   });
+}
+
+// Above DirectBelowFaces the cut runs on every process's faces (Partition/DistributedCut.h):
+// clusters joined across the pieces, the coarse graph and the bands on the first process.
+TEST(PartitionOnShares, TheCutOnEveryProcessGivesTheSerialPartitionBitForBit)
+{
+  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 64, 16, 40);
+  const std::vector<double> values = TwoThicknesses(mesh);
+  const Eigen::Map<const Eigen::VectorXd> wholeValues(values.data(), static_cast<Eigen::Index>(values.size()));
+  PartitionOptions options;
+  options.Multilevel.DirectBelowFaces = 300;
+  options.Multilevel.BandRings = 3; // bands that cross the pieces' borders and stop short of others
+  const PartitionResult serial = PartitionBySDF(mesh.Points, mesh.Triangles, wholeValues, options);
+  ASSERT_GT(static_cast<std::size_t>(mesh.Faces()), 4 * options.Multilevel.DirectBelowFaces); // coarsened twice
+  ASSERT_GE(serial.Segments.SegmentCount(), 2);
+  const FaceGraph& whole = *serial.Graph;
+  const double width = *std::max_element(whole.CenterDistances.begin(), whole.CenterDistances.end());
+  for (const auto& [processes, idStep] : { std::pair{ 2, 1 }, std::pair{ 3, 1000 }, std::pair{ 4, 1 } })
+  {
+    std::vector<int> owner(values.size());
+    for (std::size_t f = 0; f < owner.size(); ++f)
+    {
+      // Pieces across the thickness boundary (z = 0) and around the axis: borders everywhere.
+      const Eigen::RowVector3d c = whole.Centers.row(static_cast<Eigen::Index>(f));
+      owner[f] = static_cast<int>(std::floor((std::atan2(c[1], c[0]) + M_PI) / (2.0 * M_PI) * processes)) % processes;
+    }
+    OnThreads(processes, [&, idStep = idStep](int rank, const ProcessGroup& group) {
+      const Share share = MakeShare(mesh, values, whole, owner, rank, width * 1.001);
+      const PartitionResult result = PartitionShareOf(share, group, idStep, false, options);
+      EXPECT_TRUE(result.CutOverProcesses);
+      ExpectSerialPartition(serial, result, share);
+    });
+  }
 }
 
 TEST(PartitionOnShares, AHaloThatMissesANeighbourThrowsOnEveryProcess)

@@ -55,25 +55,43 @@ std::vector<std::uint64_t> CoarseningCells(const DualGraphView& graph, int clust
   {
     return {};
   }
-  double side = std::sqrt(static_cast<double>(clusterSize)) * spacing.Rounded() / static_cast<double>(pairs);
-  const double extent = std::max({ high[0] - low[0], high[1] - low[1], high[2] - low[2] });
-  side = std::max(side, extent / static_cast<double>(AxisMask));
-  if (!(side > 0.0) || !std::isfinite(side))
+  const CellGrid grid = MakeCellGrid(low, high, spacing.Rounded() / static_cast<double>(pairs), clusterSize);
+  if (grid.Side == 0.0)
   {
     return {};
   }
   std::vector<std::uint64_t> cells(n);
   for (std::size_t f = 0; f < n; ++f)
   {
-    std::uint64_t cell = 0;
-    for (int axis = 0; axis < 3; ++axis)
-    {
-      const double index = std::floor((centre[3 * f + static_cast<std::size_t>(axis)] - low[static_cast<std::size_t>(axis)]) / side);
-      cell |= std::min(AxisMask, static_cast<std::uint64_t>(std::max(0.0, index))) << (AxisBits * axis);
-    }
-    cells[f] = cell;
+    cells[f] = CellOf(grid, centre + 3 * f);
   }
   return cells;
+}
+
+CellGrid MakeCellGrid(const std::array<double, 3>& low, const std::array<double, 3>& high, double meanSpacing,
+  int clusterSize)
+{
+  CellGrid grid;
+  double side = std::sqrt(static_cast<double>(clusterSize)) * meanSpacing;
+  const double extent = std::max({ high[0] - low[0], high[1] - low[1], high[2] - low[2] });
+  side = std::max(side, extent / static_cast<double>(AxisMask));
+  if (side > 0.0 && std::isfinite(side) && clusterSize >= 1)
+  {
+    grid.Origin = low;
+    grid.Side = side;
+  }
+  return grid;
+}
+
+std::uint64_t CellOf(const CellGrid& grid, const double* point)
+{
+  std::uint64_t cell = 0;
+  for (std::size_t axis = 0; axis < 3; ++axis)
+  {
+    const double index = std::floor((point[axis] - grid.Origin[axis]) / grid.Side);
+    cell |= std::min(AxisMask, static_cast<std::uint64_t>(std::max(0.0, index))) << (AxisBits * axis);
+  }
+  return cell;
 }
 
 std::uint64_t ParentCell(std::uint64_t cell)

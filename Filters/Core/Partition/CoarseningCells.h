@@ -24,11 +24,27 @@
 
 #include "Partition/PartitionEnergy.h"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
 namespace shapediameter
 {
+
+/// The grid: origin and side (0 = no grid).
+struct CellGrid
+{
+  std::array<double, 3> Origin{};
+  double Side = 0.0;
+};
+
+/// The grid of the header from the centres' per-axis minimum and maximum and the mean distance
+/// between adjacent centres (the mean of an exact sum, for processes to agree on it).
+CellGrid MakeCellGrid(const std::array<double, 3>& low, const std::array<double, 3>& high, double meanSpacing,
+  int clusterSize);
+
+/// The packed cell of a point (x, y, z) in a grid with Side > 0.
+std::uint64_t CellOf(const CellGrid& grid, const double* point);
 
 /// Per face of `graph` (FaceCenter must be set), the packed cell of its centre; see the header.
 std::vector<std::uint64_t> CoarseningCells(const DualGraphView& graph, int clusterSize);

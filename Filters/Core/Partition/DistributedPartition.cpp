@@ -1,12 +1,19 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "Partition/DistributedPartition.h"
 
+#include "ExactSum.h"
 #include "GatheredOrder.h"
+#include "Partition/CoarseningCells.h"
+#include "Partition/DistributedCut.h"
 #include "Mesh/FaceGraph.h"
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <limits>
+#include <numeric>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -296,12 +303,13 @@ enum PartStatus : int
   HaloTooNarrow = 2
 };
 
-std::vector<double> PartOfProcess(const PartitionResult& result, const WholeGraph& whole, std::size_t process)
+std::vector<double> PartOfProcess(const PartitionResult& result, const std::string& haloProblem,
+  const std::vector<std::int64_t>& ownFaces, bool withProbabilities = true)
 {
-  if (!whole.HaloProblem.empty())
+  if (!haloProblem.empty())
   {
     std::vector<double> part{ HaloTooNarrow };
-    part.insert(part.end(), whole.HaloProblem.begin(), whole.HaloProblem.end());
+    part.insert(part.end(), haloProblem.begin(), haloProblem.end());
     return part;
   }
   if (result.Aborted)
@@ -321,10 +329,10 @@ std::vector<double> PartOfProcess(const PartitionResult& result, const WholeGrap
   part.insert(part.end(), result.Segments.Area.begin(), result.Segments.Area.end());
   part.insert(part.end(), result.Segments.Label.begin(), result.Segments.Label.end());
   const auto k = static_cast<Eigen::Index>(model.ComponentCount());
-  for (const std::int64_t face : whole.Order.Index[process])
+  for (const std::int64_t face : ownFaces)
   {
     const auto f = static_cast<std::size_t>(face);
-    for (Eigen::Index c = 0; c < k; ++c)
+    for (Eigen::Index c = 0; c < k && withProbabilities; ++c)
     {
       part.push_back(result.Probabilities(static_cast<Eigen::Index>(face), c));
     }
@@ -336,7 +344,9 @@ std::vector<double> PartOfProcess(const PartitionResult& result, const WholeGrap
 }
 
 /// Reads PartOfProcess on the process it was sent to: the result over the share's faces.
-PartitionResult ResultOfShare(const std::vector<double>& part, const PartitionShare& share)
+/// With `probabilities` (the share's, computed by this process) the part has none.
+PartitionResult ResultOfShare(
+  const std::vector<double>& part, const PartitionShare& share, const PosteriorMatrix* probabilities = nullptr)
 {
   PartitionResult result;
   if (!part.empty() && part[0] == HaloTooNarrow)
@@ -387,7 +397,8 @@ PartitionResult ResultOfShare(const std::vector<double>& part, const PartitionSh
     }
     for (std::size_t c = 0; c < k; ++c)
     {
-      result.Probabilities(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(c)) = next();
+      result.Probabilities(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(c)) =
+        probabilities ? (*probabilities)(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(c)) : next();
     }
     result.Bands[f] = static_cast<int>(next());
     result.Labels[f] = static_cast<int>(next());
@@ -401,6 +412,386 @@ PartitionResult ResultOfShare(const std::vector<double>& part, const PartitionSh
       band = band < 0 ? band : std::min(band, static_cast<int>(level));
     }
     result.Levels.push_back(std::move(levels));
+  }
+  return result;
+}
+
+/// The graph cut's rows of a share (DistributedCut.h): data costs of every share face, own
+/// faces' pairs in the serial cut's order with their weights (BuildPartitionEnergy's terms),
+/// and the cells of the whole surface's grid. Empty Cells: no grid (the serial cut would not
+/// coarsen by cells; the caller gathers).
+CutShare ShareEnergy(const FaceGraph& graph, const PosteriorMatrix& posteriors, const PartitionShare& share,
+  std::size_t wholeFaces, double totalArea, const PartitionOptions& options)
+{
+  const std::size_t n = graph.FaceCount();
+  const auto k = static_cast<std::size_t>(posteriors.cols());
+  CutShare cut{ share.GlobalIds, share.Own };
+  cut.LabelCount = static_cast<int>(k);
+  cut.WholeFaceCount = wholeFaces;
+  const double meanArea = totalArea / static_cast<double>(wholeFaces);
+  const double perUnitLength = static_cast<double>(wholeFaces) / std::sqrt(totalArea);
+  cut.DataCosts.resize(n * k);
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    double faceWeight = graph.Areas[f];
+    faceWeight /= meanArea;
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      const double p = posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l));
+      cut.DataCosts[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.Energy.Epsilon);
+    }
+  }
+  // A pair's terms come from the entry of its lower face, as in the whole graph.
+  const auto pairWeight = [&](std::size_t low, std::size_t high) {
+    for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(low)); e < graph.NeighborEnd(static_cast<std::int64_t>(low)); ++e)
+    {
+      const auto entry = static_cast<std::size_t>(e);
+      if (static_cast<std::size_t>(graph.Neighbors[entry]) == high)
+      {
+        double weight = options.Energy.Lambda *
+          SmoothnessTerm(graph.NormalAngles[entry], graph.Concave[entry] != 0, options.Energy);
+        weight *= graph.SharedEdgeLengths[entry] * perUnitLength;
+        return weight;
+      }
+    }
+    throw HaloTooNarrowError("partition: a pair listed by one face only (the halo was too narrow)");
+  };
+  cut.Start.assign(n + 1, 0);
+  std::vector<std::pair<std::size_t, std::size_t>> lower;
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    if (share.Own[f])
+    {
+      lower.clear();
+      for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(f)); e < graph.NeighborEnd(static_cast<std::int64_t>(f)); ++e)
+      {
+        const auto g = static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)]);
+        if (g < f)
+        {
+          lower.emplace_back(g, lower.size());
+        }
+      }
+      std::sort(lower.begin(), lower.end());
+      for (const auto& [g, unused] : lower)
+      {
+        cut.Neighbor.push_back(static_cast<std::uint32_t>(g));
+        cut.Weight.push_back(pairWeight(g, f));
+      }
+      for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(f)); e < graph.NeighborEnd(static_cast<std::int64_t>(f)); ++e)
+      {
+        const auto g = static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)]);
+        if (g > f)
+        {
+          cut.Neighbor.push_back(static_cast<std::uint32_t>(g));
+          cut.Weight.push_back(pairWeight(f, g));
+        }
+      }
+    }
+    cut.Start[f + 1] = cut.Neighbor.size();
+  }
+
+  // The grid of CoarseningCells over the whole surface: extremes by maxima, the mean spacing
+  // from exact partial sums over each process's pairs (each counted by its lower face's owner).
+  std::vector<double> extremes(6, -std::numeric_limits<double>::infinity());
+  ExactSum spacing;
+  std::vector<std::int64_t> pairs{ 0 };
+  const auto centre = [&](std::size_t f) { return graph.Centers.data() + 3 * f; };
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    if (!share.Own[f])
+    {
+      continue;
+    }
+    for (std::size_t axis = 0; axis < 3; ++axis)
+    {
+      extremes[axis] = std::max(extremes[axis], -centre(f)[axis]);
+      extremes[3 + axis] = std::max(extremes[3 + axis], centre(f)[axis]);
+    }
+    for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(f)); e < graph.NeighborEnd(static_cast<std::int64_t>(f)); ++e)
+    {
+      const auto g = static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)]);
+      if (g > f)
+      {
+        spacing.Add(std::hypot(centre(f)[0] - centre(g)[0], centre(f)[1] - centre(g)[1], centre(f)[2] - centre(g)[2]));
+        ++pairs[0];
+      }
+    }
+  }
+  share.Group.MaxInPlace(extremes);
+  share.Group.SumInPlace(pairs);
+  std::vector<double> parts{ static_cast<double>(spacing.Partials().size()) };
+  parts.insert(parts.end(), spacing.Partials().begin(), spacing.Partials().end());
+  const std::vector<double> allParts = share.Group.AllGather(parts);
+  ExactSum wholeSpacing;
+  for (std::size_t at = 0; at < allParts.size();)
+  {
+    const auto count = static_cast<std::size_t>(allParts[at++]);
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      wholeSpacing.Add(allParts[at++]);
+    }
+  }
+  if (pairs[0] == 0)
+  {
+    return cut;
+  }
+  const CellGrid grid = MakeCellGrid({ -extremes[0], -extremes[1], -extremes[2] }, { extremes[3], extremes[4], extremes[5] },
+    wholeSpacing.Rounded() / static_cast<double>(pairs[0]), options.Multilevel.ClusterSize);
+  if (grid.Side == 0.0)
+  {
+    return cut;
+  }
+  cut.Cells.resize(n);
+  for (std::size_t f = 0; f < n; ++f)
+  {
+    cut.Cells[f] = CellOf(grid, centre(f));
+  }
+  return cut;
+}
+
+/// The exact E of the labels (PartitionEnergy::EvaluateExactly) from every process's own faces
+/// and pairs.
+double EnergyOverProcesses(const CutShare& cut, const std::vector<int>& labels, const ProcessGroup& group)
+{
+  const auto k = static_cast<std::size_t>(cut.LabelCount);
+  ExactSum sum;
+  for (std::size_t f = 0; f < cut.GlobalIds.size(); ++f)
+  {
+    if (!cut.Own[f])
+    {
+      continue;
+    }
+    sum.Add(cut.DataCosts[f * k + static_cast<std::size_t>(labels[f])]);
+    for (std::size_t e = cut.Start[f]; e < cut.Start[f + 1]; ++e)
+    {
+      if (cut.Neighbor[e] > f && labels[cut.Neighbor[e]] != labels[f])
+      {
+        sum.Add(cut.Weight[e]);
+      }
+    }
+  }
+  std::vector<double> parts{ static_cast<double>(sum.Partials().size()) };
+  parts.insert(parts.end(), sum.Partials().begin(), sum.Partials().end());
+  const std::vector<double> allParts = group.AllGather(parts);
+  ExactSum whole;
+  for (std::size_t at = 0; at < allParts.size();)
+  {
+    const auto count = static_cast<std::size_t>(allParts[at++]);
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      whole.Add(allParts[at++]);
+    }
+  }
+  return whole.Rounded();
+}
+
+/// The partition with the graph cut on every process's faces (DistributedCut.h), when the
+/// serial run would coarsen by cells: above DirectBelowFaces faces, geometric weights on, no
+/// refinement, every face owned once, a surface of positive area. Otherwise (all processes
+/// agree) nothing: the caller gathers the dual graph.
+std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInput& input, const PartitionShare& share,
+  const PartitionOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress)
+{
+  const ProcessGroup& group = share.Group;
+  const bool first = group.Rank() == 0;
+  std::vector<std::int64_t> ownFaces{ std::count(share.Own.begin(), share.Own.end(), std::uint8_t{ 1 }) };
+  group.SumInPlace(ownFaces);
+  const auto wholeFaces = static_cast<std::size_t>(ownFaces[0]);
+  if (wholeFaces <= options.Multilevel.DirectBelowFaces || options.Refinement.Enabled ||
+    !options.Energy.GeometricWeights)
+  {
+    return std::nullopt;
+  }
+  auto start = std::chrono::steady_clock::now();
+  const FaceGraph graph = BuildFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
+  ValidateDualGraph(MakeDualGraphView(graph), true, parallelFor);
+  const ValuesView& values = input.FaceValues;
+  std::vector<double> rows, openSides;
+  for (std::size_t f = 0; f < graph.FaceCount(); ++f)
+  {
+    if (share.Own[f])
+    {
+      rows.insert(rows.end(), { static_cast<double>(share.GlobalIds[f]), values[static_cast<Eigen::Index>(f)], graph.Areas[f] });
+      AddOpenSides(input, graph, share, f, openSides);
+    }
+  }
+  std::vector<std::vector<double>> gathered = group.GatherOnFirst(rows);
+  rows = {};
+  const std::vector<std::vector<double>> sides = group.GatherOnFirst(openSides);
+  openSides = {};
+
+  // The model and the surface's area on the first process (the serial steps 2 and the
+  // weights' sums, on the values and areas in the whole surface's order).
+  enum : int { Go = 0, Gather = 1, HaloProblem = 2, Abort = 3 };
+  GatheredOrder order;
+  std::vector<double> wholeValues, wholeAreas;
+  PartitionResult firstResult;
+  std::vector<double> decision;
+  if (first)
+  {
+    order = OrderGatheredIds(gathered, 3);
+    const std::string haloProblem = CheckOpenSides(sides);
+    bool ownedOnce = order.Ids.size() == wholeFaces;
+    wholeValues.assign(order.Ids.size(), 0.0);
+    wholeAreas.assign(order.Ids.size(), 0.0);
+    for (std::size_t p = 0; p < gathered.size(); ++p)
+    {
+      for (std::size_t i = 0; i < order.Index[p].size(); ++i)
+      {
+        const auto w = static_cast<std::size_t>(order.Index[p][i]);
+        wholeValues[w] = gathered[p][3 * i + 1];
+        wholeAreas[w] = gathered[p][3 * i + 2];
+      }
+    }
+    gathered = {};
+    const double totalArea = std::accumulate(wholeAreas.begin(), wholeAreas.end(), 0.0);
+    if (!haloProblem.empty())
+    {
+      decision.assign(1, HaloProblem);
+      decision.insert(decision.end(), haloProblem.begin(), haloProblem.end());
+    }
+    else if (progress && !progress(0.1))
+    {
+      decision.assign(1, Abort);
+    }
+    else
+    {
+      const Eigen::Map<const Eigen::VectorXd> valueView(wholeValues.data(), static_cast<Eigen::Index>(wholeValues.size()));
+      firstResult.Model = input.FamilyModel ? *input.FamilyModel : FitClusterModel(valueView, wholeAreas, options);
+      const GaussianMixtureModel& model = firstResult.Model;
+      const bool go = ownedOnce && totalArea > 0.0 && std::isfinite(totalArea) && model.ComponentCount() >= 2;
+      decision = { static_cast<double>(go ? Go : Gather), totalArea, static_cast<double>(model.ComponentCount()) };
+      decision.insert(decision.end(), model.Means.begin(), model.Means.end());
+      decision.insert(decision.end(), model.Sigmas.begin(), model.Sigmas.end());
+      decision.insert(decision.end(), model.Weights.begin(), model.Weights.end());
+    }
+  }
+  decision = group.ScatterFromFirst([&](int) { return decision; });
+  const int status = static_cast<int>(decision.at(0));
+  if (status == HaloProblem)
+  {
+    throw HaloTooNarrowError(std::string(decision.begin() + 1, decision.end())); // on every process
+  }
+  if (status == Abort)
+  {
+    PartitionResult aborted;
+    aborted.Aborted = true;
+    return aborted;
+  }
+  if (status == Gather)
+  {
+    return std::nullopt;
+  }
+  const double totalArea = decision.at(1);
+  const auto k = static_cast<std::size_t>(decision.at(2));
+  GaussianMixtureModel model;
+  model.Means.assign(decision.begin() + 3, decision.begin() + 3 + static_cast<std::ptrdiff_t>(k));
+  model.Sigmas.assign(decision.begin() + 3 + static_cast<std::ptrdiff_t>(k), decision.begin() + 3 + static_cast<std::ptrdiff_t>(2 * k));
+  model.Weights.assign(decision.begin() + 3 + static_cast<std::ptrdiff_t>(2 * k), decision.begin() + 3 + static_cast<std::ptrdiff_t>(3 * k));
+
+  // Every process: its faces' posteriors, energy rows and cells; the cut over the processes.
+  PosteriorMatrix posteriors = ComputePosteriors(model, values, parallelFor);
+  const CutShare cut = ShareEnergy(graph, posteriors, share, wholeFaces, totalArea, options);
+  if (cut.Cells.empty())
+  {
+    return std::nullopt;
+  }
+  const CutOverProcessesResult labels = MinimizeMultilevelOverProcesses(
+    cut, group, options.Multilevel, options.AlphaExpansion, SubProgress(progress, 0.2, 0.95), parallelFor);
+  if (!labels.Coarsened)
+  {
+    return std::nullopt;
+  }
+  if (labels.Aborted)
+  {
+    PartitionResult aborted;
+    aborted.Aborted = true;
+    return aborted;
+  }
+  const double energy = EnergyOverProcesses(cut, labels.Labels, group);
+
+  // Segments, levels and the histogram on the first process, from the labels and the
+  // adjacency of every own face (ids only).
+  std::vector<double> adjacency;
+  for (std::size_t f = 0; f < graph.FaceCount(); ++f)
+  {
+    if (share.Own[f])
+    {
+      adjacency.push_back(labels.Labels[f]);
+      adjacency.push_back(static_cast<double>(graph.NeighborEnd(static_cast<std::int64_t>(f)) - graph.NeighborBegin(static_cast<std::int64_t>(f))));
+      for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(f)); e < graph.NeighborEnd(static_cast<std::int64_t>(f)); ++e)
+      {
+        adjacency.push_back(static_cast<double>(share.GlobalIds[static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)])]));
+      }
+    }
+  }
+  std::vector<std::vector<double>> gatheredAdjacency = group.GatherOnFirst(adjacency);
+  adjacency = {};
+  if (first)
+  {
+    const std::size_t n = order.Ids.size();
+    std::vector<int> wholeLabels(n, 0);
+    std::vector<std::int64_t> offsets(n + 1, 0);
+    std::vector<std::vector<std::int64_t>> neighbors(n);
+    for (std::size_t p = 0; p < gatheredAdjacency.size(); ++p)
+    {
+      std::size_t at = 0;
+      for (std::size_t i = 0; i < order.Index[p].size(); ++i)
+      {
+        const auto w = static_cast<std::size_t>(order.Index[p][i]);
+        wholeLabels[w] = static_cast<int>(gatheredAdjacency[p][at++]);
+        const auto degree = static_cast<std::size_t>(gatheredAdjacency[p][at++]);
+        for (std::size_t d = 0; d < degree; ++d)
+        {
+          neighbors[w].push_back(order.IndexOf(static_cast<std::int64_t>(gatheredAdjacency[p][at++])));
+        }
+      }
+      gatheredAdjacency[p] = {};
+    }
+    std::vector<std::int64_t> flat;
+    for (std::size_t w = 0; w < n; ++w)
+    {
+      flat.insert(flat.end(), neighbors[w].begin(), neighbors[w].end());
+      offsets[w + 1] = static_cast<std::int64_t>(flat.size());
+      neighbors[w] = {};
+    }
+    DualGraphView view;
+    view.Offsets = offsets.data();
+    view.Neighbors = flat.data();
+    view.FaceCount = n;
+    firstResult.Energy = energy;
+    firstResult.CutMoves = labels.Moves;
+    firstResult.Segments = FindConnectedSegmentsOnValidGraph(view, wholeLabels, wholeAreas);
+    firstResult.Bands = wholeLabels;
+    firstResult.Labels = std::move(wholeLabels);
+    for (int band = 0; band < firstResult.Model.ComponentCount(); ++band)
+    {
+      firstResult.LabelBands.push_back(band);
+    }
+    const Eigen::Map<const Eigen::VectorXd> valueView(wholeValues.data(), static_cast<Eigen::Index>(wholeValues.size()));
+    firstResult.Histogram = MixtureHistogram(firstResult.Model, valueView, options.HistogramBins);
+    firstResult.Timings.CutMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
+  for (Eigen::Index f = 0; f < posteriors.rows(); ++f)
+  {
+    if (!share.Own[static_cast<std::size_t>(f)])
+    {
+      posteriors.row(f).setZero();
+    }
+  }
+  PartitionResult result = ResultOfShare(group.ScatterFromFirst([&](int process) {
+    return PartOfProcess(firstResult, {}, order.Index[static_cast<std::size_t>(process)], false);
+  }),
+    share, &posteriors);
+  result.CutOverProcesses = true;
+  if (first)
+  {
+    result.Histogram = std::move(firstResult.Histogram);
+    result.Timings = firstResult.Timings;
+  }
+  if (first && progress)
+  {
+    progress(1.0);
   }
   return result;
 }
@@ -421,6 +812,10 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
   if (!std::all_of(share.GlobalIds.begin(), share.GlobalIds.end(), IsGatherableId))
   {
     throw Error("partition: a global face id outside [0, 2^53)");
+  }
+  if (std::optional<PartitionResult> result = PartitionWithCutOnEveryProcess(input, share, options, parallelFor, progress))
+  {
+    return *std::move(result);
   }
   const ProcessGroup& group = share.Group;
   // The share's graph is needed only for its rows: freed before the first process partitions.
@@ -453,7 +848,7 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
     releaseEdgeGeometry();
   }
   PartitionResult result = ResultOfShare(group.ScatterFromFirst([&](int process) {
-    return PartOfProcess(wholeResult, whole, static_cast<std::size_t>(process));
+    return PartOfProcess(wholeResult, whole.HaloProblem, whole.Order.Index[static_cast<std::size_t>(process)]);
   }),
     share);
   if (group.Rank() == 0 && !result.Aborted)

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "Partition/MultilevelCut.h"
 
+#include "ExactSum.h"
 #include "Partition/CoarseningCells.h"
 
 #include <algorithm>
@@ -146,10 +147,6 @@ PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const Adjacency& adj
   std::vector<std::size_t> memberStart(clusterCount + 1, 0);
   for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
-    for (std::size_t l = 0; l < k; ++l)
-    {
-      coarse.DataCosts[cluster[f] * k + l] += energy.DataCosts[f * k + l];
-    }
     ++memberStart[cluster[f] + 1];
   }
   for (std::size_t c = 0; c < clusterCount; ++c)
@@ -164,12 +161,22 @@ PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const Adjacency& adj
       members[fill[cluster[f]]++] = static_cast<std::uint32_t>(f);
     }
   }
-  // Cluster by cluster (a), the pairs to higher clusters (b) sorted by b, then by weight: the
-  // sums do not depend on the input's pair order. Built per cluster rather than for every
-  // pair at once (24 bytes per pair: 30 MB at 832k faces).
+  // Exact sums (ExactSum.h): they do not depend on the order of the faces or of the pairs, so
+  // processes that each hold some of a cluster's faces can form them together. Cluster by
+  // cluster (a), the pairs to higher clusters (b) sorted by b: built per cluster rather than
+  // for every pair at once (24 bytes per pair: 30 MB at 832k faces).
   std::vector<std::pair<std::size_t, double>> links;
   for (std::size_t a = 0; a < clusterCount; ++a)
   {
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      ExactSum cost;
+      for (std::size_t m = memberStart[a]; m < memberStart[a + 1]; ++m)
+      {
+        cost.Add(energy.DataCosts[members[m] * k + l]);
+      }
+      coarse.DataCosts[a * k + l] = cost.Rounded();
+    }
     links.clear();
     for (std::size_t m = memberStart[a]; m < memberStart[a + 1]; ++m)
     {
@@ -187,14 +194,14 @@ PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const Adjacency& adj
     for (std::size_t i = 0; i < links.size();)
     {
       const std::size_t b = links[i].first;
-      double sum = 0.0;
+      ExactSum sum;
       for (; i < links.size() && links[i].first == b; ++i)
       {
-        sum += links[i].second;
+        sum.Add(links[i].second);
       }
       coarse.PairFirst.push_back(static_cast<std::int64_t>(a));
       coarse.PairSecond.push_back(static_cast<std::int64_t>(b));
-      coarse.PairWeight.push_back(sum);
+      coarse.PairWeight.push_back(sum.Rounded());
     }
   }
   return coarse;
@@ -356,42 +363,6 @@ PartitionEnergy BandEnergy(const PartitionEnergy& energy, const Adjacency& adjac
   return part;
 }
 
-/// Progress of parts solved concurrently, each weighted by its size; the callback is called
-/// under a lock and never goes backwards. Any part's abort request is seen by all.
-class SharedProgress
-{
-public:
-  SharedProgress(ProgressCallback progress, std::size_t total)
-    : Progress(std::move(progress))
-    , Total(static_cast<double>(std::max<std::size_t>(1, total)))
-  {
-  }
-
-  ProgressCallback ForPart(std::size_t size)
-  {
-    if (!Progress)
-    {
-      return nullptr;
-    }
-    return [this, size = static_cast<double>(size), reported = 0.0](double fraction) mutable {
-      const std::lock_guard<std::mutex> lock(Mutex);
-      Done += (fraction - reported) * size;
-      reported = fraction;
-      Highest = std::max(Highest, std::min(1.0, Done / Total));
-      Continue = Continue && Progress(Highest);
-      return Continue;
-    };
-  }
-
-private:
-  ProgressCallback Progress;
-  double Total;
-  std::mutex Mutex;
-  double Done = 0.0;
-  double Highest = 0.0;
-  bool Continue = true;
-};
-
 void CheckCellCount(const PartitionEnergy& energy, const std::vector<std::uint64_t>& faceCells)
 {
   if (!faceCells.empty() && faceCells.size() != energy.FaceCount)
@@ -400,10 +371,6 @@ void CheckCellCount(const PartitionEnergy& energy, const std::vector<std::uint64
       std::to_string(energy.FaceCount) + " faces");
   }
 }
-
-/// Cells doubled at most this often when a level's cell clusters coarsen the graph by less
-/// than half.
-constexpr int MaximumCellDoublings = 3;
 
 ProgressCallback SubRange(const ProgressCallback& progress, double from, double to)
 {

@@ -88,6 +88,10 @@
 namespace shapediameter
 {
 
+/// Cells doubled at most this often when a level's cell clusters coarsen the graph by less
+/// than half.
+inline constexpr int MaximumCellDoublings = 3;
+
 struct MultilevelOptions
 {
   std::size_t DirectBelowFaces = 60000;

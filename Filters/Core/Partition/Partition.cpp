@@ -32,21 +32,6 @@ PartitionResult AbortedResult()
   return result;
 }
 
-/// Step 2: the mixture of the clusters, fitted as the options say.
-GaussianMixtureModel FitClusterModel(ValuesView values, const std::vector<double>& faceAreas, const PartitionOptions& options)
-{
-  if (options.ClusterModel == PartitionClusterModel::DensityModes)
-  {
-    DensityModesOptions modes = options.Modes;
-    modes.MaximumModes = options.NumberOfClusters > 0 ? options.NumberOfClusters : options.MaximumClusters;
-    const Eigen::Map<const Eigen::VectorXd> areas(faceAreas.data(), static_cast<Eigen::Index>(faceAreas.size()));
-    return FitDensityModes(values, areas, modes).Model;
-  }
-  return options.NumberOfClusters == 0
-    ? FitGaussianMixtureBic(values, 2, options.MaximumClusters, options.Mixture).Model
-    : FitGaussianMixture(values, options.NumberOfClusters, options.Mixture);
-}
-
 /// Throws Error unless there is one value per face.
 void CheckValueCount(ValuesView values, std::size_t faceCount)
 {
@@ -67,6 +52,20 @@ PartRefinementOptions RefinementOptions(const PartitionOptions& options)
 }
 
 } // namespace
+
+GaussianMixtureModel FitClusterModel(ValuesView values, const std::vector<double>& faceAreas, const PartitionOptions& options)
+{
+  if (options.ClusterModel == PartitionClusterModel::DensityModes)
+  {
+    DensityModesOptions modes = options.Modes;
+    modes.MaximumModes = options.NumberOfClusters > 0 ? options.NumberOfClusters : options.MaximumClusters;
+    const Eigen::Map<const Eigen::VectorXd> areas(faceAreas.data(), static_cast<Eigen::Index>(faceAreas.size()));
+    return FitDensityModes(values, areas, modes).Model;
+  }
+  return options.NumberOfClusters == 0
+    ? FitGaussianMixtureBic(values, 2, options.MaximumClusters, options.Mixture).Model
+    : FitGaussianMixture(values, options.NumberOfClusters, options.Mixture);
+}
 
 void ValidatePartitionOptions(const PartitionOptions& options)
 {
@@ -165,6 +164,10 @@ PartitionResult PartitionOnDualGraph(DualGraphView view, const std::vector<doubl
   // 5. The k-way graph cut.
   AlphaExpansionResult cut = MinimizeMultilevel(
     *energy, options.Multilevel, options.AlphaExpansion, SubProgress(progress, 0.2, 0.95), parallelFor, cells);
+  if (!cut.Aborted)
+  {
+    cut.Energy = energy->EvaluateExactly(cut.Labels);
+  }
   energy.reset();
   cells = std::vector<std::uint64_t>();
   result.Timings.CutMs = Lap(start);

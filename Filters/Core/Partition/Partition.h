@@ -210,12 +210,19 @@ struct PartitionResult
   /// The face graph used (SharedFaceGraph; see SmoothAndNormalizeResult::Graph).
   std::shared_ptr<const FaceGraph> Graph;
   /// True if the progress callback aborted the computation (the other members are then empty).
+  /// Under processes: the graph cut ran on every process's faces (Partition/DistributedCut.h)
+  /// rather than on the first process's gathered graph.
+  bool CutOverProcesses = false;
   bool Aborted = false;
 };
 
 /// Throws Error if an option of the partition itself is outside its documented range
 /// (the steps check their own options when they run).
 void ValidatePartitionOptions(const PartitionOptions& options);
+
+/// Step 2: the mixture of the clusters, fitted to the values weighted by the face areas as the
+/// options say (a family model replaces it).
+GaussianMixtureModel FitClusterModel(ValuesView values, const std::vector<double>& faceAreas, const PartitionOptions& options);
 
 /// The SDF partition of section 4. See the header comment for inputs and guarantees.
 PartitionResult PartitionBySDF(const PartitionInput& input, const PartitionOptions& options = {},

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "Partition/PartitionEnergy.h"
 
+#include "ExactSum.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -172,20 +174,31 @@ DualGraphView MakeDualGraphView(const FaceGraph& graph)
   return view;
 }
 
-double PartitionEnergy::Evaluate(const std::vector<int>& labels) const
+namespace
 {
-  if (labels.size() != FaceCount)
+void CheckLabels(const PartitionEnergy& energy, const std::vector<int>& labels)
+{
+  if (labels.size() != energy.FaceCount)
   {
-    throw Error("partition energy: " + std::to_string(labels.size()) +
-      " labels for " + std::to_string(FaceCount) + " faces");
+    throw Error("partition energy: " + std::to_string(labels.size()) + " labels for " +
+      std::to_string(energy.FaceCount) + " faces");
   }
-  double data = 0.0;
-  for (std::size_t f = 0; f < FaceCount; ++f)
+  for (std::size_t f = 0; f < energy.FaceCount; ++f)
   {
-    if (labels[f] < 0 || labels[f] >= LabelCount)
+    if (labels[f] < 0 || labels[f] >= energy.LabelCount)
     {
       throw Error("partition energy: label out of range at face " + std::to_string(f));
     }
+  }
+}
+} // namespace
+
+double PartitionEnergy::Evaluate(const std::vector<int>& labels) const
+{
+  CheckLabels(*this, labels);
+  double data = 0.0;
+  for (std::size_t f = 0; f < FaceCount; ++f)
+  {
     data += DataCost(f, labels[f]);
   }
   double smoothness = 0.0;
@@ -197,6 +210,24 @@ double PartitionEnergy::Evaluate(const std::vector<int>& labels) const
     }
   }
   return data + smoothness;
+}
+
+double PartitionEnergy::EvaluateExactly(const std::vector<int>& labels) const
+{
+  CheckLabels(*this, labels);
+  ExactSum sum;
+  for (std::size_t f = 0; f < FaceCount; ++f)
+  {
+    sum.Add(DataCost(f, labels[f]));
+  }
+  for (std::size_t p = 0; p < PairWeight.size(); ++p)
+  {
+    if (labels[static_cast<std::size_t>(PairFirst[p])] != labels[static_cast<std::size_t>(PairSecond[p])])
+    {
+      sum.Add(PairWeight[p]);
+    }
+  }
+  return sum.Rounded();
 }
 
 double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOptions& options)

@@ -133,6 +133,10 @@ struct PartitionEnergy
   }
   /// E(labels). Throws Error on a wrong size or a label outside [0, LabelCount).
   double Evaluate(const std::vector<int>& labels) const;
+  /// E(labels) as an exact sum of its terms, correctly rounded (ExactSum.h): the same for any
+  /// order of the faces and pairs, so processes holding parts of the surface can form it
+  /// together (the partition reports this one). Throws as Evaluate.
+  double EvaluateExactly(const std::vector<int>& labels) const;
 };
 
 /// e2 of one edge for unequal labels (without lambda and length factor). A NaN/Inf angle

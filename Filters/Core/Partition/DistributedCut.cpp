@@ -1,0 +1,1037 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Partition/DistributedCut.h"
+
+#include "ExactSum.h"
+#include "Partition/CoarseningCells.h"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <tuple>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+
+namespace shapediameter
+{
+namespace
+{
+
+/// A message of doubles, written and read in order.
+struct Message
+{
+  std::vector<double> Values;
+  std::size_t At = 0;
+
+  void Put(double value) { Values.push_back(value); }
+  void Put(std::uint64_t cell)
+  {
+    Put(static_cast<double>(cell & 0xffffffffu));
+    Put(static_cast<double>(cell >> 32));
+  }
+  void PutParts(const ExactSum& sum)
+  {
+    Put(static_cast<double>(sum.Partials().size()));
+    Values.insert(Values.end(), sum.Partials().begin(), sum.Partials().end());
+  }
+  double Next() { return Values.at(At++); }
+  std::size_t NextIndex() { return static_cast<std::size_t>(Next()); }
+  std::int64_t NextId() { return static_cast<std::int64_t>(Next()); }
+  std::uint64_t NextCell()
+  {
+    const auto low = static_cast<std::uint64_t>(Next());
+    return low | (static_cast<std::uint64_t>(Next()) << 32);
+  }
+  void AddParts(ExactSum& sum)
+  {
+    const std::size_t count = NextIndex();
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      sum.Add(Next());
+    }
+  }
+  bool Done() const { return At >= Values.size(); }
+};
+
+enum Status : int
+{
+  Proceed = 0,
+  DoubleCells = 1,
+  NotCoarsened = 2,
+  Aborted = 3
+};
+
+/// Union-find with path halving.
+struct Components
+{
+  std::vector<std::size_t> Parent;
+  explicit Components(std::size_t n)
+    : Parent(n)
+  {
+    std::iota(Parent.begin(), Parent.end(), 0);
+  }
+  std::size_t Find(std::size_t a)
+  {
+    while (Parent[a] != a)
+    {
+      Parent[a] = Parent[Parent[a]];
+      a = Parent[a];
+    }
+    return a;
+  }
+  void Join(std::size_t a, std::size_t b)
+  {
+    a = Find(a);
+    b = Find(b);
+    if (a != b)
+    {
+      Parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+};
+
+/// What a process knows of its share beyond CutShare: most probable labels, the halo faces
+/// next to own faces and the faces on its piece's border.
+struct Local
+{
+  const CutShare& Share;
+  std::size_t K;
+  std::vector<int> MostProbable;
+  std::vector<std::size_t> OwnFaces;
+  std::vector<std::size_t> HaloNeighbors; ///< increasing share index
+  std::vector<std::size_t> Boundary;      ///< own faces with a halo neighbour
+
+  explicit Local(const CutShare& share)
+    : Share(share)
+    , K(static_cast<std::size_t>(share.LabelCount))
+  {
+    const std::size_t n = share.GlobalIds.size();
+    MostProbable.assign(n, 0);
+    for (std::size_t f = 0; f < n; ++f)
+    {
+      for (std::size_t l = 1; l < K; ++l)
+      {
+        if (share.DataCosts[f * K + l] < share.DataCosts[f * K + static_cast<std::size_t>(MostProbable[f])])
+        {
+          MostProbable[f] = static_cast<int>(l);
+        }
+      }
+    }
+    std::vector<std::uint8_t> isHaloNeighbor(n, 0);
+    for (std::size_t f = 0; f < n; ++f)
+    {
+      if (!share.Own[f])
+      {
+        continue;
+      }
+      OwnFaces.push_back(f);
+      bool border = false;
+      for (std::size_t e = share.Start[f]; e < share.Start[f + 1]; ++e)
+      {
+        const std::size_t g = share.Neighbor[e];
+        if (!share.Own[g])
+        {
+          border = true;
+          isHaloNeighbor[g] = 1;
+        }
+      }
+      if (border)
+      {
+        Boundary.push_back(f);
+      }
+    }
+    for (std::size_t f = 0; f < n; ++f)
+    {
+      if (isHaloNeighbor[f])
+      {
+        HaloNeighbors.push_back(f);
+      }
+    }
+  }
+
+  std::size_t IndexOfId(std::int64_t id) const
+  {
+    const auto it = std::lower_bound(Share.GlobalIds.begin(), Share.GlobalIds.end(), id);
+    if (it == Share.GlobalIds.end() || *it != id)
+    {
+      throw Error("distributed cut: face " + std::to_string(id) + " is not in this process's share");
+    }
+    return static_cast<std::size_t>(it - Share.GlobalIds.begin());
+  }
+};
+
+/// Connected own faces of one most probable label and one cell, numbered by their lowest
+/// face: per share face its local cluster (-1 for the halo) and the members of each.
+std::pair<std::vector<std::int64_t>, std::vector<std::vector<std::size_t>>> LocalClusters(
+  const Local& local, const std::vector<std::uint64_t>& cells)
+{
+  const CutShare& share = local.Share;
+  std::vector<std::int64_t> cluster(share.GlobalIds.size(), -1);
+  std::vector<std::vector<std::size_t>> members;
+  for (const std::size_t seed : local.OwnFaces)
+  {
+    if (cluster[seed] >= 0)
+    {
+      continue;
+    }
+    const auto id = static_cast<std::int64_t>(members.size());
+    std::vector<std::size_t> queue(1, seed);
+    cluster[seed] = id;
+    for (std::size_t head = 0; head < queue.size(); ++head)
+    {
+      const std::size_t f = queue[head];
+      for (std::size_t e = share.Start[f]; e < share.Start[f + 1]; ++e)
+      {
+        const std::size_t g = share.Neighbor[e];
+        if (share.Own[g] && cluster[g] < 0 && local.MostProbable[g] == local.MostProbable[seed] && cells[g] == cells[seed])
+        {
+          cluster[g] = id;
+          queue.push_back(g);
+        }
+      }
+    }
+    members.push_back(std::move(queue));
+  }
+  return { std::move(cluster), std::move(members) };
+}
+
+/// The first process's picture of the clusters: every process's local clusters as nodes,
+/// joined across the pieces' borders.
+struct ClusterTable
+{
+  std::vector<std::size_t> Base; ///< per process, its first node
+  std::vector<std::int64_t> LowestId;
+  std::vector<double> FaceCount;
+  std::vector<int> MostProbable;
+  std::vector<std::uint64_t> Cell;
+  std::unordered_map<std::int64_t, std::size_t> NodeOfBorderFace;
+  std::vector<std::vector<std::int64_t>> HaloIds; ///< per process, its halo neighbours' ids
+  std::vector<std::size_t> ClusterOfNode;
+  std::vector<std::size_t> NodesOfCluster; ///< per cluster, how many nodes
+  std::size_t ClusterCount = 0;
+
+  int ProcessOfNode(std::size_t node) const
+  {
+    return static_cast<int>(std::upper_bound(Base.begin(), Base.end(), node) - Base.begin()) - 1;
+  }
+  std::size_t NodeOfBorder(std::int64_t id) const
+  {
+    const auto it = NodeOfBorderFace.find(id);
+    if (it == NodeOfBorderFace.end())
+    {
+      throw Error("distributed cut: face " + std::to_string(id) + " is in a halo but on no piece's border");
+    }
+    return it->second;
+  }
+};
+
+ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
+{
+  ClusterTable table;
+  std::vector<std::pair<std::size_t, std::int64_t>> joins;
+  for (std::vector<double>& values : messages)
+  {
+    Message message{ std::move(values) };
+    const std::size_t base = table.LowestId.size();
+    table.Base.push_back(base);
+    const std::size_t locals = message.NextIndex();
+    for (std::size_t c = 0; c < locals; ++c)
+    {
+      table.LowestId.push_back(message.NextId());
+      table.FaceCount.push_back(message.Next());
+      table.MostProbable.push_back(static_cast<int>(message.Next()));
+      table.Cell.push_back(message.NextCell());
+    }
+    const std::size_t borders = message.NextIndex();
+    for (std::size_t b = 0; b < borders; ++b)
+    {
+      const std::int64_t id = message.NextId();
+      table.NodeOfBorderFace[id] = base + message.NextIndex();
+    }
+    const std::size_t joinCount = message.NextIndex();
+    for (std::size_t j = 0; j < joinCount; ++j)
+    {
+      const std::size_t node = base + message.NextIndex();
+      joins.emplace_back(node, message.NextId());
+    }
+    std::vector<std::int64_t> halo(message.NextIndex());
+    for (std::int64_t& id : halo)
+    {
+      id = message.NextId();
+    }
+    table.HaloIds.push_back(std::move(halo));
+  }
+  const std::size_t nodes = table.LowestId.size();
+  Components components(nodes);
+  for (const auto& [node, id] : joins)
+  {
+    components.Join(node, table.NodeOfBorder(id));
+  }
+  // Clusters numbered by their lowest face id, as the serial cut numbers them by their
+  // lowest face.
+  std::vector<std::int64_t> lowest(nodes, std::numeric_limits<std::int64_t>::max());
+  for (std::size_t node = 0; node < nodes; ++node)
+  {
+    const std::size_t root = components.Find(node);
+    lowest[root] = std::min(lowest[root], table.LowestId[node]);
+  }
+  std::vector<std::size_t> roots;
+  for (std::size_t node = 0; node < nodes; ++node)
+  {
+    if (components.Find(node) == node)
+    {
+      roots.push_back(node);
+    }
+  }
+  std::sort(roots.begin(), roots.end(), [&](std::size_t a, std::size_t b) { return lowest[a] < lowest[b]; });
+  std::vector<std::size_t> clusterOfRoot(nodes, 0);
+  for (std::size_t c = 0; c < roots.size(); ++c)
+  {
+    clusterOfRoot[roots[c]] = c;
+  }
+  table.ClusterCount = roots.size();
+  table.ClusterOfNode.resize(nodes);
+  table.NodesOfCluster.assign(roots.size(), 0);
+  for (std::size_t node = 0; node < nodes; ++node)
+  {
+    table.ClusterOfNode[node] = clusterOfRoot[components.Find(node)];
+    ++table.NodesOfCluster[table.ClusterOfNode[node]];
+  }
+  return table;
+}
+
+/// The coarse energy from every process's partial sums (step 2 of the header), in the serial
+/// CoarseEnergy's order: the clusters' data costs, then the pairs of clusters by (a, b).
+PartitionEnergy AssembleCoarseEnergy(
+  const ClusterTable& table, std::size_t k, std::vector<std::vector<double>> costMessages, std::vector<std::vector<double>> pairMessages)
+{
+  PartitionEnergy coarse;
+  coarse.FaceCount = table.ClusterCount;
+  coarse.LabelCount = static_cast<int>(k);
+  coarse.DataCosts.assign(table.ClusterCount * k, 0.0);
+  std::unordered_map<std::size_t, std::vector<ExactSum>> spanning;
+  for (std::vector<double>& values : costMessages)
+  {
+    Message message{ std::move(values) };
+    while (!message.Done())
+    {
+      const std::size_t c = message.NextIndex();
+      if (message.Next() == 0.0)
+      {
+        for (std::size_t l = 0; l < k; ++l)
+        {
+          coarse.DataCosts[c * k + l] = message.Next();
+        }
+        continue;
+      }
+      std::vector<ExactSum>& sums = spanning[c];
+      sums.resize(k);
+      for (std::size_t l = 0; l < k; ++l)
+      {
+        message.AddParts(sums[l]);
+      }
+    }
+    values = std::vector<double>();
+  }
+  for (const auto& [c, sums] : spanning)
+  {
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      coarse.DataCosts[c * k + l] = sums[l].Rounded();
+    }
+  }
+  struct PairRecord
+  {
+    std::size_t a, b, process, at;
+  };
+  std::vector<PairRecord> records;
+  std::vector<Message> pairs;
+  for (std::size_t p = 0; p < pairMessages.size(); ++p)
+  {
+    pairs.push_back(Message{ std::move(pairMessages[p]) });
+    Message& message = pairs.back();
+    while (!message.Done())
+    {
+      const std::size_t a = message.NextIndex();
+      const std::size_t b = message.NextIndex();
+      records.push_back({ a, b, p, message.At });
+      message.At += message.NextIndex(); // past the count (read) and the partial sums
+    }
+  }
+  std::sort(records.begin(), records.end(),
+    [](const PairRecord& x, const PairRecord& y) { return std::tie(x.a, x.b, x.process) < std::tie(y.a, y.b, y.process); });
+  for (std::size_t i = 0; i < records.size();)
+  {
+    ExactSum sum;
+    const std::size_t a = records[i].a, b = records[i].b;
+    for (; i < records.size() && records[i].a == a && records[i].b == b; ++i)
+    {
+      Message& message = pairs[records[i].process];
+      message.At = records[i].at;
+      message.AddParts(sum);
+    }
+    coarse.PairFirst.push_back(static_cast<std::int64_t>(a));
+    coarse.PairSecond.push_back(static_cast<std::int64_t>(b));
+    coarse.PairWeight.push_back(sum.Rounded());
+  }
+  return coarse;
+}
+
+/// Clusters in regions of at least `minimumRegion` faces off their most probable label,
+/// connected through clusters of the same most probable label (MultilevelCut's lost regions).
+std::vector<std::uint8_t> LostClusters(const PartitionEnergy& coarse, const std::vector<int>& labels,
+  const ClusterTable& table, const std::vector<int>& mostProbable, std::size_t minimumRegion)
+{
+  const std::size_t n = coarse.FaceCount;
+  std::vector<double> faces(n, 0.0);
+  for (std::size_t node = 0; node < table.ClusterOfNode.size(); ++node)
+  {
+    faces[table.ClusterOfNode[node]] += table.FaceCount[node];
+  }
+  std::vector<std::size_t> start(n + 1, 0);
+  for (std::size_t p = 0; p < coarse.PairFirst.size(); ++p)
+  {
+    ++start[static_cast<std::size_t>(coarse.PairFirst[p]) + 1];
+    ++start[static_cast<std::size_t>(coarse.PairSecond[p]) + 1];
+  }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<std::size_t> neighbor(start.back()), fill(start.begin(), start.end() - 1);
+  for (std::size_t p = 0; p < coarse.PairFirst.size(); ++p)
+  {
+    const auto a = static_cast<std::size_t>(coarse.PairFirst[p]);
+    const auto b = static_cast<std::size_t>(coarse.PairSecond[p]);
+    neighbor[fill[a]++] = b;
+    neighbor[fill[b]++] = a;
+  }
+  std::vector<std::uint8_t> lost(n, 0), visited(n, 0);
+  std::vector<std::size_t> region;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (visited[seed] || labels[seed] == mostProbable[seed])
+    {
+      continue;
+    }
+    region.assign(1, seed);
+    visited[seed] = 1;
+    double size = faces[seed];
+    for (std::size_t i = 0; i < region.size(); ++i)
+    {
+      for (std::size_t e = start[region[i]]; e < start[region[i] + 1]; ++e)
+      {
+        const std::size_t g = neighbor[e];
+        if (!visited[g] && labels[g] != mostProbable[g] && mostProbable[g] == mostProbable[seed])
+        {
+          visited[g] = 1;
+          region.push_back(g);
+          size += faces[g];
+        }
+      }
+    }
+    if (size >= static_cast<double>(minimumRegion))
+    {
+      for (const std::size_t c : region)
+      {
+        lost[c] = 1;
+      }
+    }
+  }
+  return lost;
+}
+
+/// Sends lists of global ids to the processes that own them (through the first process, which
+/// knows the owners of the border faces): every process gets the ids sent to it.
+std::vector<std::int64_t> RouteToOwners(const std::vector<std::int64_t>& ids, const ProcessGroup& group, const ClusterTable* table)
+{
+  const std::vector<std::vector<double>> sent = group.GatherOnFirst(std::vector<double>(ids.begin(), ids.end()));
+  std::vector<std::vector<double>> byOwner;
+  if (group.Rank() == 0)
+  {
+    byOwner.resize(table->Base.size());
+    for (const std::vector<double>& list : sent)
+    {
+      for (const double id : list)
+      {
+        byOwner[static_cast<std::size_t>(table->ProcessOfNode(table->NodeOfBorder(static_cast<std::int64_t>(id))))].push_back(id);
+      }
+    }
+  }
+  const std::vector<double> mine =
+    group.ScatterFromFirst([&](int process) { return std::move(byOwner[static_cast<std::size_t>(process)]); });
+  return std::vector<std::int64_t>(mine.begin(), mine.end());
+}
+
+/// A band face's row of the sub-energy (BandEnergy of MultilevelCut.cpp): its data costs with
+/// the fixed neighbours' terms, and its pairs with higher band faces, in adjacency order.
+void PutBandRow(const Local& local, std::size_t f, const std::vector<int>& labels, const std::vector<std::uint8_t>& inBand,
+  Message& message)
+{
+  const CutShare& share = local.Share;
+  const std::size_t k = local.K;
+  std::vector<double> costs(share.DataCosts.begin() + static_cast<std::ptrdiff_t>(f * k),
+    share.DataCosts.begin() + static_cast<std::ptrdiff_t>((f + 1) * k));
+  std::vector<std::pair<std::int64_t, double>> up;
+  for (std::size_t e = share.Start[f]; e < share.Start[f + 1]; ++e)
+  {
+    const std::size_t g = share.Neighbor[e];
+    const double w = share.Weight[e];
+    if (!inBand[g])
+    {
+      for (std::size_t l = 0; l < k; ++l)
+      {
+        costs[l] += static_cast<int>(l) != labels[g] ? w : 0.0;
+      }
+    }
+    else if (g > f)
+    {
+      up.emplace_back(share.GlobalIds[g], w);
+    }
+  }
+  message.Put(static_cast<double>(share.GlobalIds[f]));
+  message.Put(static_cast<double>(labels[f]));
+  for (const double cost : costs)
+  {
+    message.Put(cost);
+  }
+  message.Put(static_cast<double>(up.size()));
+  for (const auto& [id, w] : up)
+  {
+    message.Put(static_cast<double>(id));
+    message.Put(w);
+  }
+}
+
+/// On the first process: every band face's row, each connected component of the band solved as
+/// MultilevelCut solves it; per process the labels of the band faces it sent, then of its halo
+/// neighbours in the band (-1: not in the band).
+struct BandSolution
+{
+  bool Aborted = false;
+  int Moves = 0;
+  std::vector<std::vector<double>> Parts;
+};
+
+BandSolution SolveBand(std::vector<std::vector<double>> messages, const ClusterTable& table, std::size_t k,
+  const AlphaExpansionOptions& options, const ProgressCallback& progress, const ParallelFor& parallelFor)
+{
+  struct Row
+  {
+    std::int64_t id;
+    int label;
+    std::size_t costs; ///< index into costs
+    std::size_t upBegin, upEnd;
+    std::size_t process;
+  };
+  std::vector<Row> rows;
+  std::vector<double> costs;
+  std::vector<std::pair<std::int64_t, double>> ups;
+  std::vector<std::size_t> sentCount(messages.size(), 0);
+  for (std::size_t p = 0; p < messages.size(); ++p)
+  {
+    Message message{ std::move(messages[p]) };
+    while (!message.Done())
+    {
+      Row row{};
+      row.id = message.NextId();
+      row.label = static_cast<int>(message.Next());
+      row.costs = costs.size();
+      for (std::size_t l = 0; l < k; ++l)
+      {
+        costs.push_back(message.Next());
+      }
+      const std::size_t upCount = message.NextIndex();
+      row.upBegin = ups.size();
+      for (std::size_t u = 0; u < upCount; ++u)
+      {
+        const std::int64_t id = message.NextId();
+        ups.emplace_back(id, message.Next());
+      }
+      row.upEnd = ups.size();
+      row.process = p;
+      rows.push_back(row);
+      ++sentCount[p];
+    }
+  }
+  // Band faces in increasing id; each process sent its own in that order.
+  std::vector<std::size_t> order(rows.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return rows[a].id < rows[b].id; });
+  std::vector<std::int64_t> ids(rows.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    ids[i] = rows[order[i]].id;
+  }
+  const auto indexOf = [&](std::int64_t id) {
+    const auto it = std::lower_bound(ids.begin(), ids.end(), id);
+    if (it == ids.end() || *it != id)
+    {
+      throw Error("distributed cut: band face " + std::to_string(id) + " was sent by no process");
+    }
+    return static_cast<std::size_t>(it - ids.begin());
+  };
+  Components components(rows.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    const Row& row = rows[order[i]];
+    for (std::size_t u = row.upBegin; u < row.upEnd; ++u)
+    {
+      components.Join(i, indexOf(ups[u].first));
+    }
+  }
+  // Components ordered by their lowest face, their faces increasing (as BandComponents).
+  std::vector<std::vector<std::size_t>> faces;
+  std::vector<std::size_t> componentOfRoot(rows.size(), static_cast<std::size_t>(-1));
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    const std::size_t root = components.Find(i);
+    if (componentOfRoot[root] == static_cast<std::size_t>(-1))
+    {
+      componentOfRoot[root] = faces.size();
+      faces.emplace_back();
+    }
+    faces[componentOfRoot[root]].push_back(i);
+  }
+  std::vector<AlphaExpansionResult> solved(faces.size());
+  SharedProgress bandProgress(SubProgress(progress, 0.5, 1.0), rows.size());
+  parallelFor(faces.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c)
+    {
+      const std::vector<std::size_t>& members = faces[c];
+      PartitionEnergy part;
+      part.FaceCount = members.size();
+      part.LabelCount = static_cast<int>(k);
+      part.DataCosts.resize(members.size() * k);
+      std::vector<int> partLabels(members.size());
+      for (std::size_t b = 0; b < members.size(); ++b)
+      {
+        const Row& row = rows[order[members[b]]];
+        std::copy_n(costs.begin() + static_cast<std::ptrdiff_t>(row.costs), k,
+          part.DataCosts.begin() + static_cast<std::ptrdiff_t>(b * k));
+        partLabels[b] = row.label;
+        for (std::size_t u = row.upBegin; u < row.upEnd; ++u)
+        {
+          part.PairFirst.push_back(static_cast<std::int64_t>(b));
+          part.PairSecond.push_back(static_cast<std::int64_t>(
+            std::lower_bound(members.begin(), members.end(), indexOf(ups[u].first)) - members.begin()));
+          part.PairWeight.push_back(ups[u].second);
+        }
+      }
+      solved[c] = MinimizeByAlphaExpansion(part, partLabels, options, bandProgress.ForPart(members.size()));
+    }
+  });
+  BandSolution solution;
+  std::vector<int> labelOf(rows.size(), -1); // by position in `ids`
+  for (std::size_t c = 0; c < faces.size(); ++c)
+  {
+    for (std::size_t b = 0; b < faces[c].size(); ++b)
+    {
+      labelOf[faces[c][b]] = solved[c].Labels[b];
+    }
+    solution.Moves += solved[c].Moves;
+    solution.Aborted = solution.Aborted || solved[c].Aborted;
+  }
+  solution.Parts.resize(messages.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    solution.Parts[rows[order[i]].process].push_back(0.0); // placeholder, filled below in sent order
+  }
+  std::vector<std::size_t> filled(messages.size(), 0);
+  for (std::size_t r = 0; r < rows.size(); ++r)
+  {
+    const std::size_t p = rows[r].process;
+    solution.Parts[p][filled[p]++] = labelOf[indexOf(rows[r].id)];
+  }
+  for (std::size_t p = 0; p < messages.size(); ++p)
+  {
+    for (const std::int64_t id : table.HaloIds[p])
+    {
+      const auto it = std::lower_bound(ids.begin(), ids.end(), id);
+      solution.Parts[p].push_back(it != ids.end() && *it == id ? labelOf[static_cast<std::size_t>(it - ids.begin())] : -1);
+    }
+  }
+  return solution;
+}
+
+} // namespace
+
+CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, const ProcessGroup& group,
+  const MultilevelOptions& multilevel, const AlphaExpansionOptions& options, const ProgressCallback& progress,
+  const ParallelFor& parallelFor)
+{
+  const bool first = group.Rank() == 0;
+  const Local local(share);
+  const std::size_t k = local.K;
+  const std::size_t n = share.GlobalIds.size();
+  CutOverProcessesResult result;
+  std::vector<std::uint64_t> cells(share.Cells);
+
+  // 1. Clusters: local ones, joined across the borders on the first process.
+  std::vector<std::int64_t> localCluster;
+  std::vector<std::vector<std::size_t>> members;
+  ClusterTable table;
+  Message reply;
+  for (int doubling = 0;; ++doubling)
+  {
+    std::tie(localCluster, members) = LocalClusters(local, cells);
+    Message message;
+    message.Put(static_cast<double>(members.size()));
+    for (const std::vector<std::size_t>& cluster : members)
+    {
+      message.Put(static_cast<double>(share.GlobalIds[cluster.front()]));
+      message.Put(static_cast<double>(cluster.size()));
+      message.Put(static_cast<double>(local.MostProbable[cluster.front()]));
+      message.Put(cells[cluster.front()]);
+    }
+    message.Put(static_cast<double>(local.Boundary.size()));
+    for (const std::size_t f : local.Boundary)
+    {
+      message.Put(static_cast<double>(share.GlobalIds[f]));
+      message.Put(static_cast<double>(localCluster[f]));
+    }
+    std::vector<std::pair<std::size_t, std::int64_t>> joins;
+    for (const std::size_t f : local.Boundary)
+    {
+      for (std::size_t e = share.Start[f]; e < share.Start[f + 1]; ++e)
+      {
+        const std::size_t g = share.Neighbor[e];
+        if (!share.Own[g] && local.MostProbable[g] == local.MostProbable[f] && cells[g] == cells[f])
+        {
+          joins.emplace_back(static_cast<std::size_t>(localCluster[f]), share.GlobalIds[g]);
+        }
+      }
+    }
+    message.Put(static_cast<double>(joins.size()));
+    for (const auto& [cluster, id] : joins)
+    {
+      message.Put(static_cast<double>(cluster));
+      message.Put(static_cast<double>(id));
+    }
+    message.Put(static_cast<double>(local.HaloNeighbors.size()));
+    for (const std::size_t g : local.HaloNeighbors)
+    {
+      message.Put(static_cast<double>(share.GlobalIds[g]));
+    }
+    std::vector<std::vector<double>> gathered = group.GatherOnFirst(message.Values);
+    message = Message();
+    Status status = Proceed;
+    if (first)
+    {
+      table = JoinClusters(std::move(gathered));
+      if (2 * table.ClusterCount > share.WholeFaceCount)
+      {
+        status = doubling < MaximumCellDoublings ? DoubleCells : NotCoarsened;
+      }
+    }
+    reply = Message{ group.ScatterFromFirst([&](int process) {
+      std::vector<double> part{ static_cast<double>(status) };
+      if (status != Proceed)
+      {
+        return part;
+      }
+      const std::size_t base = table.Base[static_cast<std::size_t>(process)];
+      const std::size_t end = static_cast<std::size_t>(process) + 1 < table.Base.size()
+        ? table.Base[static_cast<std::size_t>(process) + 1]
+        : table.ClusterOfNode.size();
+      for (std::size_t node = base; node < end; ++node)
+      {
+        const std::size_t c = table.ClusterOfNode[node];
+        part.push_back(static_cast<double>(c));
+        part.push_back(table.NodesOfCluster[c] > 1 ? 1.0 : 0.0);
+      }
+      for (const std::int64_t id : table.HaloIds[static_cast<std::size_t>(process)])
+      {
+        part.push_back(static_cast<double>(table.ClusterOfNode[table.NodeOfBorder(id)]));
+      }
+      return part;
+    }) };
+    const auto received = static_cast<Status>(static_cast<int>(reply.Next()));
+    if (received == Proceed)
+    {
+      break;
+    }
+    if (received == NotCoarsened)
+    {
+      result.Coarsened = false;
+      return result;
+    }
+    std::transform(cells.begin(), cells.end(), cells.begin(), ParentCell);
+  }
+  std::vector<std::size_t> clusterOfLocal(members.size());
+  std::vector<std::uint8_t> spans(members.size());
+  for (std::size_t c = 0; c < members.size(); ++c)
+  {
+    clusterOfLocal[c] = reply.NextIndex();
+    spans[c] = reply.Next() != 0.0 ? 1 : 0;
+  }
+  constexpr std::size_t none = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> cluster(n, none);
+  for (const std::size_t f : local.OwnFaces)
+  {
+    cluster[f] = clusterOfLocal[static_cast<std::size_t>(localCluster[f])];
+  }
+  for (const std::size_t g : local.HaloNeighbors)
+  {
+    cluster[g] = reply.NextIndex();
+  }
+
+  // 2. Exact partial sums of the coarse energy; the coarse solve on the first process.
+  Message costMessage;
+  for (std::size_t c = 0; c < members.size(); ++c)
+  {
+    costMessage.Put(static_cast<double>(clusterOfLocal[c]));
+    costMessage.Put(static_cast<double>(spans[c]));
+    for (std::size_t l = 0; l < k; ++l)
+    {
+      ExactSum cost;
+      for (const std::size_t f : members[c])
+      {
+        cost.Add(share.DataCosts[f * k + l]);
+      }
+      if (spans[c])
+      {
+        costMessage.PutParts(cost);
+      }
+      else
+      {
+        costMessage.Put(cost.Rounded());
+      }
+    }
+  }
+  std::vector<std::tuple<std::size_t, std::size_t, double>> links;
+  for (const std::size_t f : local.OwnFaces)
+  {
+    for (std::size_t e = share.Start[f]; e < share.Start[f + 1]; ++e)
+    {
+      const std::size_t g = share.Neighbor[e];
+      if (g > f && cluster[g] != cluster[f]) // each pair once: by the owner of its lower face
+      {
+        links.emplace_back(std::min(cluster[f], cluster[g]), std::max(cluster[f], cluster[g]), share.Weight[e]);
+      }
+    }
+  }
+  std::sort(links.begin(), links.end());
+  Message pairMessage;
+  for (std::size_t i = 0; i < links.size();)
+  {
+    const std::size_t a = std::get<0>(links[i]), b = std::get<1>(links[i]);
+    ExactSum sum;
+    for (; i < links.size() && std::get<0>(links[i]) == a && std::get<1>(links[i]) == b; ++i)
+    {
+      sum.Add(std::get<2>(links[i]));
+    }
+    pairMessage.Put(static_cast<double>(a));
+    pairMessage.Put(static_cast<double>(b));
+    pairMessage.PutParts(sum);
+  }
+  links = {};
+  std::vector<std::vector<double>> costs = group.GatherOnFirst(costMessage.Values);
+  costMessage = Message();
+  std::vector<std::vector<double>> pairs = group.GatherOnFirst(pairMessage.Values);
+  pairMessage = Message();
+  Status status = Proceed;
+  std::vector<int> coarseLabels;
+  std::vector<std::uint8_t> lost;
+  if (first)
+  {
+    const PartitionEnergy coarse = AssembleCoarseEnergy(table, k, std::move(costs), std::move(pairs));
+    std::vector<std::uint64_t> coarseCells(table.ClusterCount);
+    std::vector<int> mostProbable(table.ClusterCount);
+    for (std::size_t node = 0; node < table.ClusterOfNode.size(); ++node)
+    {
+      coarseCells[table.ClusterOfNode[node]] = ParentCell(table.Cell[node]);
+      mostProbable[table.ClusterOfNode[node]] = table.MostProbable[node];
+    }
+    const AlphaExpansionResult coarseResult =
+      MinimizeMultilevel(coarse, multilevel, options, SubProgress(progress, 0.0, 0.5), parallelFor, coarseCells);
+    result.Moves = coarseResult.Moves;
+    if (coarseResult.Aborted)
+    {
+      status = Aborted;
+    }
+    else
+    {
+      coarseLabels = coarseResult.Labels;
+      lost = LostClusters(coarse, coarseLabels, table, mostProbable, multilevel.LostRegionFaces);
+    }
+  }
+  reply = Message{ group.ScatterFromFirst([&](int process) {
+    std::vector<double> part{ static_cast<double>(status) };
+    if (status != Proceed)
+    {
+      return part;
+    }
+    const auto p = static_cast<std::size_t>(process);
+    const std::size_t end = p + 1 < table.Base.size() ? table.Base[p + 1] : table.ClusterOfNode.size();
+    for (std::size_t node = table.Base[p]; node < end; ++node)
+    {
+      const std::size_t c = table.ClusterOfNode[node];
+      part.push_back(coarseLabels[c]);
+      part.push_back(lost[c]);
+    }
+    for (const std::int64_t id : table.HaloIds[p])
+    {
+      part.push_back(coarseLabels[table.ClusterOfNode[table.NodeOfBorder(id)]]);
+    }
+    return part;
+  }) };
+  if (static_cast<Status>(static_cast<int>(reply.Next())) == Aborted)
+  {
+    result.Aborted = true;
+    return result;
+  }
+  std::vector<int> labels(n, -1);
+  std::vector<std::uint8_t> inBand(n, 0);
+  std::vector<std::size_t> frontier;
+  {
+    std::vector<std::uint8_t> lostLocal(members.size());
+    for (std::size_t c = 0; c < members.size(); ++c)
+    {
+      const int label = static_cast<int>(reply.Next());
+      lostLocal[c] = reply.Next() != 0.0 ? 1 : 0;
+      for (const std::size_t f : members[c])
+      {
+        labels[f] = label;
+      }
+    }
+    for (const std::size_t g : local.HaloNeighbors)
+    {
+      labels[g] = static_cast<int>(reply.Next());
+    }
+    // 3. The band: seeds as BoundaryBand's, then ring by ring across the pieces.
+    for (const std::size_t f : local.OwnFaces)
+    {
+      bool seed = lostLocal[static_cast<std::size_t>(localCluster[f])] != 0;
+      for (std::size_t e = share.Start[f]; e < share.Start[f + 1] && !seed; ++e)
+      {
+        seed = labels[share.Neighbor[e]] != labels[f];
+      }
+      if (seed)
+      {
+        inBand[f] = 1;
+        frontier.push_back(f);
+      }
+    }
+  }
+  members = {};
+  localCluster = {};
+  for (int ring = 1; ring < multilevel.BandRings; ++ring)
+  {
+    std::vector<std::size_t> next;
+    std::vector<std::int64_t> reachedHalo;
+    for (const std::size_t f : frontier)
+    {
+      for (std::size_t e = share.Start[f]; e < share.Start[f + 1]; ++e)
+      {
+        const std::size_t g = share.Neighbor[e];
+        if (!inBand[g])
+        {
+          inBand[g] = 1;
+          if (share.Own[g])
+          {
+            next.push_back(g);
+          }
+          else
+          {
+            reachedHalo.push_back(share.GlobalIds[g]);
+          }
+        }
+      }
+    }
+    for (const std::int64_t id : RouteToOwners(reachedHalo, group, first ? &table : nullptr))
+    {
+      const std::size_t f = local.IndexOfId(id);
+      if (!inBand[f])
+      {
+        inBand[f] = 1;
+        next.push_back(f);
+      }
+    }
+    frontier.swap(next);
+  }
+  {
+    // The band's halo neighbours that their owners (not this process) put in the band.
+    std::vector<double> borderInBand;
+    for (const std::size_t f : local.Boundary)
+    {
+      if (inBand[f])
+      {
+        borderInBand.push_back(static_cast<double>(share.GlobalIds[f]));
+      }
+    }
+    const std::vector<std::vector<double>> gathered = group.GatherOnFirst(borderInBand);
+    std::unordered_set<std::int64_t> banded;
+    for (const std::vector<double>& list : gathered)
+    {
+      for (const double id : list)
+      {
+        banded.insert(static_cast<std::int64_t>(id));
+      }
+    }
+    Message flags{ group.ScatterFromFirst([&](int process) {
+      std::vector<double> part;
+      for (const std::int64_t id : table.HaloIds[static_cast<std::size_t>(process)])
+      {
+        part.push_back(banded.count(id) ? 1.0 : 0.0);
+      }
+      return part;
+    }) };
+    for (const std::size_t g : local.HaloNeighbors)
+    {
+      const bool ownersBand = flags.Next() != 0.0;
+      inBand[g] = inBand[g] || ownersBand;
+    }
+  }
+
+  // 4. The band's rows, solved on the first process.
+  Message rows;
+  std::vector<std::size_t> bandFaces;
+  for (const std::size_t f : local.OwnFaces)
+  {
+    if (inBand[f])
+    {
+      PutBandRow(local, f, labels, inBand, rows);
+      bandFaces.push_back(f);
+    }
+  }
+  std::vector<std::vector<double>> gatheredRows = group.GatherOnFirst(rows.Values);
+  rows = Message();
+  BandSolution solution;
+  if (first)
+  {
+    solution = SolveBand(std::move(gatheredRows), table, k, options, progress, parallelFor);
+    result.Moves += solution.Moves;
+  }
+  const double moves = static_cast<double>(result.Moves);
+  Message solved{ group.ScatterFromFirst([&](int process) {
+    std::vector<double> part{ solution.Aborted ? 1.0 : 0.0, moves };
+    const std::vector<double>& labelsOf = solution.Parts[static_cast<std::size_t>(process)];
+    part.insert(part.end(), labelsOf.begin(), labelsOf.end());
+    return part;
+  }) };
+  if (solved.Next() != 0.0)
+  {
+    result.Aborted = true;
+    return result;
+  }
+  result.Moves = static_cast<int>(solved.Next());
+  for (const std::size_t f : bandFaces)
+  {
+    labels[f] = static_cast<int>(solved.Next());
+  }
+  for (const std::size_t g : local.HaloNeighbors)
+  {
+    const int label = static_cast<int>(solved.Next());
+    if (label >= 0)
+    {
+      labels[g] = label;
+    }
+  }
+  result.Labels = std::move(labels);
+  if (first && progress)
+  {
+    progress(1.0);
+  }
+  return result;
+}
+
+} // namespace shapediameter
