@@ -732,28 +732,39 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
     const std::size_t n = order.Ids.size();
     std::vector<int> wholeLabels(n, 0);
     std::vector<std::int64_t> offsets(n + 1, 0);
-    std::vector<std::vector<std::int64_t>> neighbors(n);
     for (std::size_t p = 0; p < gatheredAdjacency.size(); ++p)
     {
       std::size_t at = 0;
       for (std::size_t i = 0; i < order.Index[p].size(); ++i)
       {
         const auto w = static_cast<std::size_t>(order.Index[p][i]);
-        wholeLabels[w] = static_cast<int>(gatheredAdjacency[p][at++]);
-        const auto degree = static_cast<std::size_t>(gatheredAdjacency[p][at++]);
+        wholeLabels[w] = static_cast<int>(gatheredAdjacency[p][at]);
+        const auto degree = static_cast<std::size_t>(gatheredAdjacency[p][at + 1]);
+        offsets[w + 1] = static_cast<std::int64_t>(degree);
+        at += 2 + degree;
+      }
+    }
+    std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+    std::vector<std::int64_t> flat(static_cast<std::size_t>(offsets[n]));
+    for (std::size_t p = 0; p < gatheredAdjacency.size(); ++p)
+    {
+      std::size_t at = 0;
+      for (std::size_t i = 0; i < order.Index[p].size(); ++i)
+      {
+        auto entry = static_cast<std::size_t>(offsets[static_cast<std::size_t>(order.Index[p][i])]);
+        const auto degree = static_cast<std::size_t>(gatheredAdjacency[p][at + 1]);
+        at += 2;
         for (std::size_t d = 0; d < degree; ++d)
         {
-          neighbors[w].push_back(order.IndexOf(static_cast<std::int64_t>(gatheredAdjacency[p][at++])));
+          const std::int64_t index = order.IndexOf(static_cast<std::int64_t>(gatheredAdjacency[p][at++]));
+          if (index < 0)
+          {
+            throw Error("partition: a neighbour of an own face is no process's own face");
+          }
+          flat[entry++] = index;
         }
       }
       gatheredAdjacency[p] = {};
-    }
-    std::vector<std::int64_t> flat;
-    for (std::size_t w = 0; w < n; ++w)
-    {
-      flat.insert(flat.end(), neighbors[w].begin(), neighbors[w].end());
-      offsets[w + 1] = static_cast<std::int64_t>(flat.size());
-      neighbors[w] = {};
     }
     DualGraphView view;
     view.Offsets = offsets.data();
