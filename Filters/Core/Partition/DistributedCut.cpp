@@ -301,17 +301,16 @@ ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
   return table;
 }
 
-/// The coarse energy from every process's partial sums (step 2 of the header), in the serial
-/// CoarseEnergy's order: the clusters' data costs, then the pairs of clusters by (a, b).
-PartitionEnergy AssembleCoarseEnergy(
-  const ClusterTable& table, std::size_t k, std::vector<std::vector<double>> costMessages, std::vector<std::vector<double>> pairMessages)
+/// The coarse energy's data costs from every process's sums per cluster (step 2 of the
+/// header): the rounded sum where one process held the whole cluster, else the partial sums.
+PartitionEnergy CoarseDataCosts(const ClusterTable& table, std::size_t k, std::vector<std::vector<double>> messages)
 {
   PartitionEnergy coarse;
   coarse.FaceCount = table.ClusterCount;
   coarse.LabelCount = static_cast<int>(k);
   coarse.DataCosts.assign(table.ClusterCount * k, 0.0);
   std::unordered_map<std::size_t, std::vector<ExactSum>> spanning;
-  for (std::vector<double>& values : costMessages)
+  for (std::vector<double>& values : messages)
   {
     Message message{ std::move(values) };
     while (!message.Done())
@@ -332,7 +331,6 @@ PartitionEnergy AssembleCoarseEnergy(
         message.AddParts(sums[l]);
       }
     }
-    values = std::vector<double>();
   }
   for (const auto& [c, sums] : spanning)
   {
@@ -341,41 +339,49 @@ PartitionEnergy AssembleCoarseEnergy(
       coarse.DataCosts[c * k + l] = sums[l].Rounded();
     }
   }
-  struct PairRecord
+  return coarse;
+}
+
+/// The coarse energy's pairs from every process's partial sums per pair of clusters, each
+/// process's list ordered by (a, b): merged in that order, as the serial CoarseEnergy lists them.
+void AddCoarsePairs(PartitionEnergy& coarse, std::vector<std::vector<double>> messages)
+{
+  std::vector<Message> lists;
+  for (std::vector<double>& values : messages)
   {
-    std::size_t a, b, process, at;
-  };
-  std::vector<PairRecord> records;
-  std::vector<Message> pairs;
-  for (std::size_t p = 0; p < pairMessages.size(); ++p)
-  {
-    pairs.push_back(Message{ std::move(pairMessages[p]) });
-    Message& message = pairs.back();
-    while (!message.Done())
-    {
-      const std::size_t a = message.NextIndex();
-      const std::size_t b = message.NextIndex();
-      records.push_back({ a, b, p, message.At });
-      message.At += message.NextIndex(); // past the count (read) and the partial sums
-    }
+    lists.push_back(Message{ std::move(values) });
   }
-  std::sort(records.begin(), records.end(),
-    [](const PairRecord& x, const PairRecord& y) { return std::tie(x.a, x.b, x.process) < std::tie(y.a, y.b, y.process); });
-  for (std::size_t i = 0; i < records.size();)
+  const auto key = [](const Message& list) {
+    return std::make_pair(static_cast<std::size_t>(list.Values[list.At]), static_cast<std::size_t>(list.Values[list.At + 1]));
+  };
+  for (;;)
   {
-    ExactSum sum;
-    const std::size_t a = records[i].a, b = records[i].b;
-    for (; i < records.size() && records[i].a == a && records[i].b == b; ++i)
+    const Message* lowest = nullptr;
+    for (const Message& list : lists)
     {
-      Message& message = pairs[records[i].process];
-      message.At = records[i].at;
-      message.AddParts(sum);
+      if (!list.Done() && (!lowest || key(list) < key(*lowest)))
+      {
+        lowest = &list;
+      }
+    }
+    if (!lowest)
+    {
+      return;
+    }
+    const auto [a, b] = key(*lowest);
+    ExactSum sum;
+    for (Message& list : lists)
+    {
+      if (!list.Done() && key(list) == std::make_pair(a, b))
+      {
+        list.At += 2;
+        list.AddParts(sum);
+      }
     }
     coarse.PairFirst.push_back(static_cast<std::int64_t>(a));
     coarse.PairSecond.push_back(static_cast<std::int64_t>(b));
     coarse.PairWeight.push_back(sum.Rounded());
   }
-  return coarse;
 }
 
 /// Clusters in regions of at least `minimumRegion` faces off their most probable label,
@@ -824,16 +830,28 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
     pairMessage.PutParts(sum);
   }
   links = {};
-  std::vector<std::vector<double>> costs = group.GatherOnFirst(costMessage.Values);
-  costMessage = Message();
-  std::vector<std::vector<double>> pairs = group.GatherOnFirst(pairMessage.Values);
-  pairMessage = Message();
+  PartitionEnergy coarse;
+  {
+    std::vector<std::vector<double>> costs = group.GatherOnFirst(costMessage.Values);
+    costMessage = Message();
+    if (first)
+    {
+      coarse = CoarseDataCosts(table, k, std::move(costs));
+    }
+  }
+  {
+    std::vector<std::vector<double>> pairs = group.GatherOnFirst(pairMessage.Values);
+    pairMessage = Message();
+    if (first)
+    {
+      AddCoarsePairs(coarse, std::move(pairs));
+    }
+  }
   Status status = Proceed;
   std::vector<int> coarseLabels;
   std::vector<std::uint8_t> lost;
   if (first)
   {
-    const PartitionEnergy coarse = AssembleCoarseEnergy(table, k, std::move(costs), std::move(pairs));
     std::vector<std::uint64_t> coarseCells(table.ClusterCount);
     std::vector<int> mostProbable(table.ClusterCount);
     for (std::size_t node = 0; node < table.ClusterOfNode.size(); ++node)
@@ -853,6 +871,7 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
       coarseLabels = coarseResult.Labels;
       lost = LostClusters(coarse, coarseLabels, table, mostProbable, multilevel.LostRegionFaces);
     }
+    coarse = PartitionEnergy();
   }
   reply = Message{ group.ScatterFromFirst([&](int process) {
     std::vector<double> part{ static_cast<double>(status) };

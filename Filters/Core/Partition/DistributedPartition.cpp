@@ -603,7 +603,8 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
     return std::nullopt;
   }
   auto start = std::chrono::steady_clock::now();
-  const FaceGraph graph = BuildFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
+  std::optional<FaceGraph> shareGraph = BuildFaceGraph(input.Points, input.FaceOffsets, input.FaceConnectivity, parallelFor);
+  const FaceGraph& graph = *shareGraph;
   ValidateDualGraph(MakeDualGraphView(graph), true, parallelFor);
   const ValuesView& values = input.FaceValues;
   std::vector<double> rows, openSides;
@@ -696,6 +697,24 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
   {
     return std::nullopt;
   }
+  // The segments' rows (step 6 on the first process): each own face's label (filled in after
+  // the cut), degree and neighbours' ids in the graph's order; then the graph is freed.
+  std::vector<double> adjacency;
+  std::vector<std::size_t> labelSlot;
+  for (std::size_t f = 0; f < graph.FaceCount(); ++f)
+  {
+    if (share.Own[f])
+    {
+      labelSlot.push_back(adjacency.size());
+      adjacency.push_back(0.0);
+      adjacency.push_back(static_cast<double>(graph.NeighborEnd(static_cast<std::int64_t>(f)) - graph.NeighborBegin(static_cast<std::int64_t>(f))));
+      for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(f)); e < graph.NeighborEnd(static_cast<std::int64_t>(f)); ++e)
+      {
+        adjacency.push_back(static_cast<double>(share.GlobalIds[static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)])]));
+      }
+    }
+  }
+  shareGraph.reset();
   const CutOverProcessesResult labels = MinimizeMultilevelOverProcesses(
     cut, group, options.Multilevel, options.AlphaExpansion, SubProgress(progress, 0.2, 0.95), parallelFor);
   if (!labels.Coarsened)
@@ -712,17 +731,11 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
 
   // Segments, levels and the histogram on the first process, from the labels and the
   // adjacency of every own face (ids only).
-  std::vector<double> adjacency;
-  for (std::size_t f = 0; f < graph.FaceCount(); ++f)
+  for (std::size_t f = 0, own = 0; f < share.Own.size(); ++f)
   {
     if (share.Own[f])
     {
-      adjacency.push_back(labels.Labels[f]);
-      adjacency.push_back(static_cast<double>(graph.NeighborEnd(static_cast<std::int64_t>(f)) - graph.NeighborBegin(static_cast<std::int64_t>(f))));
-      for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(f)); e < graph.NeighborEnd(static_cast<std::int64_t>(f)); ++e)
-      {
-        adjacency.push_back(static_cast<double>(share.GlobalIds[static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)])]));
-      }
+      adjacency[labelSlot[own++]] = labels.Labels[f];
     }
   }
   std::vector<std::vector<double>> gatheredAdjacency = group.GatherOnFirst(adjacency);
