@@ -268,7 +268,9 @@ protected:
   /// The selected normalised SDF array and its default, SDFNormalized.
   std::vector<std::string> CellArraysRead() override;
   /// Distributed runs build each process's own rows of the dual graph with a halo of its
-  /// neighbours' faces; process 0 partitions the graph (Partition/DistributedPartition.h).
+  /// neighbours' faces; above 60,000 faces the graph cut runs on every process's faces
+  /// (Partition/DistributedCut.h), below it process 0 partitions the gathered graph
+  /// (Partition/DistributedPartition.h).
   bool CanRunWithHalo() const override { return true; }
   /// The halo: the faces sharing a corner with an own face (the dual graph's rows need one ring).
   bool HaloOfSharedCorners() const override { return true; }

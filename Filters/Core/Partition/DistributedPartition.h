@@ -1,8 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The partition of a surface split over processes: each builds the dual graph of its own faces,
-// one process partitions the whole graph, each gets its own faces' labels back.
+// one process partitions the whole graph, each gets its own faces' labels back; or, above
+// MultilevelOptions::DirectBelowFaces (the defaults: 60,000 faces), with every face owned by
+// one process and the refinement off, each process builds its own faces' energy and the graph
+// cut runs on every process's faces (Partition/DistributedCut.h): the first process gathers
+// only the values and areas (the model, the area sum, the histogram), the coarse graph, the
+// bands' rows and, for the segments, the adjacency by ids. The same bits either way.
 //
-// What it computes
+// What it computes (the gathered graph)
 //   Exactly PartitionBySDF of the whole surface (bit for bit: the same graph, values, model,
 //   cut, segments, refinement and histogram), with no process holding the whole surface's
 //   polygons or face graph:
