@@ -3,6 +3,7 @@
 
 #include "ExactSum.h"
 #include "Partition/CoarseningCells.h"
+#include "UnionFind.h"
 
 #include <algorithm>
 #include <limits>
@@ -60,35 +61,6 @@ enum Status : int
   DoubleCells = 1,
   NotCoarsened = 2,
   Aborted = 3
-};
-
-/// Union-find with path halving.
-struct Components
-{
-  std::vector<std::size_t> Parent;
-  explicit Components(std::size_t n)
-    : Parent(n)
-  {
-    std::iota(Parent.begin(), Parent.end(), 0);
-  }
-  std::size_t Find(std::size_t a)
-  {
-    while (Parent[a] != a)
-    {
-      Parent[a] = Parent[Parent[a]];
-      a = Parent[a];
-    }
-    return a;
-  }
-  void Join(std::size_t a, std::size_t b)
-  {
-    a = Find(a);
-    b = Find(b);
-    if (a != b)
-    {
-      Parent[std::max(a, b)] = std::min(a, b);
-    }
-  }
 };
 
 /// What a process knows of its share beyond CutShare: most probable labels, the halo faces
@@ -263,23 +235,23 @@ ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
     table.HaloIds.push_back(std::move(halo));
   }
   const std::size_t nodes = table.LowestId.size();
-  Components components(nodes);
+  UnionFind components(nodes);
   for (const auto& [node, id] : joins)
   {
-    components.Join(node, table.NodeOfBorder(id));
+    components.Unite(static_cast<std::int64_t>(node), static_cast<std::int64_t>(table.NodeOfBorder(id)));
   }
   // Clusters numbered by their lowest face id, as the serial cut numbers them by their
   // lowest face.
   std::vector<std::int64_t> lowest(nodes, std::numeric_limits<std::int64_t>::max());
   for (std::size_t node = 0; node < nodes; ++node)
   {
-    const std::size_t root = components.Find(node);
+    const auto root = static_cast<std::size_t>(components.Find(static_cast<std::int64_t>(node)));
     lowest[root] = std::min(lowest[root], table.LowestId[node]);
   }
   std::vector<std::size_t> roots;
   for (std::size_t node = 0; node < nodes; ++node)
   {
-    if (components.Find(node) == node)
+    if (components.Find(static_cast<std::int64_t>(node)) == static_cast<std::int64_t>(node))
     {
       roots.push_back(node);
     }
@@ -295,7 +267,7 @@ ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
   table.NodesOfCluster.assign(roots.size(), 0);
   for (std::size_t node = 0; node < nodes; ++node)
   {
-    table.ClusterOfNode[node] = clusterOfRoot[components.Find(node)];
+    table.ClusterOfNode[node] = clusterOfRoot[static_cast<std::size_t>(components.Find(static_cast<std::int64_t>(node)))];
     ++table.NodesOfCluster[table.ClusterOfNode[node]];
   }
   return table;
@@ -382,67 +354,6 @@ void AddCoarsePairs(PartitionEnergy& coarse, std::vector<std::vector<double>> me
     coarse.PairSecond.push_back(static_cast<std::int64_t>(b));
     coarse.PairWeight.push_back(sum.Rounded());
   }
-}
-
-/// Clusters in regions of at least `minimumRegion` faces off their most probable label,
-/// connected through clusters of the same most probable label (MultilevelCut's lost regions).
-std::vector<std::uint8_t> LostClusters(const PartitionEnergy& coarse, const std::vector<int>& labels,
-  const ClusterTable& table, const std::vector<int>& mostProbable, std::size_t minimumRegion)
-{
-  const std::size_t n = coarse.FaceCount;
-  std::vector<double> faces(n, 0.0);
-  for (std::size_t node = 0; node < table.ClusterOfNode.size(); ++node)
-  {
-    faces[table.ClusterOfNode[node]] += table.FaceCount[node];
-  }
-  std::vector<std::size_t> start(n + 1, 0);
-  for (std::size_t p = 0; p < coarse.PairFirst.size(); ++p)
-  {
-    ++start[static_cast<std::size_t>(coarse.PairFirst[p]) + 1];
-    ++start[static_cast<std::size_t>(coarse.PairSecond[p]) + 1];
-  }
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<std::size_t> neighbor(start.back()), fill(start.begin(), start.end() - 1);
-  for (std::size_t p = 0; p < coarse.PairFirst.size(); ++p)
-  {
-    const auto a = static_cast<std::size_t>(coarse.PairFirst[p]);
-    const auto b = static_cast<std::size_t>(coarse.PairSecond[p]);
-    neighbor[fill[a]++] = b;
-    neighbor[fill[b]++] = a;
-  }
-  std::vector<std::uint8_t> lost(n, 0), visited(n, 0);
-  std::vector<std::size_t> region;
-  for (std::size_t seed = 0; seed < n; ++seed)
-  {
-    if (visited[seed] || labels[seed] == mostProbable[seed])
-    {
-      continue;
-    }
-    region.assign(1, seed);
-    visited[seed] = 1;
-    double size = faces[seed];
-    for (std::size_t i = 0; i < region.size(); ++i)
-    {
-      for (std::size_t e = start[region[i]]; e < start[region[i] + 1]; ++e)
-      {
-        const std::size_t g = neighbor[e];
-        if (!visited[g] && labels[g] != mostProbable[g] && mostProbable[g] == mostProbable[seed])
-        {
-          visited[g] = 1;
-          region.push_back(g);
-          size += faces[g];
-        }
-      }
-    }
-    if (size >= static_cast<double>(minimumRegion))
-    {
-      for (const std::size_t c : region)
-      {
-        lost[c] = 1;
-      }
-    }
-  }
-  return lost;
 }
 
 /// Sends lists of global ids to the processes that own them (through the first process, which
@@ -575,13 +486,13 @@ BandSolution SolveBand(std::vector<std::vector<double>> messages, const ClusterT
     }
     return static_cast<std::size_t>(it - ids.begin());
   };
-  Components components(rows.size());
+  UnionFind components(rows.size());
   for (std::size_t i = 0; i < order.size(); ++i)
   {
     const Row& row = rows[order[i]];
     for (std::size_t u = row.upBegin; u < row.upEnd; ++u)
     {
-      components.Join(i, indexOf(ups[u].first));
+      components.Unite(static_cast<std::int64_t>(i), static_cast<std::int64_t>(indexOf(ups[u].first)));
     }
   }
   // Components ordered by their lowest face, their faces increasing (as BandComponents).
@@ -589,7 +500,7 @@ BandSolution SolveBand(std::vector<std::vector<double>> messages, const ClusterT
   std::vector<std::size_t> componentOfRoot(rows.size(), static_cast<std::size_t>(-1));
   for (std::size_t i = 0; i < order.size(); ++i)
   {
-    const std::size_t root = components.Find(i);
+    const auto root = static_cast<std::size_t>(components.Find(static_cast<std::int64_t>(i)));
     if (componentOfRoot[root] == static_cast<std::size_t>(-1))
     {
       componentOfRoot[root] = faces.size();
@@ -869,7 +780,12 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
     else
     {
       coarseLabels = coarseResult.Labels;
-      lost = LostClusters(coarse, coarseLabels, table, mostProbable, multilevel.LostRegionFaces);
+      std::vector<double> faces(table.ClusterCount, 0.0);
+      for (std::size_t node = 0; node < table.ClusterOfNode.size(); ++node)
+      {
+        faces[table.ClusterOfNode[node]] += table.FaceCount[node];
+      }
+      lost = LostRegions(coarse, coarseLabels, mostProbable, faces, multilevel.LostRegionFaces);
     }
     coarse = PartitionEnergy();
   }

@@ -63,12 +63,15 @@ struct Adjacency
   double Weight(std::size_t entry) const { return weight[pair[entry]]; }
 };
 
-/// Clusters of at most `size` faces with the same most probable label, grown breadth-first
-/// from the lowest unassigned face. Returns the cluster of every face and the cluster count.
+/// Clusters of faces with the same most probable label, grown breadth-first from the lowest
+/// unassigned face: with `cells`, every connected face of the seed's label in the seed's cell
+/// (the same sets for any face order); without, at most `size` faces. Returns the cluster of
+/// every face (numbered by their lowest face) and the cluster count.
 std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(
-  const Adjacency& adjacency, const std::vector<int>& seedLabels, int size)
+  const Adjacency& adjacency, const std::vector<int>& seedLabels, const std::vector<std::uint64_t>& cells, int size)
 {
   const std::size_t n = seedLabels.size();
+  const std::size_t limit = cells.empty() ? static_cast<std::size_t>(size) : n;
   constexpr std::size_t unassigned = static_cast<std::size_t>(-1);
   std::vector<std::size_t> cluster(n, unassigned);
   std::vector<std::size_t> queue;
@@ -81,49 +84,13 @@ std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(
     }
     queue.assign(1, seed);
     cluster[seed] = count;
-    for (std::size_t head = 0; head < queue.size() && queue.size() < static_cast<std::size_t>(size); ++head)
+    for (std::size_t head = 0; head < queue.size() && queue.size() < limit; ++head)
     {
       const std::size_t f = queue[head];
-      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1] && queue.size() < static_cast<std::size_t>(size); ++e)
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1] && queue.size() < limit; ++e)
       {
         const std::size_t g = adjacency.neighbor[e];
-        if (cluster[g] == unassigned && seedLabels[g] == seedLabels[seed])
-        {
-          cluster[g] = count;
-          queue.push_back(g);
-        }
-      }
-    }
-    ++count;
-  }
-  return { std::move(cluster), count };
-}
-
-/// Clusters of connected faces with the same most probable label and the same cell: each face's
-/// cluster is the same set of faces for any face order. Numbered by their lowest face.
-std::pair<std::vector<std::size_t>, std::size_t> CellClusters(
-  const Adjacency& adjacency, const std::vector<int>& seedLabels, const std::vector<std::uint64_t>& cells)
-{
-  const std::size_t n = seedLabels.size();
-  constexpr std::size_t unassigned = static_cast<std::size_t>(-1);
-  std::vector<std::size_t> cluster(n, unassigned);
-  std::vector<std::size_t> queue;
-  std::size_t count = 0;
-  for (std::size_t seed = 0; seed < n; ++seed)
-  {
-    if (cluster[seed] != unassigned)
-    {
-      continue;
-    }
-    queue.assign(1, seed);
-    cluster[seed] = count;
-    for (std::size_t head = 0; head < queue.size(); ++head)
-    {
-      const std::size_t f = queue[head];
-      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
-      {
-        const std::size_t g = adjacency.neighbor[e];
-        if (cluster[g] == unassigned && seedLabels[g] == seedLabels[seed] && cells[g] == cells[seed])
+        if (cluster[g] == unassigned && seedLabels[g] == seedLabels[seed] && (cells.empty() || cells[g] == cells[seed]))
         {
           cluster[g] = count;
           queue.push_back(g);
@@ -207,6 +174,49 @@ PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const Adjacency& adj
   return coarse;
 }
 
+/// Per node, 1 when it lies in a region of nodes off their most probable label, connected
+/// through nodes of the same most probable label, whose size (the sum of `sizes` over its
+/// nodes; 1 each when empty) reaches `minimumRegion`.
+std::vector<std::uint8_t> LostRegionNodes(const Adjacency& adjacency, const std::vector<int>& labels,
+  const std::vector<int>& mostProbable, const std::vector<double>& sizes, std::size_t minimumRegion)
+{
+  const std::size_t n = labels.size();
+  std::vector<std::uint8_t> lost(n, 0), visited(n, 0);
+  std::vector<std::size_t> region;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (visited[seed] || labels[seed] == mostProbable[seed])
+    {
+      continue;
+    }
+    region.assign(1, seed);
+    visited[seed] = 1;
+    double size = 0.0;
+    for (std::size_t i = 0; i < region.size(); ++i)
+    {
+      const std::size_t f = region[i];
+      size += sizes.empty() ? 1.0 : sizes[f];
+      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
+      {
+        const std::size_t g = adjacency.neighbor[e];
+        if (!visited[g] && labels[g] != mostProbable[g] && mostProbable[g] == mostProbable[seed])
+        {
+          visited[g] = 1;
+          region.push_back(g);
+        }
+      }
+    }
+    if (size >= static_cast<double>(minimumRegion))
+    {
+      for (const std::size_t f : region)
+      {
+        lost[f] = 1;
+      }
+    }
+  }
+  return lost;
+}
+
 /// Faces within `rings` rings of a face that has a neighbour with another label, or that lies
 /// in a connected region of at least `minimumRegion` faces whose label is not their most
 /// probable one (a part the coarse solve lost: it has no boundary left to refine from).
@@ -228,41 +238,15 @@ std::vector<std::uint8_t> BoundaryBand(const Adjacency& adjacency, const std::ve
       }
     }
   }
-  // Regions of faces off their most probable label, connected through faces with the same
-  // most probable label; large ones join the band.
-  std::vector<std::uint8_t> visited(n, 0);
-  std::vector<std::size_t> region;
-  for (std::size_t seed = 0; seed < n; ++seed)
+  // Regions of faces off their most probable label (a part the coarse solve lost); large
+  // ones join the band.
+  const std::vector<std::uint8_t> lost = LostRegionNodes(adjacency, labels, mostProbable, {}, minimumRegion);
+  for (std::size_t f = 0; f < n; ++f)
   {
-    if (visited[seed] || labels[seed] == mostProbable[seed])
+    if (lost[f] && !inBand[f])
     {
-      continue;
-    }
-    region.assign(1, seed);
-    visited[seed] = 1;
-    for (std::size_t i = 0; i < region.size(); ++i)
-    {
-      const std::size_t f = region[i];
-      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1]; ++e)
-      {
-        const std::size_t g = adjacency.neighbor[e];
-        if (!visited[g] && labels[g] != mostProbable[g] && mostProbable[g] == mostProbable[seed])
-        {
-          visited[g] = 1;
-          region.push_back(g);
-        }
-      }
-    }
-    if (region.size() >= minimumRegion)
-    {
-      for (const std::size_t f : region)
-      {
-        if (!inBand[f])
-        {
-          inBand[f] = 1;
-          frontier.push_back(f);
-        }
-      }
+      inBand[f] = 1;
+      frontier.push_back(f);
     }
   }
   std::vector<std::size_t> next;
@@ -383,6 +367,12 @@ ProgressCallback SubRange(const ProgressCallback& progress, double from, double 
 
 } // namespace
 
+std::vector<std::uint8_t> LostRegions(const PartitionEnergy& energy, const std::vector<int>& labels,
+  const std::vector<int>& mostProbable, const std::vector<double>& sizes, std::size_t minimumRegion)
+{
+  return LostRegionNodes(Adjacency(energy), labels, mostProbable, sizes, minimumRegion);
+}
+
 std::pair<std::vector<std::size_t>, std::size_t> FirstLevelClusters(
   const PartitionEnergy& energy, const std::vector<std::uint64_t>& faceCells, int clusterSize)
 {
@@ -390,8 +380,7 @@ std::pair<std::vector<std::size_t>, std::size_t> FirstLevelClusters(
   CheckCellCount(energy, faceCells);
   const Adjacency adjacency(energy);
   const std::vector<int> mostProbable = MostProbableLabels(energy);
-  return faceCells.empty() ? GrowClusters(adjacency, mostProbable, clusterSize)
-                           : CellClusters(adjacency, mostProbable, faceCells);
+  return GrowClusters(adjacency, mostProbable, faceCells, clusterSize);
 }
 
 AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel,
@@ -414,23 +403,16 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   std::vector<std::uint64_t> cells(faceCells);
   std::vector<std::size_t> cluster;
   std::size_t clusterCount = 0;
-  if (cells.empty())
+  // Where the faces are large against the cells (a coarse region, or a far-away face that
+  // stretched the grid), larger cells.
+  for (int doubling = 0;; ++doubling)
   {
-    std::tie(cluster, clusterCount) = GrowClusters(adjacency, mostProbable, multilevel.ClusterSize);
-  }
-  else
-  {
-    // Where the faces are large against the cells (a coarse region, or a far-away face that
-    // stretched the grid), larger cells.
-    for (int doubling = 0;; ++doubling)
+    std::tie(cluster, clusterCount) = GrowClusters(adjacency, mostProbable, cells, multilevel.ClusterSize);
+    if (cells.empty() || 2 * clusterCount <= energy.FaceCount || doubling == MaximumCellDoublings)
     {
-      std::tie(cluster, clusterCount) = CellClusters(adjacency, mostProbable, cells);
-      if (2 * clusterCount <= energy.FaceCount || doubling == MaximumCellDoublings)
-      {
-        break;
-      }
-      std::transform(cells.begin(), cells.end(), cells.begin(), ParentCell);
+      break;
     }
+    std::transform(cells.begin(), cells.end(), cells.begin(), ParentCell);
   }
   if (2 * clusterCount > energy.FaceCount)
   {

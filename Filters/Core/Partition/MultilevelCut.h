@@ -107,6 +107,13 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   const AlphaExpansionOptions& options = {}, const ProgressCallback& progress = nullptr,
   const ParallelFor& parallelFor = SerialFor, const std::vector<std::uint64_t>& faceCells = {});
 
+/// Step 4's lost regions: per node of `energy`'s graph, 1 when it lies in a connected region
+/// (through nodes of the same most probable label) of nodes whose label is not their most
+/// probable one, of at least `minimumRegion` in size (the sum of `sizes` over its nodes: faces
+/// per cluster on a coarse graph; 1 each when empty).
+std::vector<std::uint8_t> LostRegions(const PartitionEnergy& energy, const std::vector<int>& labels,
+  const std::vector<int>& mostProbable, const std::vector<double>& sizes, std::size_t minimumRegion);
+
 /// Step 2's clusters of the first level, with the faces' cells as given (not doubled) or, when
 /// faceCells is empty, breadth-first: per face its cluster (numbered by their lowest face) and
 /// the cluster count. What MinimizeMultilevel coarsens by; for tests and a coarsening run on

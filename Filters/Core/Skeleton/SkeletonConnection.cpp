@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "Skeleton/SkeletonConnection.h"
 
+#include "UnionFind.h"
+
 #include "Skeleton/SkeletonPointTree.h"
 
 #include <algorithm>
@@ -28,40 +30,6 @@ void ValidateConnectionOptions(const SkeletonConnectionOptions& options)
 
 namespace
 {
-
-class UnionFind
-{
-public:
-  explicit UnionFind(std::size_t size)
-    : Parent(size)
-  {
-    std::iota(Parent.begin(), Parent.end(), std::int64_t{ 0 });
-  }
-  std::int64_t Find(std::int64_t i)
-  {
-    while (Parent[i] != i)
-    {
-      Parent[i] = Parent[Parent[i]];
-      i = Parent[i];
-    }
-    return i;
-  }
-  /// Returns false if a and b were already in one set. The lower root survives.
-  bool Unite(std::int64_t a, std::int64_t b)
-  {
-    a = Find(a);
-    b = Find(b);
-    if (a == b)
-    {
-      return false;
-    }
-    Parent[std::max(a, b)] = std::min(a, b);
-    return true;
-  }
-
-private:
-  std::vector<std::int64_t> Parent;
-};
 
 using Edge = std::pair<std::int64_t, std::int64_t>;
 
