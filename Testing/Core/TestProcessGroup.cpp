@@ -669,7 +669,7 @@ std::vector<double> TwoThicknesses(const testshapes::TestMesh& mesh)
 /// PartitionBySDF on `share` with the thread group; global ids = whole face index x idStep
 /// (1: dense ids, as the reader's; larger: sparse ids, in the same order).
 PartitionResult PartitionShareOf(const Share& share, const ProcessGroup& group, std::int64_t idStep = 1,
-  bool pointIds = false, const PartitionOptions& options = {})
+  bool pointIds = false, const PartitionOptions& options = {}, const ProgressCallback& progress = {})
 {
   std::vector<std::int64_t> ids;
   for (const std::size_t f : share.WholeFace)
@@ -678,8 +678,8 @@ PartitionResult PartitionShareOf(const Share& share, const ProcessGroup& group, 
   }
   const PartitionShare partitionShare{ ids, share.Own, group, pointIds ? &share.WholePoint : nullptr };
   const Eigen::Map<const Eigen::VectorXd> values(share.Values.data(), static_cast<Eigen::Index>(share.Values.size()));
-  return PartitionBySDF(
-    PartitionInput{ share.Points, share.Offsets, share.Connectivity, values, nullptr, &partitionShare }, options);
+  return PartitionBySDF(PartitionInput{ share.Points, share.Offsets, share.Connectivity, values, nullptr, &partitionShare },
+    options, SerialFor, progress);
 }
 
 /// Every own face of `share` has the serial partition's results; returns how many faces it checked.
@@ -790,6 +790,64 @@ TEST(PartitionOnShares, TheCutOnEveryProcessGivesTheSerialPartitionBitForBit)
       const PartitionResult result = PartitionShareOf(share, group, idStep, false, options);
       EXPECT_TRUE(result.CutOverProcesses);
       ExpectSerialPartition(serial, result, share);
+    });
+  }
+}
+
+// Two separate capsules (two components, a cluster of each on several pieces), one process
+// owning no face, small lost regions re-solved.
+TEST(PartitionOnShares, TheCutOnEveryProcessCopesWithAnEmptyPieceAndTwoComponents)
+{
+  const testshapes::TestMesh capsule = testshapes::MakeCapsule(0.5, 1.5, 48, 12, 30);
+  testshapes::TestMesh mesh;
+  mesh.Points.resize(2 * capsule.Points.rows(), 3);
+  mesh.Triangles.resize(2 * capsule.Faces(), 3);
+  mesh.Points << capsule.Points, capsule.Points.rowwise() + Eigen::RowVector3d(3.0, 0.0, 0.0);
+  mesh.Triangles << capsule.Triangles, capsule.Triangles.array() + capsule.Points.rows();
+  const std::vector<double> values = TwoThicknesses(mesh);
+  const Eigen::Map<const Eigen::VectorXd> wholeValues(values.data(), static_cast<Eigen::Index>(values.size()));
+  PartitionOptions options;
+  options.Multilevel.DirectBelowFaces = 500;
+  options.Multilevel.LostRegionFaces = 8;
+  const PartitionResult serial = PartitionBySDF(mesh.Points, mesh.Triangles, wholeValues, options);
+  ASSERT_GE(serial.Segments.SegmentCount(), 4); // two halves on each capsule
+  const FaceGraph& whole = *serial.Graph;
+  const double width = *std::max_element(whole.CenterDistances.begin(), whole.CenterDistances.end());
+  std::vector<int> owner(values.size());
+  for (std::size_t f = 0; f < owner.size(); ++f)
+  {
+    // Slabs across both capsules along y; process 3 gets none.
+    owner[f] = whole.Centers(static_cast<Eigen::Index>(f), 1) < -0.15 ? 0 : (whole.Centers(static_cast<Eigen::Index>(f), 1) < 0.15 ? 1 : 2);
+  }
+  OnThreads(4, [&](int rank, const ProcessGroup& group) {
+    const Share share = MakeShare(mesh, values, whole, owner, rank, width * 1.001);
+    const PartitionResult result = PartitionShareOf(share, group, 1, false, options);
+    EXPECT_TRUE(result.CutOverProcesses);
+    ExpectSerialPartition(serial, result, share);
+  });
+}
+
+TEST(PartitionOnShares, AnAbortDuringTheCutOnEveryProcessAbortsEvery)
+{
+  const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 64, 16, 40);
+  const std::vector<double> values = TwoThicknesses(mesh);
+  PartitionOptions options;
+  options.Multilevel.DirectBelowFaces = 300;
+  const FaceGraph whole = BuildFaceGraph(mesh.Points, mesh.Triangles);
+  const double width = *std::max_element(whole.CenterDistances.begin(), whole.CenterDistances.end());
+  std::vector<int> owner(values.size());
+  for (std::size_t f = 0; f < owner.size(); ++f)
+  {
+    owner[f] = static_cast<int>(f % 3);
+  }
+  // At 0.1 once the model is fitted (rank 0's first report), then inside the coarse solve.
+  for (const double abortAt : { 0.1, 0.3, 0.5 })
+  {
+    OnThreads(3, [&](int rank, const ProcessGroup& group) {
+      const Share share = MakeShare(mesh, values, whole, owner, rank, width * 1.001);
+      const PartitionResult result = PartitionShareOf(
+        share, group, 1, false, options, [&](double fraction) { return fraction < abortAt; });
+      EXPECT_TRUE(result.Aborted) << "process " << rank << ", abort at " << abortAt;
     });
   }
 }

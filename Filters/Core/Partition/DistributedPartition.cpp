@@ -418,9 +418,9 @@ PartitionResult ResultOfShare(
 
 /// The graph cut's rows of a share (DistributedCut.h): data costs of every share face, own
 /// faces' pairs in the serial cut's order with their weights (BuildPartitionEnergy's terms),
-/// and the cells of the whole surface's grid. Empty Cells: no grid (the serial cut would not
-/// coarsen by cells; the caller gathers).
-CutShare ShareEnergy(const FaceGraph& graph, const PosteriorMatrix& posteriors, const PartitionShare& share,
+/// and the cells of the whole surface's grid. Nothing when there is no grid (the serial cut would
+/// not coarsen by cells; every process agrees, and the caller gathers).
+std::optional<CutShare> ShareEnergy(const FaceGraph& graph, const PosteriorMatrix& posteriors, const PartitionShare& share,
   std::size_t wholeFaces, double totalArea, const PartitionOptions& options)
 {
   const std::size_t n = graph.FaceCount();
@@ -492,7 +492,13 @@ CutShare ShareEnergy(const FaceGraph& graph, const PosteriorMatrix& posteriors, 
 
   // The grid of CoarseningCells over the whole surface: extremes by maxima, the mean spacing
   // from exact partial sums over each process's pairs (each counted by its lower face's owner).
-  std::vector<double> extremes(6, -std::numeric_limits<double>::infinity());
+  // extremes[6]: 1 when a centre of the share is not finite (a serial run would not coarsen by
+  // cells then; every process must agree).
+  std::vector<double> extremes(7, -std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < 3 * n; ++i)
+  {
+    extremes[6] = std::max(extremes[6], std::isfinite(graph.Centers.data()[i]) ? 0.0 : 1.0);
+  }
   ExactSum spacing;
   std::vector<std::int64_t> pairs{ 0 };
   const auto centre = [&](std::size_t f) { return graph.Centers.data() + 3 * f; };
@@ -531,15 +537,15 @@ CutShare ShareEnergy(const FaceGraph& graph, const PosteriorMatrix& posteriors, 
       wholeSpacing.Add(allParts[at++]);
     }
   }
-  if (pairs[0] == 0)
+  if (pairs[0] == 0 || extremes[6] > 0.0)
   {
-    return cut;
+    return std::nullopt;
   }
   const CellGrid grid = MakeCellGrid({ -extremes[0], -extremes[1], -extremes[2] }, { extremes[3], extremes[4], extremes[5] },
     wholeSpacing.Rounded() / static_cast<double>(pairs[0]), options.Multilevel.ClusterSize);
   if (grid.Side == 0.0)
   {
-    return cut;
+    return std::nullopt;
   }
   cut.Cells.resize(n);
   for (std::size_t f = 0; f < n; ++f)
@@ -692,11 +698,12 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
 
   // Every process: its faces' posteriors, energy rows and cells; the cut over the processes.
   PosteriorMatrix posteriors = ComputePosteriors(model, values, parallelFor);
-  const CutShare cut = ShareEnergy(graph, posteriors, share, wholeFaces, totalArea, options);
-  if (cut.Cells.empty())
+  const std::optional<CutShare> shareEnergy = ShareEnergy(graph, posteriors, share, wholeFaces, totalArea, options);
+  if (!shareEnergy)
   {
     return std::nullopt;
   }
+  const CutShare& cut = *shareEnergy;
   // The segments' rows (step 6 on the first process): each own face's label (filled in after
   // the cut), degree and neighbours' ids in the graph's order; then the graph is freed.
   std::vector<double> adjacency;
