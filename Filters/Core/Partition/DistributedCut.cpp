@@ -418,8 +418,67 @@ void PutBandRow(const Local& local, std::size_t f, const std::vector<int>& label
   }
 }
 
-/// On the first process: every band face's row, each connected component of the band solved as
-/// MultilevelCut solves it; per process the labels of the band faces it sent, then of its halo
+/// Every process: the band components sent to it (problemsOf in SolveBand), each solved as
+/// MultilevelCut solves a band component; the first process gets every process's results
+/// (per component: moves, aborted, labels). Progress and abort: the first process's components.
+std::vector<std::vector<double>> SolveBandProblems(const std::vector<double>& problems, std::size_t k,
+  const ProcessGroup& group, const AlphaExpansionOptions& options, const ProgressCallback& progress,
+  const ParallelFor& parallelFor)
+{
+  std::vector<PartitionEnergy> parts;
+  std::vector<std::vector<int>> initial;
+  Message message{ problems };
+  std::size_t total = 0;
+  while (!message.Done())
+  {
+    PartitionEnergy part;
+    part.FaceCount = message.NextIndex();
+    part.LabelCount = static_cast<int>(k);
+    const std::size_t pairCount = message.NextIndex();
+    part.DataCosts.resize(part.FaceCount * k);
+    for (double& cost : part.DataCosts)
+    {
+      cost = message.Next();
+    }
+    std::vector<int> labels(part.FaceCount);
+    for (int& label : labels)
+    {
+      label = static_cast<int>(message.Next());
+    }
+    for (std::size_t q = 0; q < pairCount; ++q)
+    {
+      part.PairFirst.push_back(static_cast<std::int64_t>(message.Next()));
+      part.PairSecond.push_back(static_cast<std::int64_t>(message.Next()));
+      part.PairWeight.push_back(message.Next());
+    }
+    total += part.FaceCount;
+    parts.push_back(std::move(part));
+    initial.push_back(std::move(labels));
+  }
+  std::vector<AlphaExpansionResult> solved(parts.size());
+  SharedProgress bandProgress(group.Rank() == 0 ? SubProgress(progress, 0.5, 1.0) : nullptr, total);
+  parallelFor(parts.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c)
+    {
+      solved[c] = MinimizeByAlphaExpansion(parts[c], initial[c], options, bandProgress.ForPart(parts[c].FaceCount));
+    }
+  });
+  Message results;
+  for (const AlphaExpansionResult& result : solved)
+  {
+    results.Put(static_cast<double>(result.Moves));
+    results.Put(result.Aborted ? 1.0 : 0.0);
+    for (const int label : result.Labels)
+    {
+      results.Put(static_cast<double>(label));
+    }
+  }
+  return group.GatherOnFirst(results.Values);
+}
+
+/// Every process calls it; the first passes every band face's row. Each connected component of
+/// the band is solved as MultilevelCut solves it, on one of the processes (SolveBandProblems).
+/// On the first process: per process the labels of the band faces it sent, then of its halo
 /// neighbours in the band (-1: not in the band).
 struct BandSolution
 {
@@ -429,7 +488,8 @@ struct BandSolution
 };
 
 BandSolution SolveBand(std::vector<std::vector<double>> messages, const ClusterTable& table, std::size_t k,
-  const AlphaExpansionOptions& options, const ProgressCallback& progress, const ParallelFor& parallelFor)
+  const ProcessGroup& group, const AlphaExpansionOptions& options, const ProgressCallback& progress,
+  const ParallelFor& parallelFor)
 {
   struct Row
   {
@@ -508,34 +568,72 @@ BandSolution SolveBand(std::vector<std::vector<double>> messages, const ClusterT
     }
     faces[componentOfRoot[root]].push_back(i);
   }
-  std::vector<AlphaExpansionResult> solved(faces.size());
-  SharedProgress bandProgress(SubProgress(progress, 0.5, 1.0), rows.size());
-  parallelFor(faces.size(), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t c = begin; c < end; ++c)
+  // Each component to one process, the largest first to the least loaded (deterministic; the
+  // same labels whoever solves it): [faces, pairs, data costs, labels, pairs (a, b, weight)].
+  std::vector<std::vector<std::size_t>> assigned(messages.size());
+  {
+    std::vector<std::size_t> bySize(faces.size());
+    std::iota(bySize.begin(), bySize.end(), 0);
+    std::stable_sort(bySize.begin(), bySize.end(),
+      [&](std::size_t a, std::size_t b) { return faces[a].size() > faces[b].size(); });
+    std::vector<std::size_t> load(messages.size(), 0);
+    for (const std::size_t c : bySize)
+    {
+      const auto p = static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+      assigned[p].push_back(c);
+      load[p] += faces[c].size();
+    }
+  }
+  const auto problemsOf = [&](int process) {
+    Message problems;
+    for (const std::size_t c : assigned[static_cast<std::size_t>(process)])
     {
       const std::vector<std::size_t>& members = faces[c];
-      PartitionEnergy part;
-      part.FaceCount = members.size();
-      part.LabelCount = static_cast<int>(k);
-      part.DataCosts.resize(members.size() * k);
-      std::vector<int> partLabels(members.size());
+      std::vector<double> pairs;
       for (std::size_t b = 0; b < members.size(); ++b)
       {
         const Row& row = rows[order[members[b]]];
-        std::copy_n(costs.begin() + static_cast<std::ptrdiff_t>(row.costs), k,
-          part.DataCosts.begin() + static_cast<std::ptrdiff_t>(b * k));
-        partLabels[b] = row.label;
         for (std::size_t u = row.upBegin; u < row.upEnd; ++u)
         {
-          part.PairFirst.push_back(static_cast<std::int64_t>(b));
-          part.PairSecond.push_back(static_cast<std::int64_t>(
+          pairs.push_back(static_cast<double>(b));
+          pairs.push_back(static_cast<double>(
             std::lower_bound(members.begin(), members.end(), indexOf(ups[u].first)) - members.begin()));
-          part.PairWeight.push_back(ups[u].second);
+          pairs.push_back(ups[u].second);
         }
       }
-      solved[c] = MinimizeByAlphaExpansion(part, partLabels, options, bandProgress.ForPart(members.size()));
+      problems.Put(static_cast<double>(members.size()));
+      problems.Put(static_cast<double>(pairs.size() / 3));
+      for (const std::size_t member : members)
+      {
+        const Row& row = rows[order[member]];
+        problems.Values.insert(problems.Values.end(), costs.begin() + static_cast<std::ptrdiff_t>(row.costs),
+          costs.begin() + static_cast<std::ptrdiff_t>(row.costs + k));
+      }
+      for (const std::size_t member : members)
+      {
+        problems.Put(static_cast<double>(rows[order[member]].label));
+      }
+      problems.Values.insert(problems.Values.end(), pairs.begin(), pairs.end());
     }
-  });
+    return problems.Values;
+  };
+  const std::vector<std::vector<double>> results = SolveBandProblems(group.ScatterFromFirst(problemsOf), k, group,
+    options, progress, parallelFor);
+  std::vector<AlphaExpansionResult> solved(faces.size());
+  for (std::size_t p = 0; p < results.size(); ++p)
+  {
+    Message result{ results[p] };
+    for (const std::size_t c : assigned[p])
+    {
+      solved[c].Moves = static_cast<int>(result.Next());
+      solved[c].Aborted = result.Next() != 0.0;
+      solved[c].Labels.resize(faces[c].size());
+      for (int& label : solved[c].Labels)
+      {
+        label = static_cast<int>(result.Next());
+      }
+    }
+  }
   BandSolution solution;
   std::vector<int> labelOf(rows.size(), -1); // by position in `ids`
   for (std::size_t c = 0; c < faces.size(); ++c)
@@ -930,12 +1028,8 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
   }
   std::vector<std::vector<double>> gatheredRows = group.GatherOnFirst(rows.Values);
   rows = Message();
-  BandSolution solution;
-  if (first)
-  {
-    solution = SolveBand(std::move(gatheredRows), table, k, options, progress, parallelFor);
-    result.Moves += solution.Moves;
-  }
+  BandSolution solution = SolveBand(std::move(gatheredRows), table, k, group, options, progress, parallelFor);
+  result.Moves += solution.Moves;
   const double moves = static_cast<double>(result.Moves);
   Message solved{ group.ScatterFromFirst([&](int process) {
     std::vector<double> part{ solution.Aborted ? 1.0 : 0.0, moves };
