@@ -22,16 +22,18 @@
 //        through the first process after every ring;
 //     4. each process sends its band faces' sub-energy rows (data costs with the fixed
 //        neighbours' terms, pairs to higher band faces, in the serial cut's adjacency order);
-//        the first process solves each connected component of the band as the serial cut
-//        does and sends the labels back.
+//        the first process forms the band's connected components and gives each to one
+//        process (the largest first to the least loaded), which solves it as the serial cut
+//        does; the labels go back through the first process.
 //   The first process holds the borders' faces, the first coarse level (about a quarter of
 //   the faces), the solve below it and the band, never the whole fine graph.
 //
 // Contract
 //   Every process calls it at the same point with its share. Faces must be owned by exactly
 //   one process (the caller checks). Progress and abort: the first process's callback (the
-//   coarse solve the first half, the bands the second); an abort makes every process's result
-//   Aborted. Errors: the group's rule (ProcessGroup.h).
+//   coarse solve the first half, its own band components the second); an abort makes every
+//   process's result Aborted (the other processes' band components run to their end).
+//   Errors: the group's rule (ProcessGroup.h).
 #pragma once
 
 #include "Partition/MultilevelCut.h"
