@@ -441,23 +441,26 @@ std::optional<CutShare> ShareEnergy(const FaceGraph& graph, const PosteriorMatri
       cut.DataCosts[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.Energy.Epsilon);
     }
   }
-  // A pair's terms come from the entry of its lower face, as in the whole graph.
-  const auto pairWeight = [&](std::size_t low, std::size_t high) {
+  // A pair's terms come from the entry of its lower face, as in the whole graph (a face listed
+  // twice, sharing two sides, makes two pairs: the occurrence-th entry's).
+  const auto entryWeight = [&](std::size_t entry) {
+    double weight = options.Energy.Lambda * SmoothnessTerm(graph.NormalAngles[entry], graph.Concave[entry] != 0, options.Energy);
+    weight *= graph.SharedEdgeLengths[entry] * perUnitLength;
+    return weight;
+  };
+  const auto lowerEntry = [&](std::size_t low, std::size_t high, std::size_t occurrence) {
     for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(low)); e < graph.NeighborEnd(static_cast<std::int64_t>(low)); ++e)
     {
       const auto entry = static_cast<std::size_t>(e);
-      if (static_cast<std::size_t>(graph.Neighbors[entry]) == high)
+      if (static_cast<std::size_t>(graph.Neighbors[entry]) == high && occurrence-- == 0)
       {
-        double weight = options.Energy.Lambda *
-          SmoothnessTerm(graph.NormalAngles[entry], graph.Concave[entry] != 0, options.Energy);
-        weight *= graph.SharedEdgeLengths[entry] * perUnitLength;
-        return weight;
+        return entry;
       }
     }
     throw HaloTooNarrowError("partition: a pair listed by one face only (the halo was too narrow)");
   };
   cut.Start.assign(n + 1, 0);
-  std::vector<std::pair<std::size_t, std::size_t>> lower;
+  std::vector<std::pair<std::size_t, std::size_t>> lower; // (neighbour, entry), CSR order within a neighbour
   for (std::size_t f = 0; f < n; ++f)
   {
     if (share.Own[f])
@@ -468,14 +471,18 @@ std::optional<CutShare> ShareEnergy(const FaceGraph& graph, const PosteriorMatri
         const auto g = static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)]);
         if (g < f)
         {
-          lower.emplace_back(g, lower.size());
+          lower.emplace_back(g, static_cast<std::size_t>(e));
         }
       }
       std::sort(lower.begin(), lower.end());
-      for (const auto& [g, unused] : lower)
+      for (std::size_t i = 0; i < lower.size(); ++i)
       {
+        const std::size_t g = lower[i].first;
+        const auto firstOfG = static_cast<std::size_t>(
+          std::lower_bound(lower.begin(), lower.end(), std::make_pair(g, std::size_t{ 0 })) - lower.begin());
+        const std::size_t occurrence = i - firstOfG;
         cut.Neighbor.push_back(static_cast<std::uint32_t>(g));
-        cut.Weight.push_back(pairWeight(g, f));
+        cut.Weight.push_back(entryWeight(lowerEntry(g, f, occurrence)));
       }
       for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(f)); e < graph.NeighborEnd(static_cast<std::int64_t>(f)); ++e)
       {
@@ -483,7 +490,7 @@ std::optional<CutShare> ShareEnergy(const FaceGraph& graph, const PosteriorMatri
         if (g > f)
         {
           cut.Neighbor.push_back(static_cast<std::uint32_t>(g));
-          cut.Weight.push_back(pairWeight(f, g));
+          cut.Weight.push_back(entryWeight(static_cast<std::size_t>(e)));
         }
       }
     }
