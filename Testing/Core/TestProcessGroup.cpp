@@ -857,26 +857,31 @@ TEST(PartitionOnShares, AHaloThatMissesANeighbourThrowsOnEveryProcess)
   const testshapes::TestMesh mesh = testshapes::MakeCapsule(0.5, 1.5, 24, 6, 10);
   const std::vector<double> values = TwoThicknesses(mesh);
   const FaceGraph whole = BuildFaceGraph(mesh.Points, mesh.Triangles);
-  for (const bool oneSided : { false, true })
+  PartitionOptions cutOnEveryProcess; // the same check on the path of Partition/DistributedCut.h
+  cutOnEveryProcess.Multilevel.DirectBelowFaces = 100;
+  for (const PartitionOptions& options : { PartitionOptions(), cutOnEveryProcess })
   {
-    std::vector<int> thrown(2, 0);
-    OnThreads(2, [&](int rank, const ProcessGroup& group) {
-      const auto owns = [&](std::size_t f) { return (whole.Centers(static_cast<Eigen::Index>(f), 2) > 0.0) == (rank == 1); };
-      // No halo at all, or (one-sided) a halo on process 1 only: both miss, or one misses, the other.
-      const Share share = MakeShare(mesh, values, whole, owns, oneSided && rank == 1 ? 10.0 : 0.0);
-      try
-      {
-        PartitionShareOf(share, group);
-      }
-      catch (const HaloTooNarrowError&)
-      {
-        thrown[static_cast<std::size_t>(rank)] = 1;
-      }
-    });
-    EXPECT_EQ(thrown, (std::vector<int>{ 1, 1 })) << (oneSided ? "one-sided" : "no halo");
+    for (const bool oneSided : { false, true })
+    {
+      std::vector<int> thrown(2, 0);
+      OnThreads(2, [&](int rank, const ProcessGroup& group) {
+        const auto owns = [&](std::size_t f) { return (whole.Centers(static_cast<Eigen::Index>(f), 2) > 0.0) == (rank == 1); };
+        // No halo at all, or (one-sided) a halo on process 1 only: both miss, or one misses, the other.
+        const Share share = MakeShare(mesh, values, whole, owns, oneSided && rank == 1 ? 10.0 : 0.0);
+        try
+        {
+          PartitionShareOf(share, group, 1, false, options);
+        }
+        catch (const HaloTooNarrowError&)
+        {
+          thrown[static_cast<std::size_t>(rank)] = 1;
+        }
+      });
+      EXPECT_EQ(thrown, (std::vector<int>{ 1, 1 }))
+        << (oneSided ? "one-sided" : "no halo") << ", direct below " << options.Multilevel.DirectBelowFaces;
+    }
   }
 }
-
 
 TEST(PartitionOnShares, ASeamOfDuplicatedPointsIsNoMissedAdjacencyWithGlobalPointIds)
 {

@@ -60,7 +60,8 @@ enum Status : int
   Proceed = 0,
   DoubleCells = 1,
   NotCoarsened = 2,
-  Aborted = 3
+  Aborted = 3,
+  HaloTooNarrow = 4
 };
 
 /// What a process knows of its share beyond CutShare: most probable labels, the halo faces
@@ -182,6 +183,9 @@ struct ClusterTable
   std::vector<std::size_t> ClusterOfNode;
   std::vector<std::size_t> NodesOfCluster; ///< per cluster, how many nodes
   std::size_t ClusterCount = 0;
+  /// An adjacency across the pieces that only one side's process saw (its owner's halo was
+  /// too narrow): every process then throws HaloTooNarrowError.
+  bool HaloProblem = false;
 
   int ProcessOfNode(std::size_t node) const
   {
@@ -202,6 +206,7 @@ ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
 {
   ClusterTable table;
   std::vector<std::pair<std::size_t, std::int64_t>> joins;
+  std::vector<std::tuple<std::int64_t, std::int64_t, int>> cross; // (lower id, higher id, +1 / -1: seen from which)
   for (std::vector<double>& values : messages)
   {
     Message message{ std::move(values) };
@@ -233,6 +238,30 @@ ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
       id = message.NextId();
     }
     table.HaloIds.push_back(std::move(halo));
+    const std::size_t crossCount = message.NextIndex();
+    for (std::size_t c = 0; c < crossCount; ++c)
+    {
+      const std::int64_t own = message.NextId();
+      const std::int64_t other = message.NextId();
+      cross.emplace_back(std::min(own, other), std::max(own, other), own < other ? 1 : -1);
+    }
+  }
+  // Every adjacency across the pieces must be seen from both sides, as many times.
+  std::sort(cross.begin(), cross.end());
+  for (std::size_t i = 0; i < cross.size();)
+  {
+    int balance = 0;
+    const auto key = std::make_pair(std::get<0>(cross[i]), std::get<1>(cross[i]));
+    for (; i < cross.size() && std::make_pair(std::get<0>(cross[i]), std::get<1>(cross[i])) == key; ++i)
+    {
+      balance += std::get<2>(cross[i]);
+    }
+    table.HaloProblem = table.HaloProblem || balance != 0;
+  }
+  cross = {};
+  if (table.HaloProblem)
+  {
+    return table;
   }
   const std::size_t nodes = table.LowestId.size();
   UnionFind components(nodes);
@@ -726,13 +755,34 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
     {
       message.Put(static_cast<double>(share.GlobalIds[g]));
     }
+    std::vector<std::pair<std::int64_t, std::int64_t>> cross;
+    for (const std::size_t f : local.Boundary)
+    {
+      for (std::size_t e = share.Start[f]; e < share.Start[f + 1]; ++e)
+      {
+        if (!share.Own[share.Neighbor[e]])
+        {
+          cross.emplace_back(share.GlobalIds[f], share.GlobalIds[share.Neighbor[e]]);
+        }
+      }
+    }
+    message.Put(static_cast<double>(cross.size()));
+    for (const auto& [own, other] : cross)
+    {
+      message.Put(static_cast<double>(own));
+      message.Put(static_cast<double>(other));
+    }
     std::vector<std::vector<double>> gathered = group.GatherOnFirst(message.Values);
     message = Message();
     Status status = Proceed;
     if (first)
     {
       table = JoinClusters(std::move(gathered));
-      if (2 * table.ClusterCount > share.WholeFaceCount)
+      if (table.HaloProblem)
+      {
+        status = HaloTooNarrow;
+      }
+      else if (2 * table.ClusterCount > share.WholeFaceCount)
       {
         status = doubling < MaximumCellDoublings ? DoubleCells : NotCoarsened;
       }
@@ -768,6 +818,11 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
     {
       result.Coarsened = false;
       return result;
+    }
+    if (received == HaloTooNarrow)
+    {
+      throw HaloTooNarrowError("partition: two faces on different processes share a side that only one of "
+                               "them saw (the halo was too narrow)"); // on every process
     }
     std::transform(cells.begin(), cells.end(), cells.begin(), ParentCell);
   }
