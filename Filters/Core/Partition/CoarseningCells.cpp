@@ -16,6 +16,45 @@ constexpr int AxisBits = 21;
 constexpr std::uint64_t AxisMask = (std::uint64_t{ 1 } << AxisBits) - 1;
 } // namespace
 
+CellGridTerms CollectCellGridTerms(const DualGraphView& graph, const std::uint8_t* own)
+{
+  CellGridTerms terms;
+  const double* centre = graph.FaceCenter;
+  terms.Low.fill(std::numeric_limits<double>::infinity());
+  terms.High.fill(-std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < 3 * graph.FaceCount; ++i)
+  {
+    terms.Finite = terms.Finite && std::isfinite(centre[i]);
+  }
+  if (!terms.Finite)
+  {
+    return terms; // no grid: the sums would not be exact
+  }
+  for (std::size_t f = 0; f < graph.FaceCount; ++f)
+  {
+    if (own && !own[f])
+    {
+      continue;
+    }
+    for (std::size_t axis = 0; axis < 3; ++axis)
+    {
+      terms.Low[axis] = std::min(terms.Low[axis], centre[3 * f + axis]);
+      terms.High[axis] = std::max(terms.High[axis], centre[3 * f + axis]);
+    }
+    for (std::int64_t e = graph.Offsets[f]; e < graph.Offsets[f + 1]; ++e)
+    {
+      const auto g = static_cast<std::size_t>(graph.Neighbors[e]);
+      if (g > f)
+      {
+        terms.Spacing.Add(std::hypot(centre[3 * f] - centre[3 * g], centre[3 * f + 1] - centre[3 * g + 1],
+          centre[3 * f + 2] - centre[3 * g + 2]));
+        ++terms.Pairs;
+      }
+    }
+  }
+  return terms;
+}
+
 std::vector<std::uint64_t> CoarseningCells(const DualGraphView& graph, int clusterSize)
 {
   const std::size_t n = graph.FaceCount;
@@ -24,38 +63,13 @@ std::vector<std::uint64_t> CoarseningCells(const DualGraphView& graph, int clust
   {
     return {};
   }
-  std::array<double, 3> low{}, high{};
-  low.fill(std::numeric_limits<double>::infinity());
-  high.fill(-std::numeric_limits<double>::infinity());
-  for (std::size_t i = 0; i < 3 * n; ++i)
-  {
-    if (!std::isfinite(centre[i]))
-    {
-      return {};
-    }
-    low[i % 3] = std::min(low[i % 3], centre[i]);
-    high[i % 3] = std::max(high[i % 3], centre[i]);
-  }
-  ExactSum spacing;
-  std::size_t pairs = 0;
-  for (std::size_t f = 0; f < n; ++f)
-  {
-    for (std::int64_t e = graph.Offsets[f]; e < graph.Offsets[f + 1]; ++e)
-    {
-      const auto g = static_cast<std::size_t>(graph.Neighbors[e]);
-      if (g > f)
-      {
-        spacing.Add(std::hypot(centre[3 * f] - centre[3 * g], centre[3 * f + 1] - centre[3 * g + 1],
-          centre[3 * f + 2] - centre[3 * g + 2]));
-        ++pairs;
-      }
-    }
-  }
-  if (pairs == 0)
+  const CellGridTerms terms = CollectCellGridTerms(graph);
+  if (!terms.Finite || terms.Pairs == 0)
   {
     return {};
   }
-  const CellGrid grid = MakeCellGrid(low, high, spacing.Rounded() / static_cast<double>(pairs), clusterSize);
+  const CellGrid grid =
+    MakeCellGrid(terms.Low, terms.High, terms.Spacing.Rounded() / static_cast<double>(terms.Pairs), clusterSize);
   if (grid.Side == 0.0)
   {
     return {};

@@ -22,6 +22,7 @@
 //   (empty): the cut then grows its clusters breadth-first, as before.
 #pragma once
 
+#include "ExactSum.h"
 #include "Partition/PartitionEnergy.h"
 
 #include <array>
@@ -37,6 +38,20 @@ struct CellGrid
   std::array<double, 3> Origin{};
   double Side = 0.0;
 };
+
+/// What the grid is made of, over the faces of `graph` (FaceCenter set) that `own` marks (null:
+/// all): the centres' per-axis extremes, the exact sum of the distances between adjacent
+/// centres over the pairs (f, g > f) counted at f, and the pair count; whether every centre of
+/// the graph is finite. A process computes these over its own faces (its share's graph), and
+/// the whole surface's are their extremes and sums.
+struct CellGridTerms
+{
+  std::array<double, 3> Low{}, High{};
+  ExactSum Spacing;
+  std::size_t Pairs = 0;
+  bool Finite = true;
+};
+CellGridTerms CollectCellGridTerms(const DualGraphView& graph, const std::uint8_t* own = nullptr);
 
 /// The grid of the header from the centres' per-axis minimum and maximum and the mean distance
 /// between adjacent centres (the mean of an exact sum, for processes to agree on it).

@@ -6,6 +6,7 @@
 #include "UnionFind.h"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -78,19 +79,9 @@ struct Local
   explicit Local(const CutShare& share)
     : Share(share)
     , K(static_cast<std::size_t>(share.LabelCount))
+    , MostProbable(MostProbableLabels(share.DataCosts.data(), share.GlobalIds.size(), share.LabelCount))
   {
     const std::size_t n = share.GlobalIds.size();
-    MostProbable.assign(n, 0);
-    for (std::size_t f = 0; f < n; ++f)
-    {
-      for (std::size_t l = 1; l < K; ++l)
-      {
-        if (share.DataCosts[f * K + l] < share.DataCosts[f * K + static_cast<std::size_t>(MostProbable[f])])
-        {
-          MostProbable[f] = static_cast<int>(l);
-        }
-      }
-    }
     std::vector<std::uint8_t> isHaloNeighbor(n, 0);
     for (std::size_t f = 0; f < n; ++f)
     {
@@ -187,6 +178,11 @@ struct ClusterTable
   /// too narrow): every process then throws HaloTooNarrowError.
   bool HaloProblem = false;
 
+  /// The nodes of `process`: [Base[process], NodesEnd(process)).
+  std::size_t NodesEnd(std::size_t process) const
+  {
+    return process + 1 < Base.size() ? Base[process + 1] : ClusterOfNode.size();
+  }
   int ProcessOfNode(std::size_t node) const
   {
     return static_cast<int>(std::upper_bound(Base.begin(), Base.end(), node) - Base.begin()) - 1;
@@ -202,10 +198,34 @@ struct ClusterTable
   }
 };
 
+/// The first process's reply to `process` about its clusters: the status, then, when it is
+/// Proceed, two values per local cluster of the process (ofCluster) and one per halo neighbour
+/// it sent (ofHaloCluster), each a function of the cluster the face lies in.
+template <typename OfCluster, typename OfHaloCluster>
+std::vector<double> ReplyAboutClusters(
+  const ClusterTable& table, Status status, int process, OfCluster ofCluster, OfHaloCluster ofHaloCluster)
+{
+  std::vector<double> part{ static_cast<double>(status) };
+  if (status != Proceed)
+  {
+    return part;
+  }
+  const auto p = static_cast<std::size_t>(process);
+  for (std::size_t node = table.Base[p]; node < table.NodesEnd(p); ++node)
+  {
+    const std::array<double, 2> values = ofCluster(table.ClusterOfNode[node]);
+    part.insert(part.end(), values.begin(), values.end());
+  }
+  for (const std::int64_t id : table.HaloIds[p])
+  {
+    part.push_back(ofHaloCluster(table.ClusterOfNode[table.NodeOfBorder(id)]));
+  }
+  return part;
+}
+
 ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
 {
   ClusterTable table;
-  std::vector<std::pair<std::size_t, std::int64_t>> joins;
   std::vector<std::tuple<std::int64_t, std::int64_t, int>> cross; // (lower id, higher id, +1 / -1: seen from which)
   for (std::vector<double>& values : messages)
   {
@@ -226,12 +246,6 @@ ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
       const std::int64_t id = message.NextId();
       table.NodeOfBorderFace[id] = base + message.NextIndex();
     }
-    const std::size_t joinCount = message.NextIndex();
-    for (std::size_t j = 0; j < joinCount; ++j)
-    {
-      const std::size_t node = base + message.NextIndex();
-      joins.emplace_back(node, message.NextId());
-    }
     std::vector<std::int64_t> halo(message.NextIndex());
     for (std::int64_t& id : halo)
     {
@@ -246,7 +260,9 @@ ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
       cross.emplace_back(std::min(own, other), std::max(own, other), own < other ? 1 : -1);
     }
   }
-  // Every adjacency across the pieces must be seen from both sides, as many times.
+  // Every adjacency across the pieces must be seen from both sides, as many times; its two
+  // faces' clusters join when they share a cell and a most probable label (a cluster is one
+  // of each).
   std::sort(cross.begin(), cross.end());
   for (std::size_t i = 0; i < cross.size();)
   {
@@ -258,17 +274,21 @@ ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
     }
     table.HaloProblem = table.HaloProblem || balance != 0;
   }
-  cross = {};
   if (table.HaloProblem)
   {
     return table;
   }
   const std::size_t nodes = table.LowestId.size();
   UnionFind components(nodes);
-  for (const auto& [node, id] : joins)
+  for (const auto& [low, high, side] : cross)
   {
-    components.Unite(static_cast<std::int64_t>(node), static_cast<std::int64_t>(table.NodeOfBorder(id)));
+    const std::size_t a = table.NodeOfBorder(low), b = table.NodeOfBorder(high);
+    if (side > 0 && table.MostProbable[a] == table.MostProbable[b] && table.Cell[a] == table.Cell[b])
+    {
+      components.Unite(static_cast<std::int64_t>(a), static_cast<std::int64_t>(b));
+    }
   }
+  cross = {};
   // Clusters numbered by their lowest face id, as the serial cut numbers them by their
   // lowest face.
   std::vector<std::int64_t> lowest(nodes, std::numeric_limits<std::int64_t>::max());
@@ -531,7 +551,6 @@ BandSolution SolveBand(std::vector<std::vector<double>> messages, const ClusterT
   std::vector<Row> rows;
   std::vector<double> costs;
   std::vector<std::pair<std::int64_t, double>> ups;
-  std::vector<std::size_t> sentCount(messages.size(), 0);
   for (std::size_t p = 0; p < messages.size(); ++p)
   {
     Message message{ std::move(messages[p]) };
@@ -555,7 +574,6 @@ BandSolution SolveBand(std::vector<std::vector<double>> messages, const ClusterT
       row.upEnd = ups.size();
       row.process = p;
       rows.push_back(row);
-      ++sentCount[p];
     }
   }
   // Band faces in increasing id; each process sent its own in that order.
@@ -675,15 +693,9 @@ BandSolution SolveBand(std::vector<std::vector<double>> messages, const ClusterT
     solution.Aborted = solution.Aborted || solved[c].Aborted;
   }
   solution.Parts.resize(messages.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
+  for (const Row& row : rows) // in the order each process sent them
   {
-    solution.Parts[rows[order[i]].process].push_back(0.0); // placeholder, filled below in sent order
-  }
-  std::vector<std::size_t> filled(messages.size(), 0);
-  for (std::size_t r = 0; r < rows.size(); ++r)
-  {
-    const std::size_t p = rows[r].process;
-    solution.Parts[p][filled[p]++] = labelOf[indexOf(rows[r].id)];
+    solution.Parts[row.process].push_back(labelOf[indexOf(row.id)]);
   }
   for (std::size_t p = 0; p < messages.size(); ++p)
   {
@@ -732,24 +744,6 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
       message.Put(static_cast<double>(share.GlobalIds[f]));
       message.Put(static_cast<double>(localCluster[f]));
     }
-    std::vector<std::pair<std::size_t, std::int64_t>> joins;
-    for (const std::size_t f : local.Boundary)
-    {
-      for (std::size_t e = share.Start[f]; e < share.Start[f + 1]; ++e)
-      {
-        const std::size_t g = share.Neighbor[e];
-        if (!share.Own[g] && local.MostProbable[g] == local.MostProbable[f] && cells[g] == cells[f])
-        {
-          joins.emplace_back(static_cast<std::size_t>(localCluster[f]), share.GlobalIds[g]);
-        }
-      }
-    }
-    message.Put(static_cast<double>(joins.size()));
-    for (const auto& [cluster, id] : joins)
-    {
-      message.Put(static_cast<double>(cluster));
-      message.Put(static_cast<double>(id));
-    }
     message.Put(static_cast<double>(local.HaloNeighbors.size()));
     for (const std::size_t g : local.HaloNeighbors)
     {
@@ -788,26 +782,9 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
       }
     }
     reply = Message{ group.ScatterFromFirst([&](int process) {
-      std::vector<double> part{ static_cast<double>(status) };
-      if (status != Proceed)
-      {
-        return part;
-      }
-      const std::size_t base = table.Base[static_cast<std::size_t>(process)];
-      const std::size_t end = static_cast<std::size_t>(process) + 1 < table.Base.size()
-        ? table.Base[static_cast<std::size_t>(process) + 1]
-        : table.ClusterOfNode.size();
-      for (std::size_t node = base; node < end; ++node)
-      {
-        const std::size_t c = table.ClusterOfNode[node];
-        part.push_back(static_cast<double>(c));
-        part.push_back(table.NodesOfCluster[c] > 1 ? 1.0 : 0.0);
-      }
-      for (const std::int64_t id : table.HaloIds[static_cast<std::size_t>(process)])
-      {
-        part.push_back(static_cast<double>(table.ClusterOfNode[table.NodeOfBorder(id)]));
-      }
-      return part;
+      return ReplyAboutClusters(table, status, process,
+        [&](std::size_t c) { return std::array<double, 2>{ static_cast<double>(c), table.NodesOfCluster[c] > 1 ? 1.0 : 0.0 }; },
+        [](std::size_t c) { return static_cast<double>(c); });
     }) };
     const auto received = static_cast<Status>(static_cast<int>(reply.Next()));
     if (received == Proceed)
@@ -943,24 +920,9 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
     coarse = PartitionEnergy();
   }
   reply = Message{ group.ScatterFromFirst([&](int process) {
-    std::vector<double> part{ static_cast<double>(status) };
-    if (status != Proceed)
-    {
-      return part;
-    }
-    const auto p = static_cast<std::size_t>(process);
-    const std::size_t end = p + 1 < table.Base.size() ? table.Base[p + 1] : table.ClusterOfNode.size();
-    for (std::size_t node = table.Base[p]; node < end; ++node)
-    {
-      const std::size_t c = table.ClusterOfNode[node];
-      part.push_back(coarseLabels[c]);
-      part.push_back(lost[c]);
-    }
-    for (const std::int64_t id : table.HaloIds[p])
-    {
-      part.push_back(coarseLabels[table.ClusterOfNode[table.NodeOfBorder(id)]]);
-    }
-    return part;
+    return ReplyAboutClusters(table, status, process,
+      [&](std::size_t c) { return std::array<double, 2>{ static_cast<double>(coarseLabels[c]), static_cast<double>(lost[c]) }; },
+      [&](std::size_t c) { return static_cast<double>(coarseLabels[c]); });
   }) };
   if (static_cast<Status>(static_cast<int>(reply.Next())) == Aborted)
   {
@@ -1070,7 +1032,7 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
     }
   }
 
-  // 4. The band's rows, solved on the first process.
+  // 4. The band's rows, to the first process; its components solved on every process.
   Message rows;
   std::vector<std::size_t> bandFaces;
   for (const std::size_t f : local.OwnFaces)

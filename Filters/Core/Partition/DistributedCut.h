@@ -6,9 +6,10 @@
 //   Exactly MinimizeMultilevel of the whole surface's energy with its cells (the labels, the
 //   moves), when the first level coarsens:
 //     1. each process clusters its own faces (connected, one most probable label, one cell);
-//        the first process joins clusters across processes from the faces on the pieces'
-//        borders (their ids, clusters and halo neighbours with the same cell and label), and
-//        numbers the clusters by their lowest face id, as the serial cut does; while the
+//        the first process joins clusters across processes from the pairs of adjacent faces
+//        on the pieces' borders (each seen from both sides, or the halo was too narrow) whose
+//        clusters share a cell and a label, and numbers the clusters by their lowest face id,
+//        as the serial cut does; while the
 //        clusters do not halve the faces, every process doubles its cells (at most three
 //        times, as serially; then `Coarsened` is false and nothing was cut);
 //     2. each process sums its faces' data costs per cluster and its pairs' weights per pair

@@ -425,28 +425,24 @@ std::optional<CutShare> ShareEnergy(const FaceGraph& graph, const PosteriorMatri
 {
   const std::size_t n = graph.FaceCount();
   const auto k = static_cast<std::size_t>(posteriors.cols());
-  CutShare cut{ share.GlobalIds, share.Own };
-  cut.LabelCount = static_cast<int>(k);
-  cut.WholeFaceCount = wholeFaces;
-  const double meanArea = totalArea / static_cast<double>(wholeFaces);
-  const double perUnitLength = static_cast<double>(wholeFaces) / std::sqrt(totalArea);
+  CutShare cut{ share.GlobalIds, share.Own, static_cast<int>(k), {}, {}, {}, {}, {}, wholeFaces };
+  const AreaScale scale = AreaScaleOf(totalArea, wholeFaces);
   cut.DataCosts.resize(n * k);
   for (std::size_t f = 0; f < n; ++f)
   {
     double faceWeight = graph.Areas[f];
-    faceWeight /= meanArea;
+    faceWeight /= scale.MeanArea;
     for (std::size_t l = 0; l < k; ++l)
     {
-      const double p = posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l));
-      cut.DataCosts[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.Energy.Epsilon);
+      cut.DataCosts[f * k + l] =
+        WeightedDataCost(faceWeight, posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l)), options.Energy);
     }
   }
   // A pair's terms come from the entry of its lower face, as in the whole graph (a face listed
   // twice, sharing two sides, makes two pairs: the occurrence-th entry's).
   const auto entryWeight = [&](std::size_t entry) {
-    double weight = options.Energy.Lambda * SmoothnessTerm(graph.NormalAngles[entry], graph.Concave[entry] != 0, options.Energy);
-    weight *= graph.SharedEdgeLengths[entry] * perUnitLength;
-    return weight;
+    return PairWeight(graph.NormalAngles[entry], graph.Concave[entry] != 0, graph.SharedEdgeLengths[entry],
+      scale.PerUnitLength, options.Energy);
   };
   const auto lowerEntry = [&](std::size_t low, std::size_t high, std::size_t occurrence) {
     for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(low)); e < graph.NeighborEnd(static_cast<std::int64_t>(low)); ++e)
@@ -497,59 +493,23 @@ std::optional<CutShare> ShareEnergy(const FaceGraph& graph, const PosteriorMatri
     cut.Start[f + 1] = cut.Neighbor.size();
   }
 
-  // The grid of CoarseningCells over the whole surface: extremes by maxima, the mean spacing
-  // from exact partial sums over each process's pairs (each counted by its lower face's owner).
-  // extremes[6]: 1 when a centre of the share is not finite (a serial run would not coarsen by
-  // cells then; every process must agree).
-  std::vector<double> extremes(7, -std::numeric_limits<double>::infinity());
-  for (std::size_t i = 0; i < 3 * n; ++i)
-  {
-    extremes[6] = std::max(extremes[6], std::isfinite(graph.Centers.data()[i]) ? 0.0 : 1.0);
-  }
-  ExactSum spacing;
-  std::vector<std::int64_t> pairs{ 0 };
-  const auto centre = [&](std::size_t f) { return graph.Centers.data() + 3 * f; };
-  for (std::size_t f = 0; f < n; ++f)
-  {
-    if (!share.Own[f])
-    {
-      continue;
-    }
-    for (std::size_t axis = 0; axis < 3; ++axis)
-    {
-      extremes[axis] = std::max(extremes[axis], -centre(f)[axis]);
-      extremes[3 + axis] = std::max(extremes[3 + axis], centre(f)[axis]);
-    }
-    for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(f)); e < graph.NeighborEnd(static_cast<std::int64_t>(f)); ++e)
-    {
-      const auto g = static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)]);
-      if (g > f)
-      {
-        spacing.Add(std::hypot(centre(f)[0] - centre(g)[0], centre(f)[1] - centre(g)[1], centre(f)[2] - centre(g)[2]));
-        ++pairs[0];
-      }
-    }
-  }
+  // The grid of CoarseningCells over the whole surface: the extremes of every process's own
+  // faces' centres, and its spacing sums (each pair counted by its lower face's owner); no grid
+  // when a centre of any share is not finite, as a serial run over the whole surface has none.
+  const DualGraphView view = MakeDualGraphView(graph);
+  const CellGridTerms terms = CollectCellGridTerms(view, share.Own.data());
+  std::vector<double> extremes{ -terms.Low[0], -terms.Low[1], -terms.Low[2], terms.High[0], terms.High[1],
+    terms.High[2], terms.Finite ? 0.0 : 1.0 };
+  std::vector<std::int64_t> pairs{ static_cast<std::int64_t>(terms.Pairs) };
   share.Group.MaxInPlace(extremes);
   share.Group.SumInPlace(pairs);
-  std::vector<double> parts{ static_cast<double>(spacing.Partials().size()) };
-  parts.insert(parts.end(), spacing.Partials().begin(), spacing.Partials().end());
-  const std::vector<double> allParts = share.Group.AllGather(parts);
-  ExactSum wholeSpacing;
-  for (std::size_t at = 0; at < allParts.size();)
-  {
-    const auto count = static_cast<std::size_t>(allParts[at++]);
-    for (std::size_t i = 0; i < count; ++i)
-    {
-      wholeSpacing.Add(allParts[at++]);
-    }
-  }
+  const double spacing = SumOverProcesses(terms.Spacing, share.Group);
   if (pairs[0] == 0 || extremes[6] > 0.0)
   {
     return std::nullopt;
   }
   const CellGrid grid = MakeCellGrid({ -extremes[0], -extremes[1], -extremes[2] }, { extremes[3], extremes[4], extremes[5] },
-    wholeSpacing.Rounded() / static_cast<double>(pairs[0]), options.Multilevel.ClusterSize);
+    spacing / static_cast<double>(pairs[0]), options.Multilevel.ClusterSize);
   if (grid.Side == 0.0)
   {
     return std::nullopt;
@@ -557,7 +517,7 @@ std::optional<CutShare> ShareEnergy(const FaceGraph& graph, const PosteriorMatri
   cut.Cells.resize(n);
   for (std::size_t f = 0; f < n; ++f)
   {
-    cut.Cells[f] = CellOf(grid, centre(f));
+    cut.Cells[f] = CellOf(grid, view.FaceCenter + 3 * f);
   }
   return cut;
 }
@@ -583,19 +543,7 @@ double EnergyOverProcesses(const CutShare& cut, const std::vector<int>& labels, 
       }
     }
   }
-  std::vector<double> parts{ static_cast<double>(sum.Partials().size()) };
-  parts.insert(parts.end(), sum.Partials().begin(), sum.Partials().end());
-  const std::vector<double> allParts = group.AllGather(parts);
-  ExactSum whole;
-  for (std::size_t at = 0; at < allParts.size();)
-  {
-    const auto count = static_cast<std::size_t>(allParts[at++]);
-    for (std::size_t i = 0; i < count; ++i)
-    {
-      whole.Add(allParts[at++]);
-    }
-  }
-  return whole.Rounded();
+  return SumOverProcesses(sum, group);
 }
 
 /// The partition with the graph cut on every process's faces (DistributedCut.h), when the

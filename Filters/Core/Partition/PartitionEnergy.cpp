@@ -128,16 +128,15 @@ GeometricWeights ComputeGeometricWeights(const DualGraphView& graph, const Parti
     return weights;
   }
   const double totalArea = std::accumulate(graph.FaceArea, graph.FaceArea + graph.FaceCount, 0.0);
-  const auto faceCount = static_cast<double>(graph.FaceCount);
   if (totalArea > 0.0 && std::isfinite(totalArea))
   {
-    const double meanArea = totalArea / faceCount;
+    const AreaScale scale = AreaScaleOf(totalArea, graph.FaceCount);
     weights.face.assign(graph.FaceArea, graph.FaceArea + graph.FaceCount);
     for (double& w : weights.face)
     {
-      w /= meanArea;
+      w /= scale.MeanArea;
     }
-    weights.perUnitLength = faceCount / std::sqrt(totalArea);
+    weights.perUnitLength = scale.PerUnitLength;
     return weights;
   }
   double sum = 0.0;
@@ -316,8 +315,8 @@ PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> po
       const double faceWeight = weights.face.empty() ? 1.0 : weights.face[f];
       for (std::size_t l = 0; l < k; ++l)
       {
-        const double p = posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l));
-        energy.DataCosts[f * k + l] = faceWeight * -std::log(std::clamp(p, 0.0, 1.0) + options.Epsilon);
+        energy.DataCosts[f * k + l] =
+          WeightedDataCost(faceWeight, posteriors(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(l)), options);
       }
       std::size_t higher = 0;
       for (std::int64_t e = graph.Offsets[f]; e < graph.Offsets[f + 1]; ++e)
@@ -342,14 +341,10 @@ PartitionEnergy BuildCheckedPartitionEnergy(Eigen::Ref<const PosteriorMatrix> po
         {
           continue;
         }
-        double weight = options.Lambda * SmoothnessTerm(graph.NormalAngle[e], graph.Concave[e] != 0, options);
-        if (weights.perUnitLength > 0.0)
-        {
-          weight *= graph.EdgeLength[e] * weights.perUnitLength;
-        }
         energy.PairFirst[pair] = static_cast<std::int64_t>(f);
         energy.PairSecond[pair] = g;
-        energy.PairWeight[pair] = weight;
+        energy.PairWeight[pair] = PairWeight(graph.NormalAngle[e], graph.Concave[e] != 0,
+          weights.perUnitLength > 0.0 ? graph.EdgeLength[e] : 0.0, weights.perUnitLength, options);
         ++pair;
       }
     }
@@ -375,18 +370,46 @@ PartitionEnergy BuildPartitionEnergyOnValidGraph(Eigen::Ref<const PosteriorMatri
 
 std::vector<int> MostProbableLabels(const PartitionEnergy& energy)
 {
-  std::vector<int> labels(energy.FaceCount, 0);
-  for (std::size_t f = 0; f < energy.FaceCount; ++f)
+  return MostProbableLabels(energy.DataCosts.data(), energy.FaceCount, energy.LabelCount);
+}
+
+std::vector<int> MostProbableLabels(const double* dataCosts, std::size_t faceCount, int labelCount)
+{
+  std::vector<int> labels(faceCount, 0);
+  for (std::size_t f = 0; f < faceCount; ++f)
   {
-    for (int l = 1; l < energy.LabelCount; ++l)
+    const double* costs = dataCosts + f * static_cast<std::size_t>(std::max(labelCount, 0));
+    for (int l = 1; l < labelCount; ++l)
     {
-      if (energy.DataCost(f, l) < energy.DataCost(f, labels[f]))
+      if (costs[l] < costs[labels[f]])
       {
         labels[f] = l;
       }
     }
   }
   return labels;
+}
+
+AreaScale AreaScaleOf(double totalArea, std::size_t faceCount)
+{
+  const auto faces = static_cast<double>(faceCount);
+  return { totalArea / faces, faces / std::sqrt(totalArea) };
+}
+
+double WeightedDataCost(double faceWeight, double posterior, const PartitionEnergyOptions& options)
+{
+  return faceWeight * -std::log(std::clamp(posterior, 0.0, 1.0) + options.Epsilon);
+}
+
+double PairWeight(double normalAngle, bool concave, double edgeLength, double perUnitLength,
+  const PartitionEnergyOptions& options)
+{
+  double weight = options.Lambda * SmoothnessTerm(normalAngle, concave, options);
+  if (perUnitLength > 0.0)
+  {
+    weight *= edgeLength * perUnitLength;
+  }
+  return weight;
 }
 
 std::vector<int> HierarchyLevel(const std::vector<int>& clusters, int level)

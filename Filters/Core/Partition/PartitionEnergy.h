@@ -143,6 +143,26 @@ struct PartitionEnergy
 /// counts as flat (the most expensive cut).
 double SmoothnessTerm(double normalAngle, bool concave, const PartitionEnergyOptions& options = {});
 
+/// The geometric weights' factors of a surface of `faceCount` faces and total area
+/// `totalArea` (> 0, finite): a face's data cost is weighted by its area / MeanArea, a pair's
+/// weight by the shared edge length x PerUnitLength. The builders of the whole surface's energy
+/// and of a process's share (Partition/DistributedPartition.cpp) both use these and the two
+/// functions below, so that their terms are the same bits.
+struct AreaScale
+{
+  double MeanArea = 0.0;
+  double PerUnitLength = 0.0;
+};
+AreaScale AreaScaleOf(double totalArea, std::size_t faceCount);
+
+/// e1 of a label with the face's weight: faceWeight x -log(clamp(posterior, 0, 1) + Epsilon).
+double WeightedDataCost(double faceWeight, double posterior, const PartitionEnergyOptions& options);
+
+/// What a pair pays when its labels differ: Lambda x e2, times edgeLength x perUnitLength when
+/// perUnitLength > 0 (no geometric factor otherwise).
+double PairWeight(double normalAngle, bool concave, double edgeLength, double perUnitLength,
+  const PartitionEnergyOptions& options);
+
 /// Throws Error when the graph breaks a rule of the header.
 /// requireGeometry: edge lengths and face areas must be present and finite >= 0. The
 /// neighbour lists are checked through parallelFor; the error names the lowest failing face
@@ -162,6 +182,8 @@ PartitionEnergy BuildPartitionEnergyOnValidGraph(Eigen::Ref<const PosteriorMatri
 
 /// argmin_l e1(f, l) per face (= argmax posterior; lowest label on ties).
 std::vector<int> MostProbableLabels(const PartitionEnergy& energy);
+/// The same of `faceCount` faces' data costs laid out as PartitionEnergy::DataCosts.
+std::vector<int> MostProbableLabels(const double* dataCosts, std::size_t faceCount, int labelCount);
 
 /// Hierarchy level L (1 <= L): min(cluster, L). With clusters sorted by mean descending,
 /// level L keeps the L largest-mean clusters apart and merges all others into label L.
