@@ -125,37 +125,19 @@ struct Local
   }
 };
 
-/// Connected own faces of one most probable label and one cell, numbered by their lowest
-/// face: per share face its local cluster (-1 for the halo) and the members of each.
-std::pair<std::vector<std::int64_t>, std::vector<std::vector<std::size_t>>> LocalClusters(
+/// Connected own faces of one most probable label and one cell (GrowClusters over the own
+/// faces), numbered by their lowest face: per share face its local cluster (NoCluster for the
+/// halo) and the members of each, increasing.
+std::pair<std::vector<std::size_t>, std::vector<std::vector<std::size_t>>> LocalClusters(
   const Local& local, const std::vector<std::uint64_t>& cells)
 {
   const CutShare& share = local.Share;
-  std::vector<std::int64_t> cluster(share.GlobalIds.size(), -1);
-  std::vector<std::vector<std::size_t>> members;
-  for (const std::size_t seed : local.OwnFaces)
+  auto [cluster, count] =
+    GrowClusters(share.Start.data(), share.Neighbor.data(), local.MostProbable, cells, 0, share.Own.data());
+  std::vector<std::vector<std::size_t>> members(count);
+  for (const std::size_t f : local.OwnFaces)
   {
-    if (cluster[seed] >= 0)
-    {
-      continue;
-    }
-    const auto id = static_cast<std::int64_t>(members.size());
-    std::vector<std::size_t> queue(1, seed);
-    cluster[seed] = id;
-    for (std::size_t head = 0; head < queue.size(); ++head)
-    {
-      const std::size_t f = queue[head];
-      for (std::size_t e = share.Start[f]; e < share.Start[f + 1]; ++e)
-      {
-        const std::size_t g = share.Neighbor[e];
-        if (share.Own[g] && cluster[g] < 0 && local.MostProbable[g] == local.MostProbable[seed] && cells[g] == cells[seed])
-        {
-          cluster[g] = id;
-          queue.push_back(g);
-        }
-      }
-    }
-    members.push_back(std::move(queue));
+    members[cluster[f]].push_back(f);
   }
   return { std::move(cluster), std::move(members) };
 }
@@ -722,7 +704,7 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
   std::vector<std::uint64_t> cells(share.Cells);
 
   // 1. Clusters: local ones, joined across the borders on the first process.
-  std::vector<std::int64_t> localCluster;
+  std::vector<std::size_t> localCluster;
   std::vector<std::vector<std::size_t>> members;
   ClusterTable table;
   Message reply;
@@ -814,7 +796,7 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
   std::vector<std::size_t> cluster(n, none);
   for (const std::size_t f : local.OwnFaces)
   {
-    cluster[f] = clusterOfLocal[static_cast<std::size_t>(localCluster[f])];
+    cluster[f] = clusterOfLocal[localCluster[f]];
   }
   for (const std::size_t g : local.HaloNeighbors)
   {
@@ -950,7 +932,7 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
     // 3. The band: seeds as BoundaryBand's, then ring by ring across the pieces.
     for (const std::size_t f : local.OwnFaces)
     {
-      bool seed = lostLocal[static_cast<std::size_t>(localCluster[f])] != 0;
+      bool seed = lostLocal[localCluster[f]] != 0;
       for (std::size_t e = share.Start[f]; e < share.Start[f + 1] && !seed; ++e)
       {
         seed = labels[share.Neighbor[e]] != labels[f];

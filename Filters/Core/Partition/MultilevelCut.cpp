@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
-#include <mutex>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -62,45 +61,6 @@ struct Adjacency
 
   double Weight(std::size_t entry) const { return weight[pair[entry]]; }
 };
-
-/// Clusters of faces with the same most probable label, grown breadth-first from the lowest
-/// unassigned face: with `cells`, every connected face of the seed's label in the seed's cell
-/// (the same sets for any face order); without, at most `size` faces. Returns the cluster of
-/// every face (numbered by their lowest face) and the cluster count.
-std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(
-  const Adjacency& adjacency, const std::vector<int>& seedLabels, const std::vector<std::uint64_t>& cells, int size)
-{
-  const std::size_t n = seedLabels.size();
-  const std::size_t limit = cells.empty() ? static_cast<std::size_t>(size) : n;
-  constexpr std::size_t unassigned = static_cast<std::size_t>(-1);
-  std::vector<std::size_t> cluster(n, unassigned);
-  std::vector<std::size_t> queue;
-  std::size_t count = 0;
-  for (std::size_t seed = 0; seed < n; ++seed)
-  {
-    if (cluster[seed] != unassigned)
-    {
-      continue;
-    }
-    queue.assign(1, seed);
-    cluster[seed] = count;
-    for (std::size_t head = 0; head < queue.size() && queue.size() < limit; ++head)
-    {
-      const std::size_t f = queue[head];
-      for (std::size_t e = adjacency.start[f]; e < adjacency.start[f + 1] && queue.size() < limit; ++e)
-      {
-        const std::size_t g = adjacency.neighbor[e];
-        if (cluster[g] == unassigned && seedLabels[g] == seedLabels[seed] && (cells.empty() || cells[g] == cells[seed]))
-        {
-          cluster[g] = count;
-          queue.push_back(g);
-        }
-      }
-    }
-    ++count;
-  }
-  return { std::move(cluster), count };
-}
 
 /// The energy of labellings constant on clusters.
 PartitionEnergy CoarseEnergy(const PartitionEnergy& energy, const Adjacency& adjacency,
@@ -367,6 +327,41 @@ ProgressCallback SubRange(const ProgressCallback& progress, double from, double 
 
 } // namespace
 
+std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(const std::size_t* start, const std::uint32_t* neighbor,
+  const std::vector<int>& seedLabels, const std::vector<std::uint64_t>& cells, int size, const std::uint8_t* include)
+{
+  const std::size_t n = seedLabels.size();
+  const std::size_t limit = cells.empty() ? static_cast<std::size_t>(size) : n;
+  std::vector<std::size_t> cluster(n, NoCluster);
+  std::vector<std::size_t> queue;
+  std::size_t count = 0;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (cluster[seed] != NoCluster || (include && !include[seed]))
+    {
+      continue;
+    }
+    queue.assign(1, seed);
+    cluster[seed] = count;
+    for (std::size_t head = 0; head < queue.size() && queue.size() < limit; ++head)
+    {
+      const std::size_t f = queue[head];
+      for (std::size_t e = start[f]; e < start[f + 1] && queue.size() < limit; ++e)
+      {
+        const std::size_t g = neighbor[e];
+        if (cluster[g] == NoCluster && (!include || include[g]) && seedLabels[g] == seedLabels[seed] &&
+          (cells.empty() || cells[g] == cells[seed]))
+        {
+          cluster[g] = count;
+          queue.push_back(g);
+        }
+      }
+    }
+    ++count;
+  }
+  return { std::move(cluster), count };
+}
+
 std::vector<std::uint8_t> LostRegions(const PartitionEnergy& energy, const std::vector<int>& labels,
   const std::vector<int>& mostProbable, const std::vector<double>& sizes, std::size_t minimumRegion)
 {
@@ -380,7 +375,7 @@ std::pair<std::vector<std::size_t>, std::size_t> FirstLevelClusters(
   CheckCellCount(energy, faceCells);
   const Adjacency adjacency(energy);
   const std::vector<int> mostProbable = MostProbableLabels(energy);
-  return GrowClusters(adjacency, mostProbable, faceCells, clusterSize);
+  return GrowClusters(adjacency.start.data(), adjacency.neighbor.data(), mostProbable, faceCells, clusterSize);
 }
 
 AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const MultilevelOptions& multilevel,
@@ -407,7 +402,7 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
   // stretched the grid), larger cells.
   for (int doubling = 0;; ++doubling)
   {
-    std::tie(cluster, clusterCount) = GrowClusters(adjacency, mostProbable, cells, multilevel.ClusterSize);
+    std::tie(cluster, clusterCount) = GrowClusters(adjacency.start.data(), adjacency.neighbor.data(), mostProbable, cells, multilevel.ClusterSize);
     if (cells.empty() || 2 * clusterCount <= energy.FaceCount || doubling == MaximumCellDoublings)
     {
       break;

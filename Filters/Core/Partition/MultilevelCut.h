@@ -114,6 +114,20 @@ AlphaExpansionResult MinimizeMultilevel(const PartitionEnergy& energy, const Mul
 std::vector<std::uint8_t> LostRegions(const PartitionEnergy& energy, const std::vector<int>& labels,
   const std::vector<int>& mostProbable, const std::vector<double>& sizes, std::size_t minimumRegion);
 
+/// A face in no cluster (GrowClusters' `include` left it out).
+inline constexpr std::size_t NoCluster = static_cast<std::size_t>(-1);
+
+/// Step 2's clusters on an adjacency in CSR form (start: an offset per face and one more;
+/// neighbor: the neighbour of each entry) over the faces `include` marks (null: all; the others
+/// in NoCluster): grown breadth-first from the lowest face not yet in one; with `cells`, every
+/// connected face of the seed's most probable label (`seedLabels`) in its cell (the same sets
+/// for any face order), without, at most `size` faces of its label. Per face its cluster,
+/// numbered by their lowest face, and the cluster count. A process's own faces
+/// (DistributedCut.h) are clustered by the same function.
+std::pair<std::vector<std::size_t>, std::size_t> GrowClusters(const std::size_t* start, const std::uint32_t* neighbor,
+  const std::vector<int>& seedLabels, const std::vector<std::uint64_t>& cells, int size,
+  const std::uint8_t* include = nullptr);
+
 /// Step 2's clusters of the first level, with the faces' cells as given (not doubled) or, when
 /// faceCells is empty, breadth-first: per face its cluster (numbered by their lowest face) and
 /// the cluster count. What MinimizeMultilevel coarsens by; for tests and a coarsening run on
