@@ -39,6 +39,12 @@
 
 namespace shapediameter::distributed
 {
+
+bool TimingReportsRequested()
+{
+  const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");
+  return timing && std::string(timing) != "0";
+}
 namespace
 {
 constexpr int RESULT_TAG = 592008;
@@ -453,8 +459,7 @@ int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVecto
   const WholeRun run = RunSerialOnWhole(algorithm, inputVector, outputVector, pieces, serial, failure);
   start = std::chrono::steady_clock::now();
   ScatterResults(controller, input, outputVector, scatteredPorts, pieces, run);
-  const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");
-  if (timing && std::string(timing) != "0")
+  if (TimingReportsRequested())
   {
     const WholeSurface& whole = run.Whole;
     std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName() << " on "
@@ -641,8 +646,7 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
   keepOwnCells(outputs);
   int lowest = status;
   controller->AllReduce(&status, &lowest, 1, vtkCommunicator::MIN_OP);
-  const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");
-  if (rank == 0 && timing && std::string(timing) != "0")
+  if (rank == 0 && TimingReportsRequested())
   {
     std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName() << " replicated on " << processes
               << " processes: " << whole.Mesh->GetNumberOfCells() << " cells (by " << ToString(whole.Cells)
@@ -1032,8 +1036,7 @@ std::optional<int> RunOnHaloSurface(vtkAlgorithm* algorithm, vtkInformationVecto
       real->Initialize();
     }
   }
-  const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");
-  if (rank == 0 && timing && std::string(timing) != "0")
+  if (rank == 0 && TimingReportsRequested())
   {
     std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName()
               << (kind == HaloKind::None ? " on its own cells (no halo) on " : " with a halo on ")

@@ -90,6 +90,10 @@ using SerialBody = std::function<int(vtkInformationVector** inputVector, vtkInfo
  * Setting SHAPEDIAMETER_DISTRIBUTED_TIMING=1 in the environment prints the time of each
  * step on process 0 (stderr).
  */
+/// Whether SHAPEDIAMETER_DISTRIBUTED_TIMING asks for the distributed runs' reports (set and
+/// not "0"): what each step took and which path it ran on, printed by process 0 (stderr).
+bool TimingReportsRequested();
+
 int RunOnWholeSurface(vtkAlgorithm* algorithm, vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, const std::vector<int>& scatteredPorts, const SerialBody& serial,
   const std::function<std::string()>& failure = {}, const std::vector<std::string>& cellArrays = {});

@@ -22,7 +22,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -228,8 +227,7 @@ bool vtkSDFGMMPartition::ExecuteSurface(const shapediameter::adapter::SurfaceReq
   }
   // A halo run's graph is of this process's part only: no later filter gets the same surface.
   this->KeepFaceGraph(request.Halo ? nullptr : result.Graph);
-  const char* timing = std::getenv("SHAPEDIAMETER_DISTRIBUTED_TIMING");
-  if (request.Halo && request.Halo->Group->Rank() == 0 && timing && std::string(timing) != "0")
+  if (request.Halo && request.Halo->Group->Rank() == 0 && distributed::TimingReportsRequested())
   {
     std::cerr << "[ShapeDiameter distributed] vtkSDFGMMPartition: the graph cut ran "
               << (result.CutOverProcesses ? "on every process's faces" : "on process 0's gathered graph") << std::endl;
