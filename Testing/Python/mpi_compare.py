@@ -56,48 +56,27 @@ parser.add_argument("--subdivide", action="store_true",
                          "multilevel cut's 60,000 faces, where the cut runs on every rank's faces")
 args = parser.parse_args()
 if args.subdivide:
+    # The benchmark meshes' reader, converter and writer (Testing/Benchmarks/make_meshes.py:
+    # numpy and VTK only, as the project's module is not loaded yet).
+    import atexit
     import tempfile
 
-    def subdivided_off(path):
-        """The triangle mesh of an OFF file with each triangle split into four at its edges'
-        midpoints (shared midpoints once), as OFF text."""
-        with open(path) as off:
-            words = [w for line in off for w in line.split("#")[0].split()]
-        assert words[0] == "OFF"
-        n_points, n_faces = int(words[1]), int(words[2])
-        at = 4
-        points = [tuple(float(v) for v in words[at + 3 * i:at + 3 * i + 3]) for i in range(n_points)]
-        at += 3 * n_points
-        faces = []
-        for _ in range(n_faces):
-            count = int(words[at])
-            assert count == 3, "triangles only"
-            faces.append(tuple(int(v) for v in words[at + 1:at + 4]))
-            at += 4
-        midpoint = {}
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkFiltersModeling import vtkLinearSubdivisionFilter
 
-        def middle(a, b):
-            key = (min(a, b), max(a, b))
-            if key not in midpoint:
-                midpoint[key] = len(points)
-                points.append(tuple(0.5 * (x + y) for x, y in zip(points[a], points[b])))
-            return midpoint[key]
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Benchmarks"))
+    import make_meshes  # noqa: E402
 
-        split = []
-        for a, b, c in faces:
-            ab, bc, ca = middle(a, b), middle(b, c), middle(c, a)
-            split += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
-        lines = [f"OFF\n{len(points)} {len(split)} 0"]
-        lines += ["%.17g %.17g %.17g" % p for p in points]
-        lines += ["3 %d %d %d" % f for f in split]
-        return "\n".join(lines) + "\n"
-
-    _file = tempfile.NamedTemporaryFile(mode="w", suffix=".off", delete=False)
-    _file.write(subdivided_off(args.mesh))
-    _file.close()
-    import atexit
-    atexit.register(os.unlink, _file.name)
-    args.mesh = _file.name
+    _split = vtkLinearSubdivisionFilter()
+    _split.SetNumberOfSubdivisions(1)
+    _split.SetInputData(make_meshes.to_polydata(*make_meshes.read_off_numpy(args.mesh)))
+    _split.Update()
+    _handle, _path = tempfile.mkstemp(suffix=".off")
+    os.close(_handle)
+    make_meshes.write_off(_path, vtk_to_numpy(_split.GetOutput().GetPoints().GetData()),
+                          make_meshes.triangles_of(_split.GetOutput()))
+    atexit.register(os.unlink, _path)
+    args.mesh = _path
 
 results = {"passed": 0, "failed": 0}
 
