@@ -209,11 +209,7 @@ bool ExecuteOverProcesses(vtkObject* self, const adapter::SurfaceRequest& reques
     // source cell is the cell's global id.
     WarnWithoutArea(self, result.Whole);
     WriteSkeleton(result.Whole, vtkPolyData::GetData(request.OutputVector, 0));
-    std::vector<vtkIdType> sourceCells(result.Whole.CloudSourceFace.size());
-    for (std::size_t p = 0; p < sourceCells.size(); ++p)
-    {
-      sourceCells[p] = result.WholeTriangleCellId[static_cast<std::size_t>(result.Whole.CloudSourceFace[p])];
-    }
+    const std::vector<vtkIdType> sourceCells(result.CloudSourceCellId.begin(), result.CloudSourceCellId.end());
     const std::vector<int> cloudClusters(result.CloudLabels.begin(), result.CloudLabels.end());
     WriteCloud(result.Whole, sourceCells, result.CloudLabels.empty() ? nullptr : &cloudClusters,
       vtkPolyData::GetData(request.OutputVector, 2));

@@ -1046,7 +1046,7 @@ TEST(SkeletonOnShares, EveryProcessGetsTheSerialLinkAndTheFirstTheSerialSkeleton
       for (std::size_t p = 0; p < serial.CloudSourceFace.size(); ++p)
       {
         const auto source = static_cast<std::size_t>(serial.CloudSourceFace[p]);
-        EXPECT_EQ(result.WholeTriangleCellId[source], static_cast<std::int64_t>(source) * idStep);
+        EXPECT_EQ(result.CloudSourceCellId[p], static_cast<std::int64_t>(source) * idStep);
         EXPECT_EQ(result.CloudLabels[p], shape.Labels[source]);
       }
     });

@@ -170,6 +170,7 @@ void AssembleTriangles(const std::vector<std::vector<double>>& triangles, const 
   whole.ProcessTriangles.resize(triangles.size());
   for (std::size_t p = 0; p < triangles.size(); ++p)
   {
+    whole.ProcessTriangles[p].reserve(triangles[p].size() / triangleWidth);
     std::size_t t = 0; // the process's triangle
     for (std::size_t r = 0; r < cells.Order.Index[p].size(); ++r)
     {

@@ -7,13 +7,15 @@
 //   whole triangle mesh oriented outward (OrientOutward, ApplyFlips) and ComputeSkeleton on
 //   it (Skeleton.h), with the same triangles in the same order:
 //     1. each process sends the first process, per cell of its share, the cell's global id and
-//        triangle count, per triangle its corners' global point ids, its SDF, part and cloud
-//        label, and per point its global id and coordinates (about 80 bytes per triangle);
+//        triangle count, per triangle its corners' global point ids, its SDF and part, and per
+//        point its global id and coordinates (about 70 bytes per triangle);
 //     2. the first process orders the cells by global id (a cell several processes hold is
 //        taken once, from the lowest), the points by global id, and builds the whole mesh:
 //        no polygons, point or cell arrays of the surface, only what the skeleton reads;
 //     3. it orients the mesh outward and computes the skeleton;
-//     4. it sends every process, one at a time, the node and bone of each of its triangles.
+//     4. it sends every process, one at a time, the node and bone of each of its triangles,
+//        and asks for the cell id and cloud label of the cloud points' source triangles
+//        (a gather of at most NumberOfSamples pairs): the whole mesh needs neither.
 //   The triangles of a cell are those the adapter makes of it (Triangulate), which depend on
 //   the cell alone, so the whole mesh is the serial one: the same triangles, corners, order.
 //
@@ -78,8 +80,8 @@ struct DistributedSkeletonResult
   /// (CloudSourceFace: a triangle of the whole mesh); FaceNodeId and FaceBoneId are empty
   /// (below). Empty elsewhere.
   SkeletonResult Whole;
-  /// On the first process: per triangle of the whole mesh, its cell's global id.
-  std::vector<std::int64_t> WholeTriangleCellId;
+  /// On the first process: per cloud point, its source triangle's cell's global id.
+  std::vector<std::int64_t> CloudSourceCellId;
   /// On the first process, with cloud labels: per cloud point, its source triangle's label.
   std::vector<double> CloudLabels;
   /// Per triangle of this process's share: "SkeletonNodeId" and "SkeletonBoneId".

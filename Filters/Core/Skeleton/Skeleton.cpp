@@ -214,36 +214,53 @@ void ReachUncoveredPartsAndCleanJunctions(SkeletonGraph& graph, const CloudView&
 }
 
 /// Face centres pushed inward by SDF/2 (the link to the skeleton, and the fallback node of a
-/// component without samples), and face areas (0 where not finite).
-struct ProjectedFaces
+/// component without samples), computed where they are read rather than stored: the link reads
+/// each face's a few times, and a stored copy was 20 MB of the skeleton's peak at 832k faces
+/// (docs/distributed.md). One function, so every read gives the same bits.
+class ProjectedFaceCentres
 {
-  PointMatrix Centres;
-  std::vector<double> Area;
+public:
+  ProjectedFaceCentres(PointsView points, TrianglesView triangles, const std::vector<double>& faceSdf,
+    PointsView faceNormals)
+    : Points(points)
+    , Triangles(triangles)
+    , FaceSdf(faceSdf)
+    , FaceNormals(faceNormals)
+  {
+  }
+
+  Eigen::Vector3d operator()(std::size_t f) const
+  {
+    const auto face = static_cast<Eigen::Index>(f);
+    const Eigen::Vector3d a = Points.row(Triangles(face, 0)).transpose();
+    const Eigen::Vector3d b = Points.row(Triangles(face, 1)).transpose();
+    const Eigen::Vector3d c = Points.row(Triangles(face, 2)).transpose();
+    const Eigen::Vector3d normal = EffectiveFaceNormal(Points, Triangles, FaceNormals, face);
+    return (a + b + c) / 3.0 - 0.5 * FaceSdf[f] * normal;
+  }
+
+private:
+  PointsView Points;
+  TrianglesView Triangles;
+  const std::vector<double>& FaceSdf;
+  PointsView FaceNormals;
 };
 
-ProjectedFaces ProjectFaceCentres(PointsView points, TrianglesView triangles,
-  const std::vector<double>& faceSdf, PointsView faceNormals, const ParallelFor& parallelFor)
+/// Face areas, 0 where not finite.
+std::vector<double> FaceAreas(PointsView points, TrianglesView triangles, const ParallelFor& parallelFor)
 {
-  const auto faces = static_cast<std::size_t>(triangles.rows());
-  ProjectedFaces projected;
-  projected.Centres.resize(static_cast<Eigen::Index>(faces), 3);
-  projected.Area.resize(faces);
-  PointMatrix& projectedCentres = projected.Centres;
-  std::vector<double>& faceArea = projected.Area;
-  parallelFor(faces, [&](std::size_t begin, std::size_t end) {
+  std::vector<double> faceArea(static_cast<std::size_t>(triangles.rows()));
+  parallelFor(faceArea.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f)
     {
       const auto face = static_cast<Eigen::Index>(f);
       const Eigen::Vector3d a = points.row(triangles(face, 0)).transpose();
-      const Eigen::Vector3d b = points.row(triangles(face, 1)).transpose();
-      const Eigen::Vector3d c = points.row(triangles(face, 2)).transpose();
-      const Eigen::Vector3d normal = EffectiveFaceNormal(points, triangles, faceNormals, face);
-      projectedCentres.row(face) = ((a + b + c) / 3.0 - 0.5 * faceSdf[f] * normal).transpose();
-      const double area = 0.5 * (b - a).cross(c - a).norm();
+      const double area = 0.5 *
+        (points.row(triangles(face, 1)).transpose() - a).cross(points.row(triangles(face, 2)).transpose() - a).norm();
       faceArea[f] = std::isfinite(area) ? area : 0.0;
     }
   });
-  return projected;
+  return faceArea;
 }
 
 /// What the surface link reads of the faces.
@@ -253,7 +270,7 @@ struct SurfaceFaces
   const std::vector<std::int64_t>& Component;
   /// Part label per face, or empty.
   const std::vector<std::int64_t>& Parts;
-  const PointMatrix& ProjectedCentres;
+  const ProjectedFaceCentres& ProjectedCentre;
   const std::vector<double>& Area;
 
   std::size_t Size() const { return Area.size(); }
@@ -288,7 +305,7 @@ void AddFallbackNodes(
   std::vector<Eigen::Vector3d> extraPositions;
   for (const auto& [c, f] : largestFace)
   {
-    extraPositions.emplace_back(surface.ProjectedCentres.row(static_cast<Eigen::Index>(f)).transpose());
+    extraPositions.push_back(surface.ProjectedCentre(f));
     graph.NodeRadius.push_back(0.5 * faceSdf[f]);
     graph.NodeConfidence.push_back(0.0);
     graph.NodeCloudIndex.push_back(-1);
@@ -324,7 +341,7 @@ void LinkToNearestNodes(const SkeletonGraph& graph, const SurfaceFaces& surface,
     for (std::size_t f = begin; f < end; ++f)
     {
       const std::int64_t c = faceComponent[f];
-      const Eigen::Vector3d centre = surface.ProjectedCentres.row(static_cast<Eigen::Index>(f)).transpose();
+      const Eigen::Vector3d centre = surface.ProjectedCentre(f);
       // One component: no predicate, so the search makes no call per candidate.
       const std::int64_t node = singleComponent
         ? nodeTree.NearestAccepted(centre, {})
@@ -428,19 +445,19 @@ std::vector<std::vector<std::int64_t>> NodesOfBones(const SkeletonGraph& graph)
   return boneNodes;
 }
 
-/// The node of `nodes` nearest to row `row` of `centres`, -1 for none: a scan in index order
+/// The node of `nodes` nearest to `centre`, -1 for none: a scan in index order
 /// (ties to the lower index, as the tree's search), far cheaper than a tree search whose
 /// predicate rejects all but a few dozen nodes.
-std::int64_t NearestNodeAmong(const SkeletonGraph& graph, const std::vector<std::int64_t>& nodes,
-  const PointMatrix& centres, Eigen::Index row)
+std::int64_t NearestNodeAmong(
+  const SkeletonGraph& graph, const std::vector<std::int64_t>& nodes, const Eigen::Vector3d& centre)
 {
   double best = std::numeric_limits<double>::infinity();
   std::int64_t nearest = -1;
   for (const std::int64_t n : nodes)
   {
-    const double dx = graph.NodePositions(n, 0) - centres(row, 0);
-    const double dy = graph.NodePositions(n, 1) - centres(row, 1);
-    const double dz = graph.NodePositions(n, 2) - centres(row, 2);
+    const double dx = graph.NodePositions(n, 0) - centre(0);
+    const double dy = graph.NodePositions(n, 1) - centre(1);
+    const double dz = graph.NodePositions(n, 2) - centre(2);
     const double squared = dx * dx + dy * dy + dz * dz;
     if (squared < best)
     {
@@ -464,8 +481,8 @@ void MoveFacesToPartBones(const SkeletonGraph& graph, const SurfaceFaces& surfac
       {
         continue;
       }
-      result.FaceNodeId[f] = NearestNodeAmong(graph, boneNodes[static_cast<std::size_t>(bone)],
-        surface.ProjectedCentres, static_cast<Eigen::Index>(f));
+      result.FaceNodeId[f] =
+        NearestNodeAmong(graph, boneNodes[static_cast<std::size_t>(bone)], surface.ProjectedCentre(f));
       result.FaceBoneId[f] = bone;
     }
   });
@@ -497,9 +514,8 @@ void LinkFacesToNodesOfTheirBones(const SkeletonGraph& graph, const SurfaceFaces
   parallelFor(surface.Size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f)
     {
-      const std::int64_t nearest = NearestNodeAmong(graph,
-        boneNodes[static_cast<std::size_t>(result.FaceBoneId[f])], surface.ProjectedCentres,
-        static_cast<Eigen::Index>(f));
+      const std::int64_t nearest = NearestNodeAmong(
+        graph, boneNodes[static_cast<std::size_t>(result.FaceBoneId[f])], surface.ProjectedCentre(f));
       if (nearest >= 0)
       {
         result.FaceNodeId[f] = nearest;
@@ -632,8 +648,9 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     return AbortedResult();
   }
 
-  const ProjectedFaces projected = ProjectFaceCentres(points, triangles, faceSdf, faceNormals, parallelFor);
-  const SurfaceFaces surface{ faceComponent, faceParts, projected.Centres, projected.Area };
+  const ProjectedFaceCentres projectedCentre(points, triangles, faceSdf, faceNormals);
+  const std::vector<double> faceArea = FaceAreas(points, triangles, parallelFor);
+  const SurfaceFaces surface{ faceComponent, faceParts, projectedCentre, faceArea };
   AddFallbackNodes(graph, surface, faceSdf);
   LinkSurfaceToSkeleton(graph, cloudView, surface, options, parallelFor, result);
   const bool smoothed = SmoothBones(graph, &volume, options.Smoothing).MovedNodes > 0;
