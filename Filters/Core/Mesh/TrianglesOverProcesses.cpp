@@ -158,58 +158,61 @@ CellLayout LayOutCells(const std::vector<std::vector<double>>& cells)
   return layout;
 }
 
-/// The triangles, their columns and cells, cell by cell in the cells' order.
-void AssembleTriangles(const std::vector<std::vector<double>>& triangles, const GatheredOrder& pointOrder,
-  const CellLayout& cells, std::size_t columns, WholeTriangles& whole)
+/// The whole mesh's triangle arrays, sized for the cells' triangles.
+void SizeTriangles(const CellLayout& cells, std::size_t processes, std::size_t columns, WholeTriangles& whole)
 {
-  const std::size_t triangleWidth = 3 + columns;
   const auto total = static_cast<std::size_t>(cells.FirstTriangle.back());
   whole.Triangles.resize(static_cast<Eigen::Index>(total), 3);
   whole.Columns.assign(columns, std::vector<double>(total, 0.0));
   whole.TriangleCellId.resize(total);
-  whole.ProcessTriangles.resize(triangles.size());
-  for (std::size_t p = 0; p < triangles.size(); ++p)
+  whole.ProcessTriangles.resize(processes);
+}
+
+/// Process p's triangles, their columns and cells, into the whole mesh, cell by cell in the
+/// cells' order.
+void AssembleTrianglesOf(std::size_t p, const std::vector<double>& triangles, const GatheredOrder& pointOrder,
+  const CellLayout& cells, std::size_t columns, WholeTriangles& whole)
+{
+  const std::size_t triangleWidth = 3 + columns;
+  whole.ProcessTriangles[p].reserve(triangles.size() / triangleWidth);
+  std::size_t t = 0; // the process's triangle
+  for (std::size_t r = 0; r < cells.Order.Index[p].size(); ++r)
   {
-    whole.ProcessTriangles[p].reserve(triangles[p].size() / triangleWidth);
-    std::size_t t = 0; // the process's triangle
-    for (std::size_t r = 0; r < cells.Order.Index[p].size(); ++r)
-    {
-      const auto cell = static_cast<std::size_t>(cells.Order.Index[p][r]);
-      const auto firstOfCell = static_cast<std::size_t>(cells.FirstTriangle[cell]);
-      const auto count = static_cast<std::size_t>(cells.FirstTriangle[cell + 1]) - firstOfCell;
-      if (triangleWidth * (t + count) > triangles[p].size())
-      {
-        throw Error("triangles over processes: a process's triangles do not match its cells");
-      }
-      for (std::size_t k = 0; k < count; ++k, ++t)
-      {
-        const std::size_t w = firstOfCell + k;
-        whole.ProcessTriangles[p].push_back(static_cast<std::int64_t>(w));
-        if (!cells.Order.Used[p][r])
-        {
-          continue;
-        }
-        const double* row = triangles[p].data() + triangleWidth * t;
-        for (int corner = 0; corner < 3; ++corner)
-        {
-          const std::int64_t index = pointOrder.IndexOf(static_cast<std::int64_t>(row[corner]));
-          if (index < 0)
-          {
-            throw Error("triangles over processes: a triangle's corner is no process's point");
-          }
-          whole.Triangles(static_cast<Eigen::Index>(w), corner) = index;
-        }
-        for (std::size_t c = 0; c < columns; ++c)
-        {
-          whole.Columns[c][w] = row[3 + c];
-        }
-        whole.TriangleCellId[w] = cells.Order.Ids[cell];
-      }
-    }
-    if (triangleWidth * t != triangles[p].size())
+    const auto cell = static_cast<std::size_t>(cells.Order.Index[p][r]);
+    const auto firstOfCell = static_cast<std::size_t>(cells.FirstTriangle[cell]);
+    const auto count = static_cast<std::size_t>(cells.FirstTriangle[cell + 1]) - firstOfCell;
+    if (triangleWidth * (t + count) > triangles.size())
     {
       throw Error("triangles over processes: a process's triangles do not match its cells");
     }
+    for (std::size_t k = 0; k < count; ++k, ++t)
+    {
+      const std::size_t w = firstOfCell + k;
+      whole.ProcessTriangles[p].push_back(static_cast<std::int64_t>(w));
+      if (!cells.Order.Used[p][r])
+      {
+        continue;
+      }
+      const double* row = triangles.data() + triangleWidth * t;
+      for (int corner = 0; corner < 3; ++corner)
+      {
+        const std::int64_t index = pointOrder.IndexOf(static_cast<std::int64_t>(row[corner]));
+        if (index < 0)
+        {
+          throw Error("triangles over processes: a triangle's corner is no process's point");
+        }
+        whole.Triangles(static_cast<Eigen::Index>(w), corner) = index;
+      }
+      for (std::size_t c = 0; c < columns; ++c)
+      {
+        whole.Columns[c][w] = row[3 + c];
+      }
+      whole.TriangleCellId[w] = cells.Order.Ids[cell];
+    }
+  }
+  if (triangleWidth * t != triangles.size())
+  {
+    throw Error("triangles over processes: a process's triangles do not match its cells");
   }
 }
 
@@ -249,9 +252,20 @@ WholeTriangles GatherTrianglesOnFirst(const TriangleShare& share, const ProcessG
     rows.Cells = {};
     laidOut([&] { cells = LayOutCells(cellRows); });
   }
-  const std::vector<std::vector<double>> triangles = group.GatherOnFirst(rows.Triangles);
-  rows.Triangles = {};
-  laidOut([&] { AssembleTriangles(triangles, pointOrder, cells, share.Columns.size(), whole); });
+  // The triangles (the largest field) one process at a time, each laid out before the next
+  // arrives: the first process holds one process's rows at a time, not every process's.
+  const std::size_t processes = group.AllGather({ 0.0 }).size();
+  laidOut([&] { SizeTriangles(cells, processes, share.Columns.size(), whole); });
+  for (std::size_t p = 0; p < processes; ++p)
+  {
+    const bool sending = static_cast<std::size_t>(group.Rank()) == p;
+    const std::vector<std::vector<double>> triangles = group.GatherOnFirst(sending ? rows.Triangles : std::vector<double>());
+    if (sending)
+    {
+      rows.Triangles = {};
+    }
+    laidOut([&] { AssembleTrianglesOf(p, triangles[p], pointOrder, cells, share.Columns.size(), whole); });
+  }
   if (!problem.empty())
   {
     throw Error(problem);
