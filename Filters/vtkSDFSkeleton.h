@@ -126,11 +126,12 @@
  * Active scalars (what ParaView colours by): `BoneId`, `SkeletonBoneId`, `Confidence`.
  *
  * Under MPI (pieces with global ids, polygons only) every process triangulates its own cells
- * and sends process 0 only what the skeleton reads: triangles by global point ids, the SDF,
- * `SDFSegment` and `SDFCluster` per triangle, and its points (about 80 bytes per triangle;
+ * and sends process 0 only what the skeleton reads: triangles by global point ids, the SDF
+ * and `SDFSegment` per triangle, and its points (about 70 bytes per triangle;
  * Filters/Core/Skeleton/DistributedSkeleton.h). Process 0 builds the whole triangle mesh in
- * the global ids' order, orients it, computes the skeleton (ports 0 and 2, on process 0 only)
- * and sends every process its cells' links (port 1): the serial result bit for bit. Other
+ * the global ids' order, orients it, computes the skeleton (ports 0 and 2, on process 0 only),
+ * sends every process its cells' links (port 1) and asks the owners of the projected points'
+ * source cells for their ids and `SDFCluster`: the serial result bit for bit. Other
  * pieces are collected on process 0 whole (Filters/DistributedSupport.h).
  *
  * Bad input: no polygon (of three or more points), no usable SDF array (missing,
