@@ -126,6 +126,7 @@
 #include "Skeleton/SkeletonConnection.h"
 #include "Skeleton/SkeletonCoverage.h"
 #include "Skeleton/SkeletonLeafExtension.h"
+#include "Skeleton/SkeletonLink.h"
 #include "Skeleton/SkeletonSampling.h"
 #include "Skeleton/SkeletonSegments.h"
 #include "Skeleton/SkeletonSmoothing.h"
@@ -205,11 +206,13 @@ struct SkeletonResult
 void ValidateSkeletonOptions(const SkeletonOptions& options);
 
 /// The SDF-guided skeleton of section 5. See the header comment for inputs and guarantees.
+/// With `link` (a link over processes, DistributedSkeleton.cpp), the surface link runs through
+/// it and the result's FaceNodeId and FaceBoneId stay empty; without, over the mesh's faces.
 SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   const std::vector<double>& faceSdf, PointsView faceNormals,
   const std::vector<std::int64_t>& faceComponents, const SkeletonOptions& options,
   const ParallelFor& parallelFor, const ProgressCallback& progress = {},
-  const std::vector<std::int64_t>& faceParts = {});
+  const std::vector<std::int64_t>& faceParts = {}, SurfaceLink* link = nullptr);
 
 /// The part link (exposed for tests): the bone of every face's part, a part being the faces
 /// with one label within one surface component (faceComponent: dense labels 0..), from the
