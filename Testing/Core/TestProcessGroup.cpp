@@ -944,12 +944,13 @@ SkeletonResult OrientedSkeleton(testshapes::TestMesh mesh, const std::vector<std
 /// parts (the arm along +x and the rest) and a cloud label per face.
 struct SkeletonCase
 {
-  testshapes::TestMesh Mesh = testshapes::MakeTripod(5.0, 1.0, 60, 30);
+  testshapes::TestMesh Mesh;
   std::vector<std::int64_t> Parts;
   std::vector<double> Labels;
   SkeletonOptions Options;
 
-  SkeletonCase()
+  explicit SkeletonCase(testshapes::TestMesh mesh = testshapes::MakeTripod(5.0, 1.0, 60, 30))
+    : Mesh(std::move(mesh))
   {
     for (Eigen::Index f = 0; f < Mesh.Faces(); f += 7)
     {
@@ -997,60 +998,101 @@ DistributedSkeletonResult SkeletonShareOf(const SkeletonCase& shape, const FaceG
     SkeletonShare{ cellIds, pointIds, group }, shape.Options, SerialFor, progress);
 }
 
+/// The skeleton on shares of `shape` (slabs along y; with `twice`, the faces near y = 0 belong
+/// to both of 2 processes) against the serial one: every process's link, the first's skeleton.
+void ExpectTheSerialSkeletonOnShares(const SkeletonCase& shape, const SkeletonResult& serial, int processes,
+  std::int64_t idStep, bool twice)
+{
+  const FaceGraph graph = BuildFaceGraph(shape.Mesh.Points, shape.Mesh.Triangles);
+  const auto faces = static_cast<std::size_t>(shape.Mesh.Faces());
+  std::vector<int> covered(faces, 0);
+  std::mutex coveredMutex;
+  OnThreads(processes, [&](int rank, const ProcessGroup& group) {
+    const auto owns = [&](std::size_t f) {
+      const double y = graph.Centers(static_cast<Eigen::Index>(f), 1);
+      if (twice)
+      {
+        return rank == 0 ? y < 0.5 : y > -0.5;
+      }
+      return std::min(processes - 1, static_cast<int>((y + 6.0) / 12.0 * processes)) == rank;
+    };
+    std::vector<std::size_t> wholeFaces;
+    const DistributedSkeletonResult result = SkeletonShareOf(shape, graph, owns, group, idStep, wholeFaces);
+    std::lock_guard<std::mutex> lock(coveredMutex);
+    ASSERT_FALSE(result.Aborted);
+    ASSERT_EQ(result.FaceNodeId.size(), wholeFaces.size());
+    for (std::size_t f = 0; f < wholeFaces.size(); ++f)
+    {
+      EXPECT_EQ(result.FaceNodeId[f], serial.FaceNodeId[wholeFaces[f]]) << "face " << wholeFaces[f];
+      EXPECT_EQ(result.FaceBoneId[f], serial.FaceBoneId[wholeFaces[f]]) << "face " << wholeFaces[f];
+      covered[wholeFaces[f]] = 1;
+    }
+    if (rank != 0)
+    {
+      EXPECT_EQ(result.Whole.NodePositions.rows(), 0);
+      return;
+    }
+    EXPECT_TRUE(result.Whole.NodePositions == serial.NodePositions);
+    EXPECT_EQ(result.Whole.NodeRadius, serial.NodeRadius);
+    EXPECT_EQ(result.Whole.Polylines, serial.Polylines);
+    EXPECT_EQ(result.Whole.BoneId, serial.BoneId);
+    EXPECT_EQ(result.Whole.NodeBoneId, serial.NodeBoneId);
+    EXPECT_TRUE(result.Whole.CloudPositions == serial.CloudPositions);
+    EXPECT_EQ(result.Whole.CloudSourceFace, serial.CloudSourceFace);
+    ASSERT_EQ(result.CloudLabels.size(), serial.CloudSourceFace.size());
+    for (std::size_t p = 0; p < serial.CloudSourceFace.size(); ++p)
+    {
+      const auto source = static_cast<std::size_t>(serial.CloudSourceFace[p]);
+      EXPECT_EQ(result.CloudSourceCellId[p], static_cast<std::int64_t>(source) * idStep);
+      EXPECT_EQ(result.CloudLabels[p], shape.Labels[source]);
+    }
+  });
+  EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](int n) { return n == 1; }));
+}
+
 TEST(SkeletonOnShares, EveryProcessGetsTheSerialLinkAndTheFirstTheSerialSkeleton)
 {
   const SkeletonCase shape;
   const SkeletonResult serial = OrientedSkeleton(shape.Mesh, shape.Parts, shape.Options);
   ASSERT_GE(serial.BoneLength.size(), 3u); // the test can fail: three arms, bones to link
-  const FaceGraph graph = BuildFaceGraph(shape.Mesh.Points, shape.Mesh.Triangles);
-  const auto faces = static_cast<std::size_t>(shape.Mesh.Faces());
   for (const auto& [processes, idStep, twice] :
     { std::tuple{ 2, 1, false }, std::tuple{ 3, 1, false }, std::tuple{ 3, 1000, false }, std::tuple{ 2, 1, true } })
   {
-    std::vector<int> covered(faces, 0);
-    std::mutex coveredMutex;
-    OnThreads(processes, [&, processes = processes, idStep = idStep, twice = twice](int rank, const ProcessGroup& group) {
-      // Slabs along y; with `twice`, the faces near y = 0 belong to both processes.
-      const auto owns = [&](std::size_t f) {
-        const double y = graph.Centers(static_cast<Eigen::Index>(f), 1);
-        if (twice)
-        {
-          return rank == 0 ? y < 0.5 : y > -0.5;
-        }
-        return std::min(processes - 1, static_cast<int>((y + 6.0) / 12.0 * processes)) == rank;
-      };
-      std::vector<std::size_t> wholeFaces;
-      const DistributedSkeletonResult result = SkeletonShareOf(shape, graph, owns, group, idStep, wholeFaces);
-      std::lock_guard<std::mutex> lock(coveredMutex);
-      ASSERT_FALSE(result.Aborted);
-      ASSERT_EQ(result.FaceNodeId.size(), wholeFaces.size());
-      for (std::size_t f = 0; f < wholeFaces.size(); ++f)
-      {
-        EXPECT_EQ(result.FaceNodeId[f], serial.FaceNodeId[wholeFaces[f]]) << "face " << wholeFaces[f];
-        EXPECT_EQ(result.FaceBoneId[f], serial.FaceBoneId[wholeFaces[f]]) << "face " << wholeFaces[f];
-        covered[wholeFaces[f]] = 1;
-      }
-      if (rank != 0)
-      {
-        EXPECT_EQ(result.Whole.NodePositions.rows(), 0);
-        return;
-      }
-      EXPECT_TRUE(result.Whole.NodePositions == serial.NodePositions);
-      EXPECT_EQ(result.Whole.NodeRadius, serial.NodeRadius);
-      EXPECT_EQ(result.Whole.Polylines, serial.Polylines);
-      EXPECT_EQ(result.Whole.BoneId, serial.BoneId);
-      EXPECT_EQ(result.Whole.NodeBoneId, serial.NodeBoneId);
-      EXPECT_TRUE(result.Whole.CloudPositions == serial.CloudPositions);
-      EXPECT_EQ(result.Whole.CloudSourceFace, serial.CloudSourceFace);
-      ASSERT_EQ(result.CloudLabels.size(), serial.CloudSourceFace.size());
-      for (std::size_t p = 0; p < serial.CloudSourceFace.size(); ++p)
-      {
-        const auto source = static_cast<std::size_t>(serial.CloudSourceFace[p]);
-        EXPECT_EQ(result.CloudSourceCellId[p], static_cast<std::int64_t>(source) * idStep);
-        EXPECT_EQ(result.CloudLabels[p], shape.Labels[source]);
-      }
-    });
-    EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](int n) { return n == 1; }));
+    ExpectTheSerialSkeletonOnShares(shape, serial, processes, idStep, twice);
+  }
+}
+
+TEST(SkeletonOnShares, ComponentsWithAndWithoutSamplesGetTheSerialLink)
+{
+  // Two tripods and two spheres too small for any sample, each of which gets the fallback node
+  // at its largest face (their faces split over the processes): an icosahedron's faces of
+  // equal area (the lowest face wins) and a latitude-longitude sphere's of unequal area, its
+  // axis along y and its centre above the split, so that the first process holds only a cap
+  // of small faces.
+  using testshapes::Concatenate;
+  const testshapes::TestMesh tripod = testshapes::MakeTripod(5.0, 1.0, 60, 30);
+  const Eigen::Vector3d icosahedronAt(-20.0, 0.0, 0.0), sphereAt(-20.0, 0.6e-4, 10.0);
+  Eigen::Matrix3d zToY;
+  zToY << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+  testshapes::TestMesh specks = Concatenate(testshapes::MakeIcosphere(1, 1e-4, icosahedronAt),
+    testshapes::Transformed(testshapes::MakeSphere(1e-4, 8, 6), zToY, sphereAt));
+  specks.Sdf.assign(static_cast<std::size_t>(specks.Faces()), 2e-4);
+  const SkeletonCase shape(Concatenate(Concatenate(tripod,
+    testshapes::Transformed(tripod, Eigen::Matrix3d::Identity(), Eigen::Vector3d(20.0, 0.0, 0.0))), specks));
+  const SkeletonResult serial = OrientedSkeleton(shape.Mesh, shape.Parts, shape.Options);
+  for (const Eigen::Vector3d& speck : { icosahedronAt, sphereAt })
+  {
+    int nodes = 0; // the fallback node
+    for (Eigen::Index n = 0; n < serial.NodePositions.rows(); ++n)
+    {
+      nodes += (serial.NodePositions.row(n).transpose() - speck).norm() < 1e-3 ? 1 : 0;
+    }
+    ASSERT_EQ(nodes, 1);
+  }
+  ASSERT_GE(serial.BoneLength.size(), 7u);
+  for (const int processes : { 2, 3 })
+  {
+    ExpectTheSerialSkeletonOnShares(shape, serial, processes, 1, false);
   }
 }
 

@@ -3,7 +3,10 @@
 
 #include "Mesh/Orientation.h"
 #include "Mesh/TrianglesOverProcesses.h"
+#include "Skeleton/SkeletonLink.h"
+#include "Skeleton/SkeletonSampling.h"
 
+#include <map>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -58,6 +61,234 @@ SourceRequests RequestSources(
   return requests;
 }
 
+/// The link's commands, from the first process to every process (one ScatterFromFirst each;
+/// the replies come back with GatherOnFirst).
+enum LinkCommand : int
+{
+  LargestFacesCommand = 0,
+  NearestNodesCommand = 1,
+  OverlapsCommand = 2,
+  PartBonesCommand = 3,
+  RenameBonesCommand = 4,
+  NodesOfOwnBonesCommand = 5,
+  DoneCommand = 6
+};
+
+/// What the link reads of the graph: node positions, components and bones, and the bone count.
+void PutGraph(const SkeletonGraph& graph, std::vector<double>& message)
+{
+  const auto nodes = static_cast<std::size_t>(graph.NodePositions.rows());
+  message.push_back(static_cast<double>(nodes));
+  message.push_back(static_cast<double>(graph.BoneLength.size()));
+  for (std::size_t n = 0; n < nodes; ++n)
+  {
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      message.push_back(graph.NodePositions(static_cast<Eigen::Index>(n), axis));
+    }
+    message.push_back(static_cast<double>(graph.NodeComponent[n]));
+    message.push_back(static_cast<double>(graph.NodeBone[n]));
+  }
+}
+
+SkeletonGraph TakeGraph(const std::vector<double>& message, std::size_t& at)
+{
+  const auto nodes = static_cast<std::size_t>(message.at(at));
+  SkeletonGraph graph;
+  graph.BoneLength.assign(static_cast<std::size_t>(message.at(at + 1)), 0.0);
+  at += 2;
+  graph.NodePositions.resize(static_cast<Eigen::Index>(nodes), 3);
+  for (std::size_t n = 0; n < nodes; ++n, at += 5)
+  {
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      graph.NodePositions(static_cast<Eigen::Index>(n), axis) = message.at(at + static_cast<std::size_t>(axis));
+    }
+    graph.NodeComponent.push_back(static_cast<std::int64_t>(message.at(at + 3)));
+    graph.NodeBone.push_back(static_cast<std::int64_t>(message.at(at + 4)));
+  }
+  return graph;
+}
+
+std::vector<std::int64_t> TakeIds(const std::vector<double>& message, std::size_t& at)
+{
+  const auto count = static_cast<std::size_t>(message.at(at++));
+  std::vector<std::int64_t> ids(count);
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    ids[i] = static_cast<std::int64_t>(message.at(at++));
+  }
+  return ids;
+}
+
+void PutIds(const std::vector<std::int64_t>& ids, std::vector<double>& message)
+{
+  message.push_back(static_cast<double>(ids.size()));
+  message.insert(message.end(), ids.begin(), ids.end());
+}
+
+/// One command run on a process's own faces; returns its reply.
+std::vector<double> RunLinkCommand(FaceLink& faces, const std::vector<double>& command)
+{
+  std::size_t at = 1;
+  std::vector<double> reply;
+  switch (static_cast<int>(command.at(0)))
+  {
+    case LargestFacesCommand:
+    {
+      const std::vector<std::int64_t> hasNode = TakeIds(command, at);
+      for (const LargestFace& face : faces.LargestFaces(std::vector<char>(hasNode.begin(), hasNode.end())))
+      {
+        reply.insert(reply.end(), { static_cast<double>(face.Component), face.Area, static_cast<double>(face.Face),
+                                    face.ProjectedCentre(0), face.ProjectedCentre(1), face.ProjectedCentre(2), face.Sdf });
+      }
+      break;
+    }
+    case NearestNodesCommand:
+      faces.LinkToNearestNodes(TakeGraph(command, at));
+      break;
+    case OverlapsCommand:
+      for (const auto& [pair, partials] : faces.OverlapPartials())
+      {
+        reply.insert(reply.end(), { static_cast<double>(pair.first), static_cast<double>(pair.second),
+                                    static_cast<double>(partials.size()) });
+        reply.insert(reply.end(), partials.begin(), partials.end());
+      }
+      break;
+    case PartBonesCommand:
+    {
+      const SkeletonGraph graph = TakeGraph(command, at);
+      faces.MoveFacesToPartBones(graph, TakeIds(command, at));
+      break;
+    }
+    case RenameBonesCommand:
+      faces.RenameBones(TakeIds(command, at));
+      break;
+    case NodesOfOwnBonesCommand:
+      faces.LinkFacesToNodesOfTheirBones(TakeGraph(command, at));
+      break;
+    default:
+      throw Error("skeleton: an unknown link command");
+  }
+  return reply;
+}
+
+/// The link over processes, as the first process's ComputeSkeleton drives it: each step sent to
+/// every process (the first included), run on its own faces, the replies completed here.
+class LinkOverProcesses final : public SurfaceLink
+{
+public:
+  LinkOverProcesses(FaceLink& ownFaces, const ProcessGroup& group)
+    : OwnFaces(ownFaces)
+    , Group(group)
+  {
+  }
+
+  std::vector<LargestFace> LargestFaces(const std::vector<char>& componentHasNode) override
+  {
+    std::vector<double> command{ LargestFacesCommand };
+    PutIds(std::vector<std::int64_t>(componentHasNode.begin(), componentHasNode.end()), command);
+    std::map<std::int64_t, LargestFace> largest;
+    for (const std::vector<double>& reply : this->Run(command))
+    {
+      for (std::size_t at = 0; at + 7 <= reply.size(); at += 7)
+      {
+        const LargestFace face{ static_cast<std::int64_t>(reply[at]), reply[at + 1], static_cast<std::int64_t>(reply[at + 2]),
+          Eigen::Vector3d(reply[at + 3], reply[at + 4], reply[at + 5]), reply[at + 6] };
+        const auto found = largest.find(face.Component);
+        // The serial rule: the largest area, ties to the lowest face.
+        if (found == largest.end() || found->second.Area < face.Area ||
+          (found->second.Area == face.Area && face.Face < found->second.Face))
+        {
+          largest[face.Component] = face;
+        }
+      }
+    }
+    std::vector<LargestFace> faces;
+    for (const auto& entry : largest)
+    {
+      faces.push_back(entry.second);
+    }
+    return faces;
+  }
+
+  void LinkToNearestNodes(const SkeletonGraph& graph) override
+  {
+    std::vector<double> command{ NearestNodesCommand };
+    PutGraph(graph, command);
+    this->Run(command);
+  }
+
+  std::vector<PartOverlap> Overlaps() override
+  {
+    std::vector<std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>>> lists;
+    for (const std::vector<double>& reply : this->Run({ OverlapsCommand }))
+    {
+      lists.emplace_back();
+      for (std::size_t at = 0; at < reply.size();)
+      {
+        const auto count = static_cast<std::size_t>(reply.at(at + 2));
+        lists.back().emplace_back(std::make_pair(static_cast<std::int64_t>(reply[at]), static_cast<std::int64_t>(reply[at + 1])),
+          std::vector<double>(reply.begin() + static_cast<std::ptrdiff_t>(at + 3),
+            reply.begin() + static_cast<std::ptrdiff_t>(at + 3 + count)));
+        at += 3 + count;
+      }
+    }
+    return MergeOverlaps(lists);
+  }
+
+  void MoveFacesToPartBones(const SkeletonGraph& graph, const std::vector<std::int64_t>& partBone) override
+  {
+    std::vector<double> command{ PartBonesCommand };
+    PutGraph(graph, command);
+    PutIds(partBone, command);
+    this->Run(command);
+  }
+
+  void RenameBones(const std::vector<std::int64_t>& newBone) override
+  {
+    std::vector<double> command{ RenameBonesCommand };
+    PutIds(newBone, command);
+    this->Run(command);
+  }
+
+  void LinkFacesToNodesOfTheirBones(const SkeletonGraph& graph) override
+  {
+    std::vector<double> command{ NodesOfOwnBonesCommand };
+    PutGraph(graph, command);
+    this->Run(command);
+  }
+
+private:
+  std::vector<std::vector<double>> Run(const std::vector<double>& command)
+  {
+    const std::vector<double> own = this->Group.ScatterFromFirst([&](int) { return command; });
+    return this->Group.GatherOnFirst(RunLinkCommand(this->OwnFaces, own));
+  }
+
+  FaceLink& OwnFaces;
+  const ProcessGroup& Group;
+};
+
+/// On every process but the first: the link's commands run on the own faces until the first
+/// process is done; returns the Done command (status, then the asked triangles).
+std::vector<double> ServeLink(FaceLink& ownFaces, const ProcessGroup& group)
+{
+  while (true)
+  {
+    std::vector<double> command = group.ScatterFromFirst([](int) { return std::vector<double>(); });
+    if (command.empty())
+    {
+      throw Error("skeleton: the first process sent no link command");
+    }
+    if (static_cast<int>(command[0]) == DoneCommand)
+    {
+      return command;
+    }
+    group.GatherOnFirst(RunLinkCommand(ownFaces, command));
+  }
+}
+
 } // namespace
 
 DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput& input,
@@ -92,77 +323,133 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
     throw Error("the input has no polygon with three points"); // the adapter's serial wording
   }
 
-  DistributedSkeletonResult result;
-  SourceRequests sources;
+  // 3. The first process orients the whole mesh and labels its components and parts; every
+  // process gets, per own triangle, its flip, component, part, whether it counts in the link's
+  // sums (a cell several processes hold counts on the lowest) and its index in the whole mesh.
+  const auto ownCount = static_cast<std::size_t>(input.Triangles.rows());
+  std::vector<std::int64_t> wholeComponent, wholeParts;
+  std::vector<double> prepared;
   if (first)
   {
     // What the skeleton does not read is freed before it runs, on the process where it peaks:
     // the cells' ids and the cloud labels are asked of the owners for the cloud's sources only.
     whole.TriangleCellId = {};
-    ApplyFlips(whole.Triangles, OrientOutward(whole.Points, whole.Triangles).Flip);
-    std::vector<std::int64_t> wholeParts;
+    const std::vector<std::uint8_t> flip = OrientOutward(whole.Points, whole.Triangles).Flip;
+    ApplyFlips(whole.Triangles, flip);
+    wholeComponent = LabelFaceComponents(whole.Triangles, static_cast<std::size_t>(whole.Points.rows()));
+    std::vector<std::int64_t> densePart;
     if (withParts)
     {
       wholeParts.assign(whole.Columns[1].begin(), whole.Columns[1].end());
       whole.Columns.resize(1);
+      densePart = PartsWithinComponents(wholeParts, wholeComponent);
     }
-    SkeletonResult skeleton = ComputeSkeleton(
-      whole.Points, whole.Triangles, whole.Columns[0], PointMatrix(0, 3), {}, options, parallelFor, progress, wholeParts);
+    std::vector<std::int64_t> counter(static_cast<std::size_t>(whole.Triangles.rows()), -1);
+    for (std::size_t process = 0; process < whole.ProcessTriangles.size(); ++process)
+    {
+      for (const std::int64_t w : whole.ProcessTriangles[process])
+      {
+        if (counter[static_cast<std::size_t>(w)] < 0)
+        {
+          counter[static_cast<std::size_t>(w)] = static_cast<std::int64_t>(process);
+        }
+      }
+    }
+    prepared = group.ScatterFromFirst([&](int process) {
+      std::vector<double> rows;
+      for (const std::int64_t w : whole.ProcessTriangles[static_cast<std::size_t>(process)])
+      {
+        const auto t = static_cast<std::size_t>(w);
+        rows.insert(rows.end(), { static_cast<double>(flip[t]), static_cast<double>(wholeComponent[t]),
+                                  densePart.empty() ? 0.0 : static_cast<double>(densePart[t]),
+                                  counter[t] == process ? 1.0 : 0.0, static_cast<double>(w) });
+      }
+      return rows;
+    });
+  }
+  else
+  {
+    prepared = group.ScatterFromFirst([](int) { return std::vector<double>(); });
+  }
+  constexpr std::size_t PreparedWidth = 5; // flip, component, part, counts, index in the whole mesh
+  if (prepared.size() != PreparedWidth * ownCount)
+  {
+    throw Error("skeleton: the first process sent " + std::to_string(prepared.size()) + " link values for " +
+      std::to_string(ownCount) + " triangles");
+  }
+  TriangleMatrix orientedOwn = input.Triangles;
+  std::vector<std::uint8_t> ownFlip(ownCount);
+  std::vector<std::int64_t> ownComponent(ownCount), ownPart(withParts ? ownCount : 0);
+  std::vector<char> ownCounts(ownCount);
+  std::vector<std::int64_t> ownWholeIndex(ownCount);
+  for (std::size_t t = 0; t < ownCount; ++t)
+  {
+    const double* row = prepared.data() + PreparedWidth * t;
+    ownFlip[t] = static_cast<std::uint8_t>(row[0]);
+    ownComponent[t] = static_cast<std::int64_t>(row[1]);
+    if (withParts)
+    {
+      ownPart[t] = static_cast<std::int64_t>(row[2]);
+    }
+    ownCounts[t] = row[3] != 0.0 ? 1 : 0;
+    ownWholeIndex[t] = static_cast<std::int64_t>(row[4]);
+  }
+  prepared = {};
+  // The own triangles wound as in the whole mesh: the same corners in the same order, so the
+  // projected centres and areas are the whole mesh's bits.
+  ApplyFlips(orientedOwn, ownFlip);
+  FaceLink ownFaces(input.Points, orientedOwn, input.TriangleSdf, PointMatrix(0, 3), std::move(ownComponent),
+    std::move(ownPart), std::move(ownCounts), std::move(ownWholeIndex), parallelFor);
+
+  // 4. The skeleton on the first process, its link's steps run on every process's faces.
+  DistributedSkeletonResult result;
+  SourceRequests sources;
+  std::vector<double> done;
+  if (first)
+  {
+    LinkOverProcesses link(ownFaces, group);
+    SkeletonResult skeleton = ComputeSkeleton(whole.Points, whole.Triangles, whole.Columns[0], PointMatrix(0, 3),
+      wholeComponent, options, parallelFor, progress, wholeParts, &link);
     whole.Points = PointMatrix();
     whole.Triangles = TriangleMatrix();
     whole.Columns = {};
+    wholeComponent = {};
+    wholeParts = {};
     result.Aborted = skeleton.Aborted;
     result.Whole = std::move(skeleton);
     sources = RequestSources(result.Whole.CloudSourceFace, whole.ProcessTriangles);
-  }
-  // 4. Every process's triangles' links: status, node and bone per triangle, then the share's
-  // triangles whose cell id (and cloud label) the first process asks for.
-  const std::vector<double> part = group.ScatterFromFirst([&](int process) {
-    std::vector<double> values{ static_cast<double>(result.Aborted ? Aborted : Computed) };
-    if (!result.Aborted)
-    {
-      for (const std::int64_t w : whole.ProcessTriangles[static_cast<std::size_t>(process)])
-      {
-        values.push_back(static_cast<double>(result.Whole.FaceNodeId[static_cast<std::size_t>(w)]));
-        values.push_back(static_cast<double>(result.Whole.FaceBoneId[static_cast<std::size_t>(w)]));
-      }
+    // Done: the status, then the share's triangles whose cell id (and cloud label) the first
+    // process asks for.
+    done = group.ScatterFromFirst([&](int process) {
+      std::vector<double> values{ DoneCommand, static_cast<double>(result.Aborted ? Aborted : Computed) };
       const std::vector<double>& asked = sources.Triangles[static_cast<std::size_t>(process)];
       values.insert(values.end(), asked.begin(), asked.end());
-    }
-    return values;
-  });
-  if (part.empty() || part[0] != Computed)
+      return values;
+    });
+  }
+  else
+  {
+    done = ServeLink(ownFaces, group);
+  }
+  if (done.size() < 2 || done[1] != Computed)
   {
     result = DistributedSkeletonResult();
     result.Aborted = true;
     return result;
   }
-  const auto triangles = static_cast<std::size_t>(input.Triangles.rows());
-  if (part.size() < 1 + 2 * triangles)
-  {
-    throw Error("skeleton: the first process returned " + std::to_string(part.size()) + " values for " +
-      std::to_string(triangles) + " triangles");
-  }
-  result.FaceNodeId.resize(triangles);
-  result.FaceBoneId.resize(triangles);
-  for (std::size_t t = 0; t < triangles; ++t)
-  {
-    result.FaceNodeId[t] = static_cast<std::int64_t>(part[1 + 2 * t]);
-    result.FaceBoneId[t] = static_cast<std::int64_t>(part[2 + 2 * t]);
-  }
+  result.FaceNodeId = std::move(ownFaces.FaceNodeId);
+  result.FaceBoneId = std::move(ownFaces.FaceBoneId);
   // 5. The asked triangles' cell ids and cloud labels, back to the first process.
   std::vector<double> answers;
-  for (std::size_t r = 1 + 2 * triangles; r < part.size(); ++r)
+  for (std::size_t r = 2; r < done.size(); ++r)
   {
-    const auto t = static_cast<std::size_t>(part[r]);
+    const auto t = static_cast<std::size_t>(done[r]);
     answers.push_back(static_cast<double>(share.CellGlobalIds[static_cast<std::size_t>(input.TriangleCell[t])]));
     answers.push_back(withCloudLabels ? input.TriangleCloudLabels[t] : 0.0);
   }
   const std::vector<std::vector<double>> answered = group.GatherOnFirst(answers);
   if (first)
   {
-    result.Whole.FaceNodeId = {};
-    result.Whole.FaceBoneId = {};
     const std::size_t points = result.Whole.CloudSourceFace.size();
     result.CloudSourceCellId.assign(points, -1);
     if (withCloudLabels)
