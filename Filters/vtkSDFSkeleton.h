@@ -129,9 +129,10 @@
  * and sends process 0 only what the skeleton reads: triangles by global point ids, the SDF
  * and `SDFSegment` per triangle, and its points (about 70 bytes per triangle;
  * Filters/Core/Skeleton/DistributedSkeleton.h). Process 0 builds the whole triangle mesh in
- * the global ids' order, orients it, computes the skeleton (ports 0 and 2, on process 0 only),
- * sends every process its cells' links (port 1) and asks the owners of the projected points'
- * source cells for their ids and `SDFCluster`: the serial result bit for bit. Other
+ * the global ids' order, orients it and computes the skeleton (ports 0 and 2, on process 0
+ * only); every process links its own cells to it (port 1), process 0 completing the link's
+ * sums; process 0 asks the owners of the projected points' source cells for their ids and
+ * `SDFCluster`: the serial result bit for bit. Other
  * pieces are collected on process 0 whole (Filters/DistributedSupport.h).
  *
  * Bad input: no polygon (of three or more points), no usable SDF array (missing,

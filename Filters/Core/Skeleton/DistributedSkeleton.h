@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The skeleton of a surface split over processes: the first process builds it from the
-// triangles every process sends, each process gets its own faces' link back.
+// triangles every process sends; every process links its own faces to it.
 //
 // What it computes
 //   Exactly what the VTK adapter computes serially on the whole surface (bit for bit): the
@@ -8,22 +8,30 @@
 //   it (Skeleton.h), with the same triangles in the same order:
 //     1. each process sends the first process, per cell of its share, the cell's global id and
 //        triangle count, per triangle its corners' global point ids, its SDF and part, and per
-//        point its global id and coordinates (about 70 bytes per triangle);
+//        point its global id and coordinates (about 70 bytes per triangle; the triangles one
+//        process at a time);
 //     2. the first process orders the cells by global id (a cell several processes hold is
 //        taken once, from the lowest), the points by global id, and builds the whole mesh:
 //        no polygons, point or cell arrays of the surface, only what the skeleton reads;
-//     3. it orients the mesh outward and computes the skeleton;
-//     4. it sends every process, one at a time, the node and bone of each of its triangles,
-//        and asks for the cell id and cloud label of the cloud points' source triangles
-//        (a gather of at most NumberOfSamples pairs): the whole mesh needs neither.
+//     3. it orients the mesh outward and labels its surface components and parts, and sends
+//        every process, per triangle of its share, the triangle's flip, component, part, index
+//        in the whole mesh and whether it counts in the link's sums (a cell several processes
+//        hold counts on the lowest); every process winds its triangles as the whole mesh does;
+//     4. it computes the skeleton; the surface link's steps (SkeletonLink.h) run on every
+//        process's own triangles (LinkOverProcesses: each step sent to every process, which
+//        serves them until the first is done), the first process completing each step's
+//        result: the largest face per component without samples (ties: the lowest face), the
+//        area per (part, bone) as exact sums;
+//     5. it asks for the cell id and cloud label of the cloud points' source triangles (a
+//        gather of at most NumberOfSamples pairs): the whole mesh needs neither.
 //   The triangles of a cell are those the adapter makes of it (Triangulate), which depend on
-//   the cell alone, so the whole mesh is the serial one: the same triangles, corners, order.
+//   the cell alone, so the whole mesh is the serial one: the same triangles, corners, order,
+//   and every process's projected centres and areas are the whole mesh's bits.
 //
 // Why not more distributed
-//   Orientation, components, sampling and the volume's BVH are whole-surface; the face link
-//   could run on every process (docs/distributed.md says how the part link's sums would stay
-//   exact). The first process holds the mesh, its BVH and the skeleton's working set, but not
-//   the VTK surface with its arrays.
+//   Orientation, components, sampling and the volume's BVH are whole-surface: the first
+//   process holds the mesh, its BVH and the skeleton's working set, but not the VTK surface
+//   with its arrays, nor the faces' link (docs/distributed.md: the plan for the rest).
 //
 // Contract
 //   Every process calls ComputeSkeletonOverProcesses at the same point (the group's

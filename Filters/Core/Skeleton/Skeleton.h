@@ -64,7 +64,9 @@
 //   lowest bone id). Why own bones first: a bone often runs through two parts (an elephant
 //   ear's branch across the head), and with the largest overlap alone the smaller part
 //   shared its neighbour's bone in some poses and not in others (the head with an ear in two
-//   of the ten elephant poses, the trunk with both tusks in one; docs/skeleton.md).
+//   of the ten elephant poses, the trunk with both tusks in one; docs/skeleton.md). The areas
+//   are exact sums (ExactSum), so the link split over processes gives the same parts' bones
+//   (SkeletonLink.h holds the link's steps).
 //
 // Bones
 //   Bones are the branches of the tree: the maximal paths of the skeleton graph (the union of
