@@ -2,17 +2,10 @@
 #include "Skeleton/Skeleton.h"
 
 #include "RayCasting/EmbreeRayCaster.h"
-#include "ExactSum.h"
-#include "Skeleton/SkeletonPointTree.h"
-
-#include <Eigen/Geometry>
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
 #include <map>
 #include <optional>
-#include <set>
 #include <unordered_map>
 #include <utility>
 
@@ -62,17 +55,7 @@ std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& face
   const std::vector<std::int64_t> part = PartsWithinComponents(faceParts, faceComponent);
   const std::size_t parts =
     part.empty() ? 0 : static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1);
-  // Area per (part, bone), each an exact sum (FaceLink::OverlapPartials).
-  std::map<std::pair<std::int64_t, std::int64_t>, ExactSum> areaOfPair;
-  for (std::size_t f = 0; f < faceParts.size(); ++f)
-  {
-    areaOfPair[{ part[f], nearestBone[f] }].Add(faceArea[f]);
-  }
-  std::vector<PartOverlap> overlaps;
-  for (const auto& [pair, sum] : areaOfPair)
-  {
-    overlaps.push_back({ pair.first, pair.second, sum.Rounded() });
-  }
+  const std::vector<PartOverlap> overlaps = MergeOverlaps({ OverlapPartialsOf(part, nearestBone, faceArea, {}) });
   const std::vector<std::int64_t> partBone = PartBonesFromOverlaps(overlaps, parts, ownBoneShare, partHasOwnBone);
   std::vector<std::int64_t> faceBone(faceParts.size());
   for (std::size_t f = 0; f < faceParts.size(); ++f)

@@ -156,20 +156,7 @@ void FaceLink::LinkToNearestNodes(const SkeletonGraph& graph)
 
 std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>> FaceLink::OverlapPartials() const
 {
-  std::map<std::pair<std::int64_t, std::int64_t>, ExactSum> areaOfPair;
-  for (std::size_t f = 0; f < this->Part.size(); ++f)
-  {
-    if (this->Counts.empty() || this->Counts[f])
-    {
-      areaOfPair[{ this->Part[f], this->FaceBoneId[f] }].Add(this->Area[f]);
-    }
-  }
-  std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>> partials;
-  for (const auto& [pair, sum] : areaOfPair)
-  {
-    partials.emplace_back(pair, sum.Partials());
-  }
-  return partials;
+  return OverlapPartialsOf(this->Part, this->FaceBoneId, this->Area, this->Counts);
 }
 
 void FaceLink::MoveFacesToPartBones(const SkeletonGraph& graph, const std::vector<std::int64_t>& partBone)
@@ -220,6 +207,26 @@ void FaceLink::LinkFacesToNodesOfTheirBones(const SkeletonGraph& graph)
 std::vector<PartOverlap> LocalSurfaceLink::Overlaps()
 {
   return MergeOverlaps({ this->Faces.OverlapPartials() });
+}
+
+std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>> OverlapPartialsOf(
+  const std::vector<std::int64_t>& facePart, const std::vector<std::int64_t>& faceBone,
+  const std::vector<double>& faceArea, const std::vector<char>& counts)
+{
+  std::map<std::pair<std::int64_t, std::int64_t>, ExactSum> areaOfPair;
+  for (std::size_t f = 0; f < facePart.size(); ++f)
+  {
+    if (counts.empty() || counts[f])
+    {
+      areaOfPair[{ facePart[f], faceBone[f] }].Add(faceArea[f]);
+    }
+  }
+  std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>> partials;
+  for (const auto& [pair, sum] : areaOfPair)
+  {
+    partials.emplace_back(pair, sum.Partials());
+  }
+  return partials;
 }
 
 std::vector<PartOverlap> MergeOverlaps(

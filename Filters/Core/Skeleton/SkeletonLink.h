@@ -149,6 +149,12 @@ private:
   FaceLink& Faces;
 };
 
+/// Per (part, bone) pair of the faces that count (counts empty: every face), in (part, bone)
+/// order, the exact sum's partials of their areas.
+std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>> OverlapPartialsOf(
+  const std::vector<std::int64_t>& facePart, const std::vector<std::int64_t>& faceBone,
+  const std::vector<double>& faceArea, const std::vector<char>& counts);
+
 /// Merges per-process overlap partials (each list in (part, bone) order) into the exact area
 /// of every pair, in (part, bone) order.
 std::vector<PartOverlap> MergeOverlaps(
