@@ -6,7 +6,6 @@
 #include "Skeleton/SkeletonLink.h"
 #include "Skeleton/SkeletonSampling.h"
 
-#include <map>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -188,28 +187,17 @@ public:
   {
     std::vector<double> command{ LargestFacesCommand };
     PutIds(std::vector<std::int64_t>(componentHasNode.begin(), componentHasNode.end()), command);
-    std::map<std::int64_t, LargestFace> largest;
+    std::vector<std::vector<LargestFace>> lists;
     for (const std::vector<double>& reply : this->Run(command))
     {
+      lists.emplace_back();
       for (std::size_t at = 0; at + 7 <= reply.size(); at += 7)
       {
-        const LargestFace face{ static_cast<std::int64_t>(reply[at]), reply[at + 1], static_cast<std::int64_t>(reply[at + 2]),
-          Eigen::Vector3d(reply[at + 3], reply[at + 4], reply[at + 5]), reply[at + 6] };
-        const auto found = largest.find(face.Component);
-        // The serial rule: the largest area, ties to the lowest face.
-        if (found == largest.end() || found->second.Area < face.Area ||
-          (found->second.Area == face.Area && face.Face < found->second.Face))
-        {
-          largest[face.Component] = face;
-        }
+        lists.back().push_back({ static_cast<std::int64_t>(reply[at]), reply[at + 1], static_cast<std::int64_t>(reply[at + 2]),
+          Eigen::Vector3d(reply[at + 3], reply[at + 4], reply[at + 5]), reply[at + 6] });
       }
     }
-    std::vector<LargestFace> faces;
-    for (const auto& entry : largest)
-    {
-      faces.push_back(entry.second);
-    }
-    return faces;
+    return MergeLargestFaces(lists);
   }
 
   void LinkToNearestNodes(const SkeletonGraph& graph) override
@@ -337,12 +325,13 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
     const std::vector<std::uint8_t> flip = OrientOutward(whole.Points, whole.Triangles).Flip;
     ApplyFlips(whole.Triangles, flip);
     wholeComponent = LabelFaceComponents(whole.Triangles, static_cast<std::size_t>(whole.Points.rows()));
-    std::vector<std::int64_t> densePart;
     if (withParts)
     {
-      wholeParts.assign(whole.Columns[1].begin(), whole.Columns[1].end());
+      // Dense labels of the (component, label) pairs: the link's part numbers, and the same
+      // parts to ComputeSkeleton (which numbers them again, to the same labels).
+      wholeParts = PartsWithinComponents(
+        std::vector<std::int64_t>(whole.Columns[1].begin(), whole.Columns[1].end()), wholeComponent);
       whole.Columns.resize(1);
-      densePart = PartsWithinComponents(wholeParts, wholeComponent);
     }
     std::vector<std::int64_t> counter(static_cast<std::size_t>(whole.Triangles.rows()), -1);
     for (std::size_t process = 0; process < whole.ProcessTriangles.size(); ++process)
@@ -361,7 +350,7 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
       {
         const auto t = static_cast<std::size_t>(w);
         rows.insert(rows.end(), { static_cast<double>(flip[t]), static_cast<double>(wholeComponent[t]),
-                                  densePart.empty() ? 0.0 : static_cast<double>(densePart[t]),
+                                  wholeParts.empty() ? 0.0 : static_cast<double>(wholeParts[t]),
                                   counter[t] == process ? 1.0 : 0.0, static_cast<double>(w) });
       }
       return rows;

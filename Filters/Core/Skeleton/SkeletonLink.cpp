@@ -154,7 +154,7 @@ void FaceLink::LinkToNearestNodes(const SkeletonGraph& graph)
   });
 }
 
-std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>> FaceLink::OverlapPartials() const
+OverlapPartialList FaceLink::OverlapPartials() const
 {
   return OverlapPartialsOf(this->Part, this->FaceBoneId, this->Area, this->Counts);
 }
@@ -209,7 +209,7 @@ std::vector<PartOverlap> LocalSurfaceLink::Overlaps()
   return MergeOverlaps({ this->Faces.OverlapPartials() });
 }
 
-std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>> OverlapPartialsOf(
+OverlapPartialList OverlapPartialsOf(
   const std::vector<std::int64_t>& facePart, const std::vector<std::int64_t>& faceBone,
   const std::vector<double>& faceArea, const std::vector<char>& counts)
 {
@@ -221,7 +221,7 @@ std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>
       areaOfPair[{ facePart[f], faceBone[f] }].Add(faceArea[f]);
     }
   }
-  std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>> partials;
+  OverlapPartialList partials;
   for (const auto& [pair, sum] : areaOfPair)
   {
     partials.emplace_back(pair, sum.Partials());
@@ -246,6 +246,29 @@ std::vector<PartOverlap> MergeOverlaps(
     overlaps.push_back({ pair.first, pair.second, sum.Rounded() });
   }
   return overlaps;
+}
+
+std::vector<LargestFace> MergeLargestFaces(const std::vector<std::vector<LargestFace>>& lists)
+{
+  std::map<std::int64_t, LargestFace> largest;
+  for (const std::vector<LargestFace>& list : lists)
+  {
+    for (const LargestFace& face : list)
+    {
+      const auto found = largest.find(face.Component);
+      if (found == largest.end() || found->second.Area < face.Area ||
+        (found->second.Area == face.Area && face.Face < found->second.Face))
+      {
+        largest[face.Component] = face;
+      }
+    }
+  }
+  std::vector<LargestFace> faces;
+  for (const auto& entry : largest)
+  {
+    faces.push_back(entry.second);
+  }
+  return faces;
 }
 
 std::vector<std::int64_t> PartBonesFromOverlaps(

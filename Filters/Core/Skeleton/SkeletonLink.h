@@ -44,6 +44,10 @@ struct PartOverlap
   double Area = 0.0;
 };
 
+/// Per (part, bone) pair, in (part, bone) order, the partials of the exact sum (ExactSum) of
+/// the areas the bone holds of the part.
+using OverlapPartialList = std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>>;
+
 /// The largest face of a component (the fallback node of a component without samples sits at
 /// its projected centre).
 struct LargestFace
@@ -99,7 +103,7 @@ public:
   void LinkToNearestNodes(const SkeletonGraph& graph);
   /// Per (part, bone) pair, in (part, bone) order, the exact sum's partials of the areas of the
   /// faces that count.
-  std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>> OverlapPartials() const;
+  OverlapPartialList OverlapPartials() const;
   void MoveFacesToPartBones(const SkeletonGraph& graph, const std::vector<std::int64_t>& partBone);
   void RenameBones(const std::vector<std::int64_t>& newBone);
   void LinkFacesToNodesOfTheirBones(const SkeletonGraph& graph);
@@ -151,7 +155,7 @@ private:
 
 /// Per (part, bone) pair of the faces that count (counts empty: every face), in (part, bone)
 /// order, the exact sum's partials of their areas.
-std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>> OverlapPartialsOf(
+OverlapPartialList OverlapPartialsOf(
   const std::vector<std::int64_t>& facePart, const std::vector<std::int64_t>& faceBone,
   const std::vector<double>& faceArea, const std::vector<char>& counts);
 
@@ -159,6 +163,10 @@ std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>
 /// of every pair, in (part, bone) order.
 std::vector<PartOverlap> MergeOverlaps(
   const std::vector<std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>>>& lists);
+
+/// Per component, the largest of every process's largest faces (LargestFaces' rule: the
+/// largest area, ties to the lowest face), in increasing component order.
+std::vector<LargestFace> MergeLargestFaces(const std::vector<std::vector<LargestFace>>& lists);
 
 /// The part link's decision (Skeleton.h): per dense part of `parts`, its bone. Own bones first:
 /// (part, bone) pairs by decreasing area (ties: the pairs' (part, bone) order), a pair whose
