@@ -136,6 +136,21 @@ EmbreeRayCaster::EmbreeRayCaster(
   const PointsView& points, const TrianglesView& triangles, const EmbreeRayCasterOptions& options)
   : Impl(std::make_unique<Internals>())
 {
+  this->CopyMesh(points, triangles);
+  this->BuildBvh(options);
+}
+
+EmbreeRayCaster::EmbreeRayCaster(PointMatrix&& points, TriangleMatrix&& triangles, const EmbreeRayCasterOptions& options)
+  : Impl(std::make_unique<Internals>())
+{
+  this->CopyMesh(points, triangles);
+  points = PointMatrix();
+  triangles = TriangleMatrix();
+  this->BuildBvh(options);
+}
+
+void EmbreeRayCaster::CopyMesh(const PointsView& points, const TrianglesView& triangles)
+{
   Internals& impl = *this->Impl;
   impl.Planes =
     raycasterdetail::CheckMeshAndComputePlanes(points, triangles, impl.BoundingBoxDiagonal);
@@ -182,7 +197,15 @@ EmbreeRayCaster::EmbreeRayCaster(
       plane = TrianglePlane{ { 0, 0, 0 }, 0 };
     }
   }
+}
 
+void EmbreeRayCaster::BuildBvh(const EmbreeRayCasterOptions& options)
+{
+  Internals& impl = *this->Impl;
+  if (impl.Planes.empty())
+  {
+    return; // Nothing to hit: every cast returns +inf without Embree.
+  }
   impl.Device = rtcNewDevice(nullptr);
   if (!impl.Device)
   {
@@ -204,9 +227,9 @@ EmbreeRayCaster::EmbreeRayCaster(
   RTCGeometry geometry = rtcNewGeometry(impl.Device, RTC_GEOMETRY_TYPE_TRIANGLE);
   rtcSetGeometryBuildQuality(geometry, quality);
   rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-    impl.Vertices.data(), 0, 3 * sizeof(float), static_cast<std::size_t>(points.rows()));
+    impl.Vertices.data(), 0, 3 * sizeof(float), (impl.Vertices.size() - 1) / 3);
   rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-    impl.Indices.data(), 0, 3 * sizeof(unsigned int), static_cast<std::size_t>(triangles.rows()));
+    impl.Indices.data(), 0, 3 * sizeof(unsigned int), impl.Planes.size());
   rtcSetGeometryIntersectFilterFunction(geometry, &RejectInvalidHits);
   rtcCommitGeometry(geometry);
   rtcAttachGeometry(impl.Scene, geometry);

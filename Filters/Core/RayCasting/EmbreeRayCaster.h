@@ -63,6 +63,11 @@ public:
   /// vertex index out of range, more than 2^32 - 1 points, or an Embree failure.
   EmbreeRayCaster(const PointsView& points, const TrianglesView& triangles,
     const EmbreeRayCasterOptions& options = EmbreeRayCasterOptions());
+  /// The same, releasing the caller's mesh once it is copied and before the BVH is built, the
+  /// moment the caster's memory peaks (the skeleton's volume on the process that holds the
+  /// whole surface of a distributed run).
+  EmbreeRayCaster(PointMatrix&& points, TriangleMatrix&& triangles,
+    const EmbreeRayCasterOptions& options = EmbreeRayCasterOptions());
   ~EmbreeRayCaster() override;
 
   double ClosestValidHit(const RayOrigin& origin, const double direction[3]) const override;
@@ -72,6 +77,9 @@ public:
   double GetBoundingBoxDiagonal() const override;
 
 private:
+  void CopyMesh(const PointsView& points, const TrianglesView& triangles);
+  void BuildBvh(const EmbreeRayCasterOptions& options);
+
   struct Internals;
   std::unique_ptr<Internals> Impl;
 };

@@ -396,17 +396,23 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
   std::vector<double> done;
   if (first)
   {
-    LinkOverProcesses link(ownFaces, group);
-    SkeletonResult skeleton = ComputeSkeleton(whole.Points, whole.Triangles, whole.Columns[0], PointMatrix(0, 3),
-      wholeComponent, options, parallelFor, progress, wholeParts, &link);
-    whole.Points = PointMatrix();
-    whole.Triangles = TriangleMatrix();
+    // ComputeSkeleton's steps, with the whole mesh freed once it is sampled and copied into the
+    // volume (before the volume's BVH is built, where this process peaks): past the sampling,
+    // the skeleton reads the surface through the volume and the link alone.
+    ValidateSkeletonInput(whole.Points, whole.Triangles, whole.Columns[0], PointMatrix(0, 3), wholeComponent);
+    const SampledSurface sampled = SampleSkeletonSurface(
+      whole.Points, whole.Triangles, whole.Columns[0], PointMatrix(0, 3), wholeComponent, wholeParts, options.Sampling);
+    sources = RequestSources(sampled.Cloud.SourceFace, whole.ProcessTriangles);
+    whole.ProcessTriangles = {};
     whole.Columns = {};
     wholeComponent = {};
     wholeParts = {};
+    const EmbreeRayCaster volume(std::move(whole.Points), std::move(whole.Triangles), SkeletonVolumeOptions());
+    LinkOverProcesses link(ownFaces, group);
+    SkeletonResult skeleton =
+      ComputeSkeletonOfSamples(sampled, volume, options, parallelFor, progress, [&]() -> SurfaceLink& { return link; });
     result.Aborted = skeleton.Aborted;
     result.Whole = std::move(skeleton);
-    sources = RequestSources(result.Whole.CloudSourceFace, whole.ProcessTriangles);
     // Done: the status, then the share's triangles whose cell id (and cloud label) the first
     // process asks for.
     done = group.ScatterFromFirst([&](int process) {

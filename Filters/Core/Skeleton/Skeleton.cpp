@@ -68,32 +68,6 @@ std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& face
 namespace
 {
 
-/// Surface component of each point of P: that of its source face.
-std::vector<std::int64_t> PointComponents(
-  const ProjectedCloud& cloud, const std::vector<std::int64_t>& faceComponent)
-{
-  std::vector<std::int64_t> pointComponent(cloud.Size());
-  for (std::size_t i = 0; i < cloud.Size(); ++i)
-  {
-    pointComponent[i] = faceComponent[cloud.SourceFace[i]];
-  }
-  return pointComponent;
-}
-
-/// Build options of the volume that growth, connection and coverage test their segments
-/// against.
-EmbreeRayCasterOptions VolumeOptions()
-{
-  // Low build quality: the volume answers some 10^5 segment tests, so the build dominates and
-  // the faster one wins (832k faces: skeleton 0.82 -> 0.62 s; same output, docs/performance.md
-  // "Design measurements"); the SDF's 25 M rays keep Medium. Compact for the same reason: a
-  // third less memory for the skeleton's largest allocation (docs/distributed.md).
-  EmbreeRayCasterOptions volumeOptions;
-  volumeOptions.BuildQuality = EmbreeBuildQuality::Low;
-  volumeOptions.Compact = true;
-  return volumeOptions;
-}
-
 /// ConnectPolySegments through the volume only, its neighbour graph on P kept for
 /// ReachUncoveredParts and ReachPartsWithoutBones. Its junction cleaning is left to
 /// ExtendLeavesAndCleanJunctions, so that a leaf branch is judged with its extension.
@@ -170,19 +144,11 @@ void AddFallbackNodes(SkeletonGraph& graph, SurfaceLink& link, std::size_t compo
   AssignBranchBones(graph);
 }
 
-/// The parts as step 6 reads them: each cloud point's part (dense labels of
-/// PartsWithinComponents) and the number of parts (0 without part labels).
-struct CloudParts
-{
-  std::vector<std::int64_t> OfPoint;
-  std::size_t Count = 0;
-};
-
 /// Number of points of P per part.
-std::vector<std::size_t> PointsPerPart(const CloudParts& parts)
+std::vector<std::size_t> PointsPerPart(const SampledSurface& surface)
 {
-  std::vector<std::size_t> partPoints(parts.Count, 0);
-  for (const std::int64_t part : parts.OfPoint)
+  std::vector<std::size_t> partPoints(surface.Parts, 0);
+  for (const std::int64_t part : surface.PointPart)
   {
     ++partPoints[static_cast<std::size_t>(part)];
   }
@@ -208,14 +174,14 @@ std::int64_t LargestPartWithoutOwnBone(const std::vector<std::size_t>& partPoint
 
 /// The nearest-node link and, with parts, each part's bone (PartBonesFromOverlaps).
 std::vector<std::int64_t> LinkNearestAndParts(
-  const SkeletonGraph& graph, SurfaceLink& link, const CloudParts& parts, double ownBoneShare, std::vector<char>& hasOwnBone)
+  const SkeletonGraph& graph, SurfaceLink& link, std::size_t parts, double ownBoneShare, std::vector<char>& hasOwnBone)
 {
   link.LinkToNearestNodes(graph);
-  if (parts.Count == 0)
+  if (parts == 0)
   {
     return {};
   }
-  return PartBonesFromOverlaps(link.Overlaps(), parts.Count, ownBoneShare, &hasOwnBone);
+  return PartBonesFromOverlaps(link.Overlaps(), parts, ownBoneShare, &hasOwnBone);
 }
 
 /// The surface link: nearest node of the same component to each projected face centre; with
@@ -223,16 +189,16 @@ std::vector<std::int64_t> LinkNearestAndParts(
 /// every large part left without a bone of its own (ours; ReachPartsWithoutBones and the header
 /// comment), largest part first, each part once; after each branch the junctions are cleaned
 /// as after ReachUncoveredParts and both links are made again.
-void LinkSurfaceToSkeleton(SkeletonGraph& graph, const CloudView& cloud, const CloudParts& parts,
+void LinkSurfaceToSkeleton(SkeletonGraph& graph, const CloudView& cloud, const SampledSurface& surface,
   const SkeletonOptions& options, const ParallelFor& parallelFor, SurfaceLink& link)
 {
   std::vector<char> hasOwnBone;
-  std::vector<std::int64_t> partBone = LinkNearestAndParts(graph, link, parts, options.OwnBoneShare, hasOwnBone);
-  if (parts.Count == 0)
+  std::vector<std::int64_t> partBone = LinkNearestAndParts(graph, link, surface.Parts, options.OwnBoneShare, hasOwnBone);
+  if (surface.Parts == 0)
   {
     return;
   }
-  const std::vector<std::size_t> partPoints = PointsPerPart(parts);
+  const std::vector<std::size_t> partPoints = PointsPerPart(surface);
   const double minimumPoints = options.Coverage.PartMinimumShare * static_cast<double>(cloud.Cloud.Size());
   std::vector<char> tried(partPoints.size(), 0);
   while (options.Coverage.PartUncoveredFactor > 0.0)
@@ -246,13 +212,13 @@ void LinkSurfaceToSkeleton(SkeletonGraph& graph, const CloudView& cloud, const C
     std::vector<char> inPart(cloud.Cloud.Size(), 0);
     for (std::size_t i = 0; i < cloud.Cloud.Size(); ++i)
     {
-      inPart[i] = parts.OfPoint[i] == target;
+      inPart[i] = surface.PointPart[i] == target;
     }
     if (ReachPartsWithoutBones(graph, cloud.Cloud, cloud.Thinned, cloud.PointComponent, cloud.Neighbours, inPart,
           options.Coverage, parallelFor) > 0)
     {
       CleanGraphJunctions(graph, options.Connection.MinimumBranchFactor, LeafPruning::Keep);
-      partBone = LinkNearestAndParts(graph, link, parts, options.OwnBoneShare, hasOwnBone);
+      partBone = LinkNearestAndParts(graph, link, surface.Parts, options.OwnBoneShare, hasOwnBone);
     }
   }
   link.MoveFacesToPartBones(graph, partBone);
@@ -315,38 +281,53 @@ void MoveIntoResult(SkeletonGraph& graph, const ProjectedCloud& cloud, const Thi
 
 } // namespace
 
-SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
-  const std::vector<double>& faceSdf, PointsView faceNormals,
-  const std::vector<std::int64_t>& faceComponents, const SkeletonOptions& options,
-  const ParallelFor& parallelFor, const ProgressCallback& progress,
-  const std::vector<std::int64_t>& faceParts, SurfaceLink* link)
+EmbreeRayCasterOptions SkeletonVolumeOptions()
 {
-  ValidateSkeletonOptions(options);
-  ValidateSkeletonInput(points, triangles, faceSdf, faceNormals, faceComponents);
-  if (!faceParts.empty() && faceParts.size() != static_cast<std::size_t>(triangles.rows()))
-  {
-    throw Error("skeleton: face part labels must be empty or one per triangle");
-  }
-  SkeletonResult result;
-  if (triangles.rows() == 0)
-  {
-    return result;
-  }
-  std::vector<std::int64_t> faceComponent = faceComponents.empty()
-    ? LabelFaceComponents(triangles, static_cast<std::size_t>(points.rows()))
-    : DenseLabels(faceComponents);
+  // Low build quality: the volume answers some 10^5 segment tests, so the build dominates and
+  // the faster one wins (832k faces: skeleton 0.82 -> 0.62 s; same output, docs/performance.md
+  // "Design measurements"); the SDF's 25 M rays keep Medium. Compact for the same reason: a
+  // third less memory for the skeleton's largest allocation (docs/distributed.md).
+  EmbreeRayCasterOptions volumeOptions;
+  volumeOptions.BuildQuality = EmbreeBuildQuality::Low;
+  volumeOptions.Compact = true;
+  return volumeOptions;
+}
 
-  const ProjectedCloud cloud =
-    SampleProjectedCloud(points, triangles, faceSdf, faceNormals, options.Sampling);
+SampledSurface SampleSkeletonSurface(PointsView points, TrianglesView triangles, const std::vector<double>& faceSdf,
+  PointsView faceNormals, const std::vector<std::int64_t>& faceComponent, const std::vector<std::int64_t>& facePart,
+  const SkeletonSamplingOptions& options)
+{
+  SampledSurface surface;
+  surface.Cloud = SampleProjectedCloud(points, triangles, faceSdf, faceNormals, options);
+  const auto labelCount = [](const std::vector<std::int64_t>& labels) {
+    return labels.empty() ? std::size_t{ 0 }
+                          : static_cast<std::size_t>(*std::max_element(labels.begin(), labels.end()) + 1);
+  };
+  surface.Components = labelCount(faceComponent);
+  surface.Parts = labelCount(facePart);
+  for (const std::int64_t face : surface.Cloud.SourceFace)
+  {
+    surface.PointComponent.push_back(faceComponent[static_cast<std::size_t>(face)]);
+    if (!facePart.empty())
+    {
+      surface.PointPart.push_back(facePart[static_cast<std::size_t>(face)]);
+    }
+  }
+  return surface;
+}
+
+SkeletonResult ComputeSkeletonOfSamples(const SampledSurface& surface, const RayCaster& volume,
+  const SkeletonOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress,
+  const SurfaceLinkSource& link)
+{
   if (progress && !progress(0.05))
   {
     return AbortedResult();
   }
-  const std::vector<std::int64_t> pointComponent = PointComponents(cloud, faceComponent);
-
+  const ProjectedCloud& cloud = surface.Cloud;
+  const std::vector<std::int64_t>& pointComponent = surface.PointComponent;
   // Thinning keeps only points whose medial ball fits; growth, connection and coverage move
   // only through the volume.
-  const EmbreeRayCaster volume(points, triangles, VolumeOptions());
   const ThinnedCloud thinned =
     ThinProjectedCloud(cloud, options.Thinning, parallelFor, SubProgress(progress, 0.05, 0.65), &volume);
   if (thinned.Aborted)
@@ -376,50 +357,63 @@ SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
     return AbortedResult();
   }
 
-  // The link (the whole mesh's faces here; with `link`, a link over processes).
-  const auto components =
-    static_cast<std::size_t>(*std::max_element(faceComponent.begin(), faceComponent.end()) + 1);
-  CloudParts parts;
-  std::vector<std::int64_t> facePart;
-  if (!faceParts.empty())
-  {
-    facePart = PartsWithinComponents(faceParts, faceComponent);
-    parts.Count = static_cast<std::size_t>(*std::max_element(facePart.begin(), facePart.end()) + 1);
-    for (const std::int64_t face : cloud.SourceFace)
-    {
-      parts.OfPoint.push_back(facePart[static_cast<std::size_t>(face)]);
-    }
-  }
-  std::optional<FaceLink> wholeFaces;
-  std::optional<LocalSurfaceLink> localLink;
-  if (!link)
-  {
-    wholeFaces.emplace(points, triangles, faceSdf, faceNormals, std::move(faceComponent), std::move(facePart),
-      std::vector<char>(), std::vector<std::int64_t>(), parallelFor);
-    link = &localLink.emplace(*wholeFaces);
-  }
-  facePart = {};
-  faceComponent = {};
-  AddFallbackNodes(graph, *link, components);
-  LinkSurfaceToSkeleton(graph, cloudView, parts, options, parallelFor, *link);
+  SurfaceLink& surfaceLink = link();
+  AddFallbackNodes(graph, surfaceLink, surface.Components);
+  LinkSurfaceToSkeleton(graph, cloudView, surface, options, parallelFor, surfaceLink);
   const bool smoothed = SmoothBones(graph, &volume, options.Smoothing).MovedNodes > 0;
   // Step 7b after the smoothing: the tips follow the smoothed bones' directions.
   const bool tipsAdded = ExtendLeavesToSurface(graph, volume, options.LeafExtension) > 0;
   if (smoothed || tipsAdded)
   {
-    link->RenameBones(RenumberBonesBySmoothedLength(graph));
-    link->LinkFacesToNodesOfTheirBones(graph);
-  }
-  if (wholeFaces)
-  {
-    result.FaceNodeId = std::move(wholeFaces->FaceNodeId);
-    result.FaceBoneId = std::move(wholeFaces->FaceBoneId);
+    surfaceLink.RenameBones(RenumberBonesBySmoothedLength(graph));
+    surfaceLink.LinkFacesToNodesOfTheirBones(graph);
   }
 
+  SkeletonResult result;
   MoveIntoResult(graph, cloud, thinned, result);
   if (progress && !progress(1.0))
   {
     return AbortedResult();
+  }
+  return result;
+}
+
+SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
+  const std::vector<double>& faceSdf, PointsView faceNormals,
+  const std::vector<std::int64_t>& faceComponents, const SkeletonOptions& options,
+  const ParallelFor& parallelFor, const ProgressCallback& progress,
+  const std::vector<std::int64_t>& faceParts)
+{
+  ValidateSkeletonOptions(options);
+  ValidateSkeletonInput(points, triangles, faceSdf, faceNormals, faceComponents);
+  if (!faceParts.empty() && faceParts.size() != static_cast<std::size_t>(triangles.rows()))
+  {
+    throw Error("skeleton: face part labels must be empty or one per triangle");
+  }
+  if (triangles.rows() == 0)
+  {
+    return SkeletonResult();
+  }
+  std::vector<std::int64_t> faceComponent = faceComponents.empty()
+    ? LabelFaceComponents(triangles, static_cast<std::size_t>(points.rows()))
+    : DenseLabels(faceComponents);
+  std::vector<std::int64_t> facePart =
+    faceParts.empty() ? std::vector<std::int64_t>() : PartsWithinComponents(faceParts, faceComponent);
+  const SampledSurface surface =
+    SampleSkeletonSurface(points, triangles, faceSdf, faceNormals, faceComponent, facePart, options.Sampling);
+  const EmbreeRayCaster volume(points, triangles, SkeletonVolumeOptions());
+  // The link over the mesh's faces, made once the connection is done.
+  std::optional<FaceLink> faces;
+  std::optional<LocalSurfaceLink> localLink;
+  SkeletonResult result = ComputeSkeletonOfSamples(surface, volume, options, parallelFor, progress, [&]() -> SurfaceLink& {
+    faces.emplace(points, triangles, faceSdf, faceNormals, std::move(faceComponent), std::move(facePart),
+      std::vector<char>(), std::vector<std::int64_t>(), parallelFor);
+    return localLink.emplace(*faces);
+  });
+  if (!result.Aborted && faces)
+  {
+    result.FaceNodeId = std::move(faces->FaceNodeId);
+    result.FaceBoneId = std::move(faces->FaceBoneId);
   }
   return result;
 }

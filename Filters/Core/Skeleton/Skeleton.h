@@ -125,6 +125,7 @@
 #include "Errors.h"
 #include "Mesh/MeshTypes.h"
 #include "Parallel.h"
+#include "RayCasting/EmbreeRayCaster.h"
 #include "Skeleton/SkeletonConnection.h"
 #include "Skeleton/SkeletonCoverage.h"
 #include "Skeleton/SkeletonLeafExtension.h"
@@ -135,6 +136,7 @@
 #include "Skeleton/SkeletonThinning.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace shapediameter
@@ -208,13 +210,46 @@ struct SkeletonResult
 void ValidateSkeletonOptions(const SkeletonOptions& options);
 
 /// The SDF-guided skeleton of section 5. See the header comment for inputs and guarantees.
-/// With `link` (a link over processes, DistributedSkeleton.cpp), the surface link runs through
-/// it and the result's FaceNodeId and FaceBoneId stay empty; without, over the mesh's faces.
 SkeletonResult ComputeSkeleton(PointsView points, TrianglesView triangles,
   const std::vector<double>& faceSdf, PointsView faceNormals,
   const std::vector<std::int64_t>& faceComponents, const SkeletonOptions& options,
   const ParallelFor& parallelFor, const ProgressCallback& progress = {},
-  const std::vector<std::int64_t>& faceParts = {}, SurfaceLink* link = nullptr);
+  const std::vector<std::int64_t>& faceParts = {});
+
+/// What the skeleton's steps read of the surface once it is sampled (step 1): the projected
+/// cloud P, and per point of P its source face's surface component and part.
+struct SampledSurface
+{
+  ProjectedCloud Cloud;
+  std::vector<std::int64_t> PointComponent;
+  /// Dense labels of PartsWithinComponents; empty without parts.
+  std::vector<std::int64_t> PointPart;
+  std::size_t Components = 0;
+  /// 0 without parts.
+  std::size_t Parts = 0;
+};
+
+/// Step 1 of ComputeSkeleton. faceComponent: dense labels 0.. per face; facePart: dense labels
+/// of PartsWithinComponents per face, or empty. Inputs as ComputeSkeleton's (not validated).
+SampledSurface SampleSkeletonSurface(PointsView points, TrianglesView triangles, const std::vector<double>& faceSdf,
+  PointsView faceNormals, const std::vector<std::int64_t>& faceComponent, const std::vector<std::int64_t>& facePart,
+  const SkeletonSamplingOptions& options);
+
+/// Build options of the volume (the surface's BVH) that the thinning, growth, connection,
+/// coverage, smoothing and leaf extensions test against.
+EmbreeRayCasterOptions SkeletonVolumeOptions();
+
+/// The surface link of the steps after the connection: made when first needed.
+using SurfaceLinkSource = std::function<SurfaceLink&()>;
+
+/// Steps 2 onwards of ComputeSkeleton, from the sampled surface and its volume, the link
+/// through `link` (ComputeSkeleton: over the mesh's faces; a distributed run: over processes,
+/// DistributedSkeleton.cpp). The result's FaceNodeId and FaceBoneId stay empty (the link holds
+/// them). What the surface itself is no longer needed for: the process where a distributed
+/// skeleton peaks frees its whole mesh before it builds the volume.
+SkeletonResult ComputeSkeletonOfSamples(const SampledSurface& surface, const RayCaster& volume,
+  const SkeletonOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress,
+  const SurfaceLinkSource& link);
 
 /// The part link (exposed for tests): the bone of every face's part, a part being the faces
 /// with one label within one surface component (faceComponent: dense labels 0..), from the
