@@ -2,6 +2,7 @@
 #include "DistributedSupport.h"
 
 #include "Errors.h"
+#include "PolyDataTransfer.h"
 #include "WholeSurface.h"
 
 #include "vtkAlgorithm.h"
@@ -209,13 +210,12 @@ std::vector<vtkSmartPointer<vtkPolyData>> GatherPieces(vtkMultiProcessController
     gathered[0] = local;
     for (int r = 1; r < processes; ++r)
     {
-      gathered[static_cast<std::size_t>(r)] = vtkSmartPointer<vtkPolyData>::New();
-      controller->Receive(gathered[static_cast<std::size_t>(r)], r, GATHER_TAG);
+      gathered[static_cast<std::size_t>(r)] = ReceivePolyData(controller, r, GATHER_TAG);
     }
   }
   else
   {
-    controller->Send(local, 0, GATHER_TAG);
+    SendPolyData(controller, local, 0, GATHER_TAG);
   }
   return gathered;
 }
@@ -230,11 +230,9 @@ std::vector<vtkSmartPointer<vtkPolyData>> ExchangeWithEveryProcess(
   const int rank = controller->GetLocalProcessId();
   const int processes = controller->GetNumberOfProcesses();
   std::vector<vtkSmartPointer<vtkPolyData>> received(static_cast<std::size_t>(processes));
-  const auto send = [&](int other) { controller->Send(outgoing(other), other, EXCHANGE_TAG); };
+  const auto send = [&](int other) { SendPolyData(controller, outgoing(other), other, EXCHANGE_TAG); };
   const auto receive = [&](int other) {
-    auto piece = vtkSmartPointer<vtkPolyData>::New();
-    controller->Receive(piece, other, EXCHANGE_TAG);
-    received[static_cast<std::size_t>(other)] = piece;
+    received[static_cast<std::size_t>(other)] = ReceivePolyData(controller, other, EXCHANGE_TAG);
   };
   for (int a = 0; a < processes; ++a)
   {
@@ -376,7 +374,7 @@ void ScatterResults(vtkMultiProcessController* controller, vtkPolyData* input, v
       }
       else
       {
-        controller->Send(result, r, RESULT_TAG + port);
+        SendPolyData(controller, result, r, RESULT_TAG + port);
       }
     }
   }
@@ -398,9 +396,7 @@ int ReceiveResults(vtkAlgorithm* algorithm, vtkMultiProcessController* controlle
     vtkDataObject* real = outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT());
     if (IsScattered(scatteredPorts, port))
     {
-      vtkNew<vtkPolyData> result;
-      controller->Receive(result, 0, RESULT_TAG + port);
-      ApplyResult(input, result, real);
+      ApplyResult(input, ReceivePolyData(controller, 0, RESULT_TAG + port), real);
     }
     else
     {

@@ -1,14 +1,18 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Distributed runs (ParaView's pvbatch / pvserver under mpiexec): every filter of the module
-// needs the whole surface (rays cross pieces, the face graph crosses pieces, the mixture and
-// the skeleton are global). The filters therefore run their unchanged serial algorithm ONCE,
-// on process 0, on the whole surface gathered from every process in its original cell and
-// point order, and each process gets back its own cells with the new arrays. With global
-// ids on the input (vtkSDFOFFReader adds them under MPI) results are bit-identical to a serial
-// run whatever the number of processes (Testing/Python/mpi_compare.py checks it).
+// needs more than a process's own cells (rays cross pieces, neighbourhoods and the face graph
+// cross pieces, the mixture and the skeleton are global). Three ways, below: the whole surface
+// on every process, each computing its own cells (RunOnReplicatedSurface: the SDF); each
+// process's own cells with a halo (RunOnHaloSurface: smoothing, partition, skeleton, whose
+// global steps are the core's ProcessGroup collectives); or the serial algorithm once, on
+// process 0, on the whole surface gathered in its original cell and point order
+// (RunOnWholeSurface: the fallback and the modes the others do not cover). With global ids on
+// the input (vtkSDFOFFReader adds them under MPI) results are bit-identical to a serial run
+// whatever the number of processes (Testing/Python/mpi_compare.py checks it).
 //
-// The MPI transport lives here; the whole-surface assembly and the scatter mapping are pure
-// functions of VTK data in WholeSurface.h (unit-tested without MPI).
+// The MPI transport lives here (polydata travel as raw arrays, PolyDataTransfer.h); the
+// whole-surface assembly and the scatter mapping are pure functions of VTK data in
+// WholeSurface.h (unit-tested without MPI).
 //
 // Private to the module: not installed, not wrapped.
 #pragma once

@@ -32,12 +32,14 @@ endforeach ()
 
 vtk_module_add_module(ShapeDiameter::Filters
   SOURCES "${_filters_dir}/SurfaceConversion.cxx" "${_filters_dir}/DistributedSupport.cxx"
+    "${_filters_dir}/PolyDataTransfer.cxx"
     "${_filters_dir}/WholeSurface.cxx"
     $<TARGET_OBJECTS:ShapeDiameterCore>
     ${_class_sources}
   HEADERS ${_class_headers}
   PRIVATE_HEADERS "${_filters_dir}/SurfaceConversion.h" "${_filters_dir}/SurfaceRequest.h"
-    "${_filters_dir}/DistributedSupport.h" "${_filters_dir}/WholeSurface.h")
+    "${_filters_dir}/DistributedSupport.h" "${_filters_dir}/PolyDataTransfer.h"
+    "${_filters_dir}/WholeSurface.h")
 vtk_module_include(ShapeDiameter::Filters
   PUBLIC "$<BUILD_INTERFACE:${_filters_dir}>"
   PRIVATE "${_filters_dir}/Core")

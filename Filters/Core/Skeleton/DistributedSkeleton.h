@@ -17,7 +17,10 @@
 //        every process, per triangle of its share, the triangle's flip, component, part, index
 //        in the whole mesh and whether it counts in the link's sums (a cell several processes
 //        hold counts on the lowest); every process winds its triangles as the whole mesh does;
-//     4. it computes the skeleton; the surface link's steps (SkeletonLink.h) run on every
+//     4. it samples the mesh (SampleSkeletonSurface), frees it once it is copied into the
+//        volume's BVH (the whole mesh is not needed past the sampling, and this process peaks
+//        while the BVH is built) and computes the rest of the skeleton
+//        (ComputeSkeletonOfSamples); the surface link's steps (SkeletonLink.h) run on every
 //        process's own triangles (LinkOverProcesses: each step sent to every process, which
 //        serves them until the first is done), the first process completing each step's
 //        result: the largest face per component without samples (ties: the lowest face), the
