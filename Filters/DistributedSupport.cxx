@@ -612,6 +612,22 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
   {
     share.Owned[c] = owner[c] == rank ? 1 : 0;
   }
+  share.ReleaseGeometry = [&whole](vtkPolyData* output) {
+    vtkPolyData* input = whole.Mesh;
+    if (!output || output->GetPolys() != input->GetPolys())
+    {
+      return;
+    }
+    for (vtkPolyData* data : { input, output })
+    {
+      data->SetPoints(nullptr);
+      data->SetVerts(nullptr);
+      data->SetLines(nullptr);
+      data->SetPolys(nullptr);
+      data->SetStrips(nullptr);
+    }
+  };
+  const vtkIdType wholeCells = whole.Mesh->GetNumberOfCells();
   bool combined = false;
   share.Combine = [controller, &combined](std::vector<double>& values, std::vector<int>& counts, bool& aborted) {
     combined = true;
@@ -645,7 +661,7 @@ int RunOnReplicatedSurface(vtkAlgorithm* algorithm, vtkInformationVector** input
   if (rank == 0 && TimingReportsRequested())
   {
     std::cerr << "[ShapeDiameter distributed] " << algorithm->GetClassName() << " replicated on " << processes
-              << " processes: " << whole.Mesh->GetNumberOfCells() << " cells (by " << ToString(whole.Cells)
+              << " processes: " << wholeCells << " cells (by " << ToString(whole.Cells)
               << ", points by " << ToString(whole.Points) << "); exchange and build " << assembleSeconds
               << " s, body " << bodySeconds << " s, local results "
               << Seconds(start) - assembleSeconds - bodySeconds << " s" << std::endl;

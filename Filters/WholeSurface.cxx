@@ -544,7 +544,7 @@ vtkSmartPointer<vtkPolyData> LocalResult(vtkPolyData* piece, vtkPolyData* wholeI
   vtkNew<vtkFieldData> field;
   field->ShallowCopy(wholeOutput->GetFieldData());
   if (wholeOutput->GetPolys() != wholeInput->GetPolys() && piece->GetNumberOfPolys() > 0 &&
-    wholeOutput->GetNumberOfCells() == wholeInput->GetNumberOfCells())
+    wholeOutput->GetNumberOfPolys() > 0 && wholeOutput->GetNumberOfCells() == wholeInput->GetNumberOfCells())
   {
     result->SetPolys(RewoundPolygons(piece, wholeOutput, cellToWhole, pointToWhole));
     vtkNew<vtkIntArray> marker;

@@ -150,6 +150,12 @@ bool vtkShapeDiameterFilter::ExecuteSurface(const shapediameter::adapter::Surfac
   {
     return false;
   }
+  // A replicated run's whole surface as VTK data is not read again (the triangulated copy is):
+  // freed before the BVH's build, every process's peak (ReplicatedShare::ReleaseGeometry).
+  if (request.Share && request.Share->ReleaseGeometry)
+  {
+    request.Share->ReleaseGeometry(output);
+  }
 
   const ParallelFor& parallelFor = request.Parallel;
   std::optional<EmbreeRayCaster> caster(std::in_place, surface.Points, surface.Triangles);

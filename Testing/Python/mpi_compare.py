@@ -54,8 +54,12 @@ parser.add_argument("--subdivide", action="store_true",
                     help="compare on the mesh split linearly into four triangles per face (written to a "
                          "temporary OFF file): the camel's 78,144 faces take the partition above the "
                          "multilevel cut's 60,000 faces, where the cut runs on every rank's faces")
+parser.add_argument("--inside-out", action="store_true",
+                    help="compare on the mesh with every face's winding reversed (written to a temporary "
+                         "OFF file): the SDF's AutoOrient rewinds every face, and each rank's polygons come "
+                         "back rewound")
 args = parser.parse_args()
-if args.subdivide:
+if args.subdivide or args.inside_out:
     # The benchmark meshes' reader, converter and writer (Testing/Benchmarks/make_meshes.py:
     # numpy and VTK only, as the project's module is not loaded yet).
     import atexit
@@ -67,14 +71,19 @@ if args.subdivide:
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Benchmarks"))
     import make_meshes  # noqa: E402
 
-    _split = vtkLinearSubdivisionFilter()
-    _split.SetNumberOfSubdivisions(1)
-    _split.SetInputData(make_meshes.to_polydata(*make_meshes.read_off_numpy(args.mesh)))
-    _split.Update()
+    _points, _triangles = make_meshes.read_off_numpy(args.mesh)
+    if args.subdivide:
+        _split = vtkLinearSubdivisionFilter()
+        _split.SetNumberOfSubdivisions(1)
+        _split.SetInputData(make_meshes.to_polydata(_points, _triangles))
+        _split.Update()
+        _points = vtk_to_numpy(_split.GetOutput().GetPoints().GetData())
+        _triangles = make_meshes.triangles_of(_split.GetOutput())
+    if args.inside_out:
+        _triangles = _triangles[:, ::-1]
     _handle, _path = tempfile.mkstemp(suffix=".off")
     os.close(_handle)
-    make_meshes.write_off(_path, vtk_to_numpy(_split.GetOutput().GetPoints().GetData()),
-                          make_meshes.triangles_of(_split.GetOutput()))
+    make_meshes.write_off(_path, _points, _triangles)
     atexit.register(os.unlink, _path)
     args.mesh = _path
 
