@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <array>
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -16,12 +18,15 @@ namespace
 {
 /// A half-edge in the bucket of its lower vertex: 16 bytes (the lower vertex is the bucket's;
 /// 32 bytes when it was stored, 80 MB at 832k triangles, the orientation's peak).
+/// A half-edge in its lower vertex's bucket. Index: std::uint32_t when the mesh allows (8 bytes
+/// per half-edge: 20 MB less at 832k faces, the adjacency's peak), else std::int64_t.
+template <typename Index>
 struct DirectedEdge
 {
-  std::int64_t High;
-  std::int64_t TriangleAndDirection; ///< 2 triangle + 1 if the triangle runs low to high
+  Index High;
+  Index TriangleAndDirection; ///< 2 triangle + 1 if the triangle runs low to high
 
-  std::int64_t Triangle() const { return TriangleAndDirection >> 1; }
+  std::int64_t Triangle() const { return static_cast<std::int64_t>(TriangleAndDirection >> 1); }
   bool Forward() const { return (TriangleAndDirection & 1) != 0; }
 };
 
@@ -55,6 +60,100 @@ std::pair<double, double> SignedVolumeAndArea(const PointsView& points, const Tr
   }
   return { volume / 6.0, area };
 }
+/// BuildTriangleAdjacency from the half-edges' bucket offsets (by lower vertex).
+template <typename Index>
+TriangleAdjacency AdjacencyOfBuckets(
+  const TrianglesView& triangles, const std::vector<std::int64_t>& bucket, std::int64_t vertexCount)
+{
+  const std::int64_t count = triangles.rows();
+  std::vector<DirectedEdge<Index>> edges(static_cast<std::size_t>(bucket.back()));
+  {
+    std::vector<std::int64_t> cursor(bucket.begin(), bucket.end() - 1);
+    for (std::int64_t t = 0; t < count; ++t)
+    {
+      for (int corner = 0; corner < 3; ++corner)
+      {
+        const std::int64_t a = triangles(t, corner);
+        const std::int64_t b = triangles(t, (corner + 1) % 3);
+        if (a != b)
+        {
+          edges[static_cast<std::size_t>(cursor[static_cast<std::size_t>(std::min(a, b))]++)] =
+            { static_cast<Index>(std::max(a, b)), static_cast<Index>(2 * t + (a < b ? 1 : 0)) };
+        }
+      }
+    }
+  }
+  for (std::size_t v = 0; v < static_cast<std::size_t>(vertexCount); ++v)
+  {
+    std::sort(edges.begin() + bucket[v], edges.begin() + bucket[v + 1],
+      [](const DirectedEdge<Index>& x, const DirectedEdge<Index>& y) {
+        return x.High != y.High ? x.High < y.High : x.TriangleAndDirection < y.TriangleAndDirection;
+      });
+  }
+
+  // Manifold edges only: (triangle, neighbour, same direction) twice per edge, counted per
+  // triangle into CSR, then each triangle's few links sorted by (neighbour, same direction).
+  TriangleAdjacency adjacency;
+  adjacency.Offsets.assign(static_cast<std::size_t>(count) + 1, 0);
+  const auto forEachManifoldEdge = [&edges, &bucket, vertexCount](auto&& visit) {
+    for (std::size_t v = 0; v < static_cast<std::size_t>(vertexCount); ++v)
+    {
+      const auto bucketEnd = static_cast<std::size_t>(bucket[v + 1]);
+      for (auto begin = static_cast<std::size_t>(bucket[v]); begin < bucketEnd;)
+      {
+        std::size_t end = begin + 1;
+        while (end < bucketEnd && edges[end].High == edges[begin].High)
+        {
+          ++end;
+        }
+        if (end - begin == 2 && edges[begin].Triangle() != edges[begin + 1].Triangle())
+        {
+          visit(edges[begin], edges[begin + 1]);
+        }
+        begin = end;
+      }
+    }
+  };
+  forEachManifoldEdge([&](const DirectedEdge<Index>& x, const DirectedEdge<Index>& y) {
+    ++adjacency.Offsets[static_cast<std::size_t>(x.Triangle()) + 1];
+    ++adjacency.Offsets[static_cast<std::size_t>(y.Triangle()) + 1];
+  });
+  for (std::size_t t = 0; t < static_cast<std::size_t>(count); ++t)
+  {
+    adjacency.Offsets[t + 1] += adjacency.Offsets[t];
+  }
+  adjacency.Neighbors.resize(static_cast<std::size_t>(adjacency.Offsets.back()));
+  adjacency.SameDirection.resize(adjacency.Neighbors.size());
+  std::vector<std::int64_t> cursor(adjacency.Offsets.begin(), adjacency.Offsets.end() - 1);
+  forEachManifoldEdge([&](const DirectedEdge<Index>& x, const DirectedEdge<Index>& y) {
+    const std::uint8_t same = x.Forward() == y.Forward();
+    for (const auto& [from, to] : { std::pair(x.Triangle(), y.Triangle()), std::pair(y.Triangle(), x.Triangle()) })
+    {
+      const auto slot = static_cast<std::size_t>(cursor[static_cast<std::size_t>(from)]++);
+      adjacency.Neighbors[slot] = to;
+      adjacency.SameDirection[slot] = same;
+    }
+  });
+  for (std::size_t t = 0; t < static_cast<std::size_t>(count); ++t)
+  {
+    // Insertion sort: a triangle has at most three manifold edges.
+    const auto first = static_cast<std::size_t>(adjacency.Offsets[t]);
+    const auto last = static_cast<std::size_t>(adjacency.Offsets[t + 1]);
+    for (std::size_t i = first + 1; i < last; ++i)
+    {
+      for (std::size_t j = i; j > first &&
+           std::tie(adjacency.Neighbors[j], adjacency.SameDirection[j]) <
+             std::tie(adjacency.Neighbors[j - 1], adjacency.SameDirection[j - 1]);
+           --j)
+      {
+        std::swap(adjacency.Neighbors[j], adjacency.Neighbors[j - 1]);
+        std::swap(adjacency.SameDirection[j], adjacency.SameDirection[j - 1]);
+      }
+    }
+  }
+  return adjacency;
+}
+
 } // namespace
 
 TriangleAdjacency BuildTriangleAdjacency(const TrianglesView& triangles)
@@ -93,93 +192,12 @@ TriangleAdjacency BuildTriangleAdjacency(const TrianglesView& triangles)
   {
     bucket[v + 1] += bucket[v];
   }
-  std::vector<DirectedEdge> edges(static_cast<std::size_t>(bucket.back()));
-  {
-    std::vector<std::int64_t> cursor(bucket.begin(), bucket.end() - 1);
-    for (std::int64_t t = 0; t < count; ++t)
-    {
-      for (int corner = 0; corner < 3; ++corner)
-      {
-        const std::int64_t a = triangles(t, corner);
-        const std::int64_t b = triangles(t, (corner + 1) % 3);
-        if (a != b)
-        {
-          edges[static_cast<std::size_t>(cursor[static_cast<std::size_t>(std::min(a, b))]++)] =
-            { std::max(a, b), 2 * t + (a < b ? 1 : 0) };
-        }
-      }
-    }
-  }
-  for (std::size_t v = 0; v < static_cast<std::size_t>(vertexCount); ++v)
-  {
-    std::sort(edges.begin() + bucket[v], edges.begin() + bucket[v + 1],
-      [](const DirectedEdge& x, const DirectedEdge& y) {
-        return x.High != y.High ? x.High < y.High : x.TriangleAndDirection < y.TriangleAndDirection;
-      });
-  }
-
-  // Manifold edges only: (triangle, neighbour, same direction) twice per edge, counted per
-  // triangle into CSR, then each triangle's few links sorted by (neighbour, same direction).
-  TriangleAdjacency adjacency;
-  adjacency.Offsets.assign(static_cast<std::size_t>(count) + 1, 0);
-  const auto forEachManifoldEdge = [&edges, &bucket, vertexCount](auto&& visit) {
-    for (std::size_t v = 0; v < static_cast<std::size_t>(vertexCount); ++v)
-    {
-      const auto bucketEnd = static_cast<std::size_t>(bucket[v + 1]);
-      for (auto begin = static_cast<std::size_t>(bucket[v]); begin < bucketEnd;)
-      {
-        std::size_t end = begin + 1;
-        while (end < bucketEnd && edges[end].High == edges[begin].High)
-        {
-          ++end;
-        }
-        if (end - begin == 2 && edges[begin].Triangle() != edges[begin + 1].Triangle())
-        {
-          visit(edges[begin], edges[begin + 1]);
-        }
-        begin = end;
-      }
-    }
-  };
-  forEachManifoldEdge([&](const DirectedEdge& x, const DirectedEdge& y) {
-    ++adjacency.Offsets[static_cast<std::size_t>(x.Triangle()) + 1];
-    ++adjacency.Offsets[static_cast<std::size_t>(y.Triangle()) + 1];
-  });
-  for (std::size_t t = 0; t < static_cast<std::size_t>(count); ++t)
-  {
-    adjacency.Offsets[t + 1] += adjacency.Offsets[t];
-  }
-  adjacency.Neighbors.resize(static_cast<std::size_t>(adjacency.Offsets.back()));
-  adjacency.SameDirection.resize(adjacency.Neighbors.size());
-  std::vector<std::int64_t> cursor(adjacency.Offsets.begin(), adjacency.Offsets.end() - 1);
-  forEachManifoldEdge([&](const DirectedEdge& x, const DirectedEdge& y) {
-    const std::uint8_t same = x.Forward() == y.Forward();
-    for (const auto& [from, to] : { std::pair(x.Triangle(), y.Triangle()), std::pair(y.Triangle(), x.Triangle()) })
-    {
-      const auto slot = static_cast<std::size_t>(cursor[static_cast<std::size_t>(from)]++);
-      adjacency.Neighbors[slot] = to;
-      adjacency.SameDirection[slot] = same;
-    }
-  });
-  for (std::size_t t = 0; t < static_cast<std::size_t>(count); ++t)
-  {
-    // Insertion sort: a triangle has at most three manifold edges.
-    const auto first = static_cast<std::size_t>(adjacency.Offsets[t]);
-    const auto last = static_cast<std::size_t>(adjacency.Offsets[t + 1]);
-    for (std::size_t i = first + 1; i < last; ++i)
-    {
-      for (std::size_t j = i; j > first &&
-           std::tie(adjacency.Neighbors[j], adjacency.SameDirection[j]) <
-             std::tie(adjacency.Neighbors[j - 1], adjacency.SameDirection[j - 1]);
-           --j)
-      {
-        std::swap(adjacency.Neighbors[j], adjacency.Neighbors[j - 1]);
-        std::swap(adjacency.SameDirection[j], adjacency.SameDirection[j - 1]);
-      }
-    }
-  }
-  return adjacency;
+  const bool narrow = vertexCount <= std::numeric_limits<std::uint32_t>::max() &&
+    2 * count + 1 <= static_cast<std::int64_t>(std::numeric_limits<std::uint32_t>::max());
+  return narrow ? AdjacencyOfBuckets<std::uint32_t>(triangles, bucket, vertexCount)
+                : AdjacencyOfBuckets<std::int64_t>(triangles, bucket, vertexCount);
 }
+
 
 OrientationResult OrientOutward(const PointsView& points, const TrianglesView& triangles)
 {
