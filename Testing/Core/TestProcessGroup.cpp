@@ -1098,9 +1098,12 @@ TEST(SkeletonOnShares, ComponentsWithAndWithoutSamplesGetTheSerialLink)
 
 /// Two processes' triangles of a square split along its diagonal into cells 10 (two
 /// triangles) and 20 (one): process 0 sends cell 10, process 1 cells 10 and 20 (a cell both
-/// hold). `breakShare` lets a test corrupt process 1's share.
+/// hold). `breakShare` lets a test corrupt process 1's share. With `lateColumns`, the columns
+/// (the one above and its negative) are gathered again afterwards (GatherTriangleColumnsOnFirst)
+/// into it.
 std::pair<WholeTriangles, std::string> GatherSquare(
-  const std::function<void(TriangleMatrix&, std::vector<std::int64_t>& triangleCell)>& breakShare)
+  const std::function<void(TriangleMatrix&, std::vector<std::int64_t>& triangleCell)>& breakShare,
+  std::vector<std::vector<double>>* lateColumns = nullptr)
 {
   WholeTriangles whole;
   std::string firstError, otherError;
@@ -1130,6 +1133,24 @@ std::pair<WholeTriangles, std::string> GatherSquare(
     {
       WholeTriangles mine =
         GatherTrianglesOnFirst(TriangleShare{ points, triangles, triangleCell, cellIds, pointIds, { &column } }, group);
+      if (lateColumns)
+      {
+        std::vector<double> negative;
+        for (const double value : column)
+        {
+          negative.push_back(-value);
+        }
+        std::vector<std::vector<double>> late = GatherTriangleColumnsOnFirst(
+          { &column, &negative }, mine.ProcessTriangles, static_cast<std::size_t>(mine.Triangles.rows()), group);
+        if (rank == 0)
+        {
+          *lateColumns = std::move(late);
+        }
+        else
+        {
+          EXPECT_TRUE(late.empty());
+        }
+      }
       if (rank == 0)
       {
         whole = std::move(mine);
@@ -1155,6 +1176,16 @@ TEST(TrianglesOverProcesses, TheWholeMeshTakesEachCellOnceInIdOrder)
   EXPECT_EQ(whole.Columns[0], (std::vector<double>{ 0.0, 1.0, 12.0 }));
   EXPECT_EQ(whole.ProcessTriangles, (std::vector<std::vector<std::int64_t>>{ { 0, 1 }, { 0, 1, 2 } }));
   EXPECT_EQ(whole.Triangles(2, 0), 1);
+}
+
+TEST(TrianglesOverProcesses, ColumnsGatheredLaterAreLaidOutAsTheMeshsOwn)
+{
+  std::vector<std::vector<double>> late;
+  const auto [whole, error] = GatherSquare([](TriangleMatrix&, std::vector<std::int64_t>&) {}, &late);
+  ASSERT_EQ(error, "");
+  ASSERT_EQ(late.size(), 2u);
+  EXPECT_EQ(late[0], whole.Columns[0]) << "cell 10 from process 0, cell 20 from process 1";
+  EXPECT_EQ(late[1], (std::vector<double>{ -0.0, -1.0, -12.0 }));
 }
 
 TEST(TrianglesOverProcesses, ACellTriangulatedDifferentlyThrowsOnTheFirstAfterEveryGather)

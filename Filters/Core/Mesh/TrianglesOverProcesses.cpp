@@ -273,4 +273,74 @@ WholeTriangles GatherTrianglesOnFirst(const TriangleShare& share, const ProcessG
   return first ? std::move(whole) : WholeTriangles();
 }
 
+std::vector<std::vector<double>> GatherTriangleColumnsOnFirst(const std::vector<const std::vector<double>*>& columns,
+  const std::vector<std::vector<std::int64_t>>& processTriangles, std::size_t wholeTriangles,
+  const ProcessGroup& group)
+{
+  const std::size_t own = columns.empty() ? 0 : columns.front()->size();
+  if (std::any_of(columns.begin(), columns.end(), [&](const std::vector<double>* column) { return column->size() != own; }))
+  {
+    throw Error("triangles over processes: the share's columns differ in length");
+  }
+  const bool first = group.Rank() == 0;
+  const std::size_t processes = group.AllGather({ 0.0 }).size();
+  const std::vector<std::int64_t> none;
+  std::vector<std::vector<double>> whole(first ? columns.size() : 0, std::vector<double>(first ? wholeTriangles : 0));
+  std::vector<std::uint8_t> written(first ? wholeTriangles : 0, 0);
+  std::string problem;
+  for (std::size_t p = 0; p < processes; ++p)
+  {
+    std::vector<double> rows;
+    if (static_cast<std::size_t>(group.Rank()) == p)
+    {
+      // Triangle by triangle, its columns side by side.
+      rows.reserve(own * columns.size());
+      for (std::size_t t = 0; t < own; ++t)
+      {
+        for (const std::vector<double>* column : columns)
+        {
+          rows.push_back((*column)[t]);
+        }
+      }
+    }
+    const std::vector<std::vector<double>> gathered = group.GatherOnFirst(rows);
+    rows = {};
+    if (!first || !problem.empty())
+    {
+      continue;
+    }
+    const std::vector<double>& values = gathered[p];
+    const std::vector<std::int64_t>& triangles = p < processTriangles.size() ? processTriangles[p] : none;
+    if (values.size() != triangles.size() * columns.size())
+    {
+      problem = "triangles over processes: process " + std::to_string(p) + " sent " + std::to_string(values.size()) +
+        " column values for " + std::to_string(triangles.size()) + " triangles";
+      continue;
+    }
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+    {
+      const auto w = static_cast<std::size_t>(triangles[t]);
+      if (w >= wholeTriangles)
+      {
+        problem = "triangles over processes: a process's triangle is outside the whole mesh";
+        break;
+      }
+      if (written[w])
+      {
+        continue; // a lower process's triangle
+      }
+      written[w] = 1;
+      for (std::size_t c = 0; c < columns.size(); ++c)
+      {
+        whole[c][w] = values[columns.size() * t + c];
+      }
+    }
+  }
+  if (!problem.empty())
+  {
+    throw Error(problem);
+  }
+  return whole;
+}
+
 } // namespace shapediameter

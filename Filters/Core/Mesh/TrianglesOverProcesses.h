@@ -61,4 +61,16 @@ struct WholeTriangles
 /// The whole mesh on the first process (empty elsewhere).
 WholeTriangles GatherTrianglesOnFirst(const TriangleShare& share, const ProcessGroup& group);
 
+/// More per-triangle columns after GatherTrianglesOnFirst (the first process can then work on
+/// the geometry before the columns take their memory): every process passes its own columns
+/// (one value per triangle of its share, the same number of columns everywhere); the first
+/// process also passes the gathered mesh's ProcessTriangles and triangle count, and gets the
+/// columns in the whole mesh's triangle order, a triangle several processes hold taken from
+/// the lowest (as GatherTrianglesOnFirst takes it). One process's values at a time. Empty
+/// elsewhere. Collective; a process whose columns do not match its triangles throws Error on
+/// the first process, after the last collective.
+std::vector<std::vector<double>> GatherTriangleColumnsOnFirst(const std::vector<const std::vector<double>*>& columns,
+  const std::vector<std::vector<std::int64_t>>& processTriangles, std::size_t wholeTriangles,
+  const ProcessGroup& group);
+
 } // namespace shapediameter

@@ -299,13 +299,11 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
   const std::vector<double> parts = withParts
     ? std::vector<double>(input.TriangleParts.begin(), input.TriangleParts.end())
     : std::vector<double>();
-  TriangleShare ownTriangles{ input.Points, input.Triangles, input.TriangleCell, share.CellGlobalIds,
-    share.PointGlobalIds, { &input.TriangleSdf } };
-  if (withParts)
-  {
-    ownTriangles.Columns.push_back(&parts);
-  }
-  WholeTriangles whole = GatherTrianglesOnFirst(ownTriangles, group);
+  // The geometry first, the SDF and parts once the orientation's adjacency is freed: on the
+  // first process the orientation is a peak of the skeleton's memory.
+  WholeTriangles whole = GatherTrianglesOnFirst(TriangleShare{ input.Points, input.Triangles, input.TriangleCell,
+                                                  share.CellGlobalIds, share.PointGlobalIds, {} },
+    group);
   if (first && whole.Triangles.rows() == 0)
   {
     throw Error("the input has no polygon with three points"); // the adapter's serial wording
@@ -316,19 +314,30 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
   // sums (a cell several processes hold counts on the lowest) and its index in the whole mesh.
   const auto ownCount = static_cast<std::size_t>(input.Triangles.rows());
   std::vector<std::int64_t> wholeComponent, wholeParts;
-  std::vector<double> prepared;
+  std::vector<std::uint8_t> flip;
   if (first)
   {
     // What the skeleton does not read is freed before it runs, on the process where it peaks:
     // the cells' ids and the cloud labels are asked of the owners for the cloud's sources only.
     whole.TriangleCellId = {};
-    const std::vector<std::uint8_t> flip = OrientOutward(whole.Points, whole.Triangles).Flip;
+    flip = OrientOutward(whole.Points, whole.Triangles).Flip;
     ApplyFlips(whole.Triangles, flip);
     wholeComponent = LabelFaceComponents(whole.Triangles, static_cast<std::size_t>(whole.Points.rows()));
+  }
+  std::vector<const std::vector<double>*> columns{ &input.TriangleSdf };
+  if (withParts)
+  {
+    columns.push_back(&parts);
+  }
+  whole.Columns = GatherTriangleColumnsOnFirst(
+    columns, whole.ProcessTriangles, static_cast<std::size_t>(whole.Triangles.rows()), group);
+  std::vector<double> prepared;
+  if (first)
+  {
     if (withParts)
     {
       // Dense labels of the (component, label) pairs: the link's part numbers, and the same
-      // parts to ComputeSkeleton (which numbers them again, to the same labels).
+      // parts to the sampling.
       wholeParts = PartsWithinComponents(
         std::vector<std::int64_t>(whole.Columns[1].begin(), whole.Columns[1].end()), wholeComponent);
       whole.Columns.resize(1);

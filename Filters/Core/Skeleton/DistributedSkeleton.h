@@ -7,13 +7,14 @@
 //   whole triangle mesh oriented outward (OrientOutward, ApplyFlips) and ComputeSkeleton on
 //   it (Skeleton.h), with the same triangles in the same order:
 //     1. each process sends the first process, per cell of its share, the cell's global id and
-//        triangle count, per triangle its corners' global point ids, its SDF and part, and per
-//        point its global id and coordinates (about 70 bytes per triangle; the triangles one
-//        process at a time);
+//        triangle count, per triangle its corners' global point ids, and per point its global
+//        id and coordinates (about 50 bytes per triangle; the triangles one process at a time);
 //     2. the first process orders the cells by global id (a cell several processes hold is
 //        taken once, from the lowest), the points by global id, and builds the whole mesh:
 //        no polygons, point or cell arrays of the surface, only what the skeleton reads;
-//     3. it orients the mesh outward and labels its surface components and parts, and sends
+//     3. it orients the mesh outward and labels its surface components; only then do the
+//        triangles' SDF and parts follow (GatherTriangleColumnsOnFirst: the orientation's
+//        adjacency is one of this process's peaks); it labels the parts and sends
 //        every process, per triangle of its share, the triangle's flip, component, part, index
 //        in the whole mesh and whether it counts in the link's sums (a cell several processes
 //        hold counts on the lowest); every process winds its triangles as the whole mesh does;
