@@ -32,6 +32,13 @@ constexpr long long WholeForm = 2;
 /// A name that was null (not the empty name).
 constexpr long long NullName = -1;
 
+/// Whether the message has a part that goes through vtkCommunicator's marshalling: the whole
+/// polydata, or the raw form's field data (its header's last value).
+bool HasMarshalledPart(const std::vector<long long>& header)
+{
+  return !header.empty() && (header.front() == WholeForm || (header.front() == RawForm && header.back() != 0));
+}
+
 bool IsRawArray(vtkAbstractArray* array)
 {
   auto* data = vtkDataArray::SafeDownCast(array);
@@ -395,9 +402,7 @@ vtkSmartPointer<vtkPolyData> ReceivePolyData(vtkMultiProcessController* controll
   }
   // The marshalled part comes before the payloads: its presence is in the header.
   vtkSmartPointer<vtkPolyData> marshalled;
-  const bool whole = !header.empty() && header.front() == WholeForm;
-  const bool fields = !header.empty() && header.front() == RawForm && header.back() != 0;
-  if (whole || fields)
+  if (HasMarshalledPart(header))
   {
     marshalled = vtkSmartPointer<vtkPolyData>::New();
     controller->Receive(marshalled, from, tag);

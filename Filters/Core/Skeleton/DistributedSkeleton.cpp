@@ -209,7 +209,7 @@ public:
 
   std::vector<PartOverlap> Overlaps() override
   {
-    std::vector<std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>>> lists;
+    std::vector<OverlapPartialList> lists;
     for (const std::vector<double>& reply : this->Run({ OverlapsCommand }))
     {
       lists.emplace_back();

@@ -39,6 +39,12 @@ std::vector<std::int64_t> DenseLabels(const std::vector<std::int64_t>& labels)
   return result;
 }
 
+/// The number of dense labels 0.. (0 when there are none).
+std::size_t LabelCount(const std::vector<std::int64_t>& labels)
+{
+  return labels.empty() ? 0 : static_cast<std::size_t>(*std::max_element(labels.begin(), labels.end()) + 1);
+}
+
 SkeletonResult AbortedResult()
 {
   SkeletonResult result;
@@ -53,8 +59,7 @@ std::vector<std::int64_t> LinkPartsToBones(const std::vector<std::int64_t>& face
   const std::vector<std::int64_t>& nearestBone, double ownBoneShare, std::vector<char>* partHasOwnBone)
 {
   const std::vector<std::int64_t> part = PartsWithinComponents(faceParts, faceComponent);
-  const std::size_t parts =
-    part.empty() ? 0 : static_cast<std::size_t>(*std::max_element(part.begin(), part.end()) + 1);
+  const std::size_t parts = LabelCount(part);
   const std::vector<PartOverlap> overlaps = MergeOverlaps({ OverlapPartialsOf(part, nearestBone, faceArea, {}) });
   const std::vector<std::int64_t> partBone = PartBonesFromOverlaps(overlaps, parts, ownBoneShare, partHasOwnBone);
   std::vector<std::int64_t> faceBone(faceParts.size());
@@ -299,12 +304,8 @@ SampledSurface SampleSkeletonSurface(PointsView points, TrianglesView triangles,
 {
   SampledSurface surface;
   surface.Cloud = SampleProjectedCloud(points, triangles, faceSdf, faceNormals, options);
-  const auto labelCount = [](const std::vector<std::int64_t>& labels) {
-    return labels.empty() ? std::size_t{ 0 }
-                          : static_cast<std::size_t>(*std::max_element(labels.begin(), labels.end()) + 1);
-  };
-  surface.Components = labelCount(faceComponent);
-  surface.Parts = labelCount(facePart);
+  surface.Components = LabelCount(faceComponent);
+  surface.Parts = LabelCount(facePart);
   for (const std::int64_t face : surface.Cloud.SourceFace)
   {
     surface.PointComponent.push_back(faceComponent[static_cast<std::size_t>(face)]);

@@ -230,7 +230,7 @@ OverlapPartialList OverlapPartialsOf(
 }
 
 std::vector<PartOverlap> MergeOverlaps(
-  const std::vector<std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>>>& lists)
+  const std::vector<OverlapPartialList>& lists)
 {
   std::map<std::pair<std::int64_t, std::int64_t>, ExactSum> areaOfPair;
   for (const auto& list : lists)

@@ -162,7 +162,7 @@ OverlapPartialList OverlapPartialsOf(
 /// Merges per-process overlap partials (each list in (part, bone) order) into the exact area
 /// of every pair, in (part, bone) order.
 std::vector<PartOverlap> MergeOverlaps(
-  const std::vector<std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::vector<double>>>>& lists);
+  const std::vector<OverlapPartialList>& lists);
 
 /// Per component, the largest of every process's largest faces (LargestFaces' rule: the
 /// largest area, ties to the lowest face), in increasing component order.
