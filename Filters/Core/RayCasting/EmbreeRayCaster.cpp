@@ -136,20 +136,20 @@ EmbreeRayCaster::EmbreeRayCaster(
   const PointsView& points, const TrianglesView& triangles, const EmbreeRayCasterOptions& options)
   : Impl(std::make_unique<Internals>())
 {
-  this->CopyMesh(points, triangles);
+  this->CopyMesh(points, triangles, options);
   this->BuildBvh(options);
 }
 
 EmbreeRayCaster::EmbreeRayCaster(PointMatrix&& points, TriangleMatrix&& triangles, const EmbreeRayCasterOptions& options)
   : Impl(std::make_unique<Internals>())
 {
-  this->CopyMesh(points, triangles);
+  this->CopyMesh(points, triangles, options);
   points = PointMatrix();
   triangles = TriangleMatrix();
   this->BuildBvh(options);
 }
 
-void EmbreeRayCaster::CopyMesh(const PointsView& points, const TrianglesView& triangles)
+void EmbreeRayCaster::CopyMesh(const PointsView& points, const TrianglesView& triangles, const EmbreeRayCasterOptions& options)
 {
   Internals& impl = *this->Impl;
   impl.Planes =
@@ -164,8 +164,13 @@ void EmbreeRayCaster::CopyMesh(const PointsView& points, const TrianglesView& tr
     return; // Nothing to hit: every cast returns +inf without Embree.
   }
 
-  const Eigen::RowVector3d centre =
-    0.5 * (points.colwise().maxCoeff() + points.colwise().minCoeff());
+  const Eigen::RowVector3d centre = options.Centre
+    ? Eigen::RowVector3d((*options.Centre)[0], (*options.Centre)[1], (*options.Centre)[2])
+    : Eigen::RowVector3d(0.5 * (points.colwise().maxCoeff() + points.colwise().minCoeff()));
+  if (!centre.allFinite())
+  {
+    throw Error("Embree ray caster: the centre is not finite");
+  }
   for (int c = 0; c < 3; ++c)
   {
     impl.Centre[c] = centre(c);
@@ -264,8 +269,31 @@ double EmbreeRayCaster::ClosestValidHit(const RayOrigin& origin, const double di
 void EmbreeRayCaster::CastCone(const RayOrigin& origin, const double* directions,
   std::size_t count, double* outDistances) const
 {
+  this->Cast(origin, directions, count, outDistances, nullptr);
+}
+
+void EmbreeRayCaster::CastRaysWithOrder(const std::vector<Ray>& rays, std::vector<double>& outDistances,
+  std::vector<float>& outOrder, const ParallelFor& parallelFor) const
+{
+  outDistances.resize(rays.size());
+  outOrder.resize(rays.size());
+  parallelFor(rays.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      this->Cast(rays[i].Origin, rays[i].Direction, 1, outDistances.data() + i, outOrder.data() + i);
+    }
+  });
+}
+
+void EmbreeRayCaster::Cast(const RayOrigin& origin, const double* directions, std::size_t count,
+  double* outDistances, float* outOrder) const
+{
   const double infinity = std::numeric_limits<double>::infinity();
   const Internals& impl = *this->Impl;
+  if (outOrder)
+  {
+    std::fill(outOrder, outOrder + count, std::numeric_limits<float>::infinity());
+  }
   if (!impl.Scene || !raycasterdetail::IsFinite3(origin.Point) ||
     !raycasterdetail::IsFinite3(origin.Normal) || !std::isfinite(origin.MinDistance) || std::isnan(origin.MaxDistance))
   {
@@ -340,6 +368,10 @@ void EmbreeRayCaster::CastCone(const RayOrigin& origin, const double* directions
       {
         hitTriangles[i - blockBegin] = rayHit.hit.primID;
         outDistances[i] = rayHit.ray.tfar;
+        if (outOrder)
+        {
+          outOrder[i] = rayHit.ray.tfar;
+        }
         // The plane is needed only after the block: fetch it while the next rays traverse.
         __builtin_prefetch(impl.Planes.data() + rayHit.hit.primID);
       }

@@ -29,7 +29,9 @@
 
 #include "RayCasting/RayCaster.h"
 
+#include <array>
 #include <memory>
+#include <optional>
 
 namespace shapediameter
 {
@@ -54,6 +56,11 @@ struct EmbreeRayCasterOptions
   /// copies) that traverses slower. Hits are the same. For a volume that answers few rays: the
   /// skeleton's BVH at 832k faces 114 -> 78 MB.
   bool Compact = false;
+  /// The point the vertices are translated by before their conversion to float; by default
+  /// the centre of their bounding box. Casters of the pieces of one mesh given that mesh's
+  /// centre hold its very single-precision triangles, so CastRaysWithOrder's answers merge to
+  /// those of one caster of the whole mesh.
+  std::optional<std::array<double, 3>> Centre;
 };
 
 class EmbreeRayCaster final : public RayCaster
@@ -73,12 +80,21 @@ public:
   double ClosestValidHit(const RayOrigin& origin, const double direction[3]) const override;
   void CastCone(const RayOrigin& origin, const double* directions, std::size_t count,
     double* outDistances) const override;
+  /// CastRays, giving also per ray Embree's single-precision distance of the closest hit it
+  /// kept before judging it (+inf: none), the order in which Embree ranks hits. Several casters
+  /// of disjoint or overlapping pieces of one mesh (with its Centre) answer a ray as the whole
+  /// mesh's caster does when the answer of the lowest order is taken (a tie, two triangles at
+  /// the very same single-precision distance, is the one case where they may differ).
+  void CastRaysWithOrder(const std::vector<Ray>& rays, std::vector<double>& outDistances,
+    std::vector<float>& outOrder, const ParallelFor& parallelFor) const;
   std::size_t GetNumberOfTriangles() const override;
   double GetBoundingBoxDiagonal() const override;
 
 private:
-  void CopyMesh(const PointsView& points, const TrianglesView& triangles);
+  void CopyMesh(const PointsView& points, const TrianglesView& triangles, const EmbreeRayCasterOptions& options);
   void BuildBvh(const EmbreeRayCasterOptions& options);
+  void Cast(const RayOrigin& origin, const double* directions, std::size_t count, double* outDistances,
+    float* outOrder) const;
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

@@ -41,6 +41,7 @@
 
 #include "Errors.h"
 #include "Mesh/MeshTypes.h"
+#include "Parallel.h"
 
 #include <cmath>
 #include <cstddef>
@@ -86,6 +87,13 @@ struct RayOrigin
   HitRule Rule = HitRule::FirstHitLeaving;
 };
 
+/// One ray of a batch (RayCaster::CastRays): where it starts, and its direction.
+struct Ray
+{
+  RayOrigin Origin;
+  double Direction[3] = { 0, 0, 0 };
+};
+
 class RayCaster
 {
 public:
@@ -93,6 +101,30 @@ public:
 
   /// Distance to the closest valid hit along one ray; +inf when there is none.
   virtual double ClosestValidHit(const RayOrigin& origin, const double direction[3]) const = 0;
+
+  /// Many rays, each from its own origin: outDistances[i] is ClosestValidHit of rays[i]. The
+  /// skeleton's volume tests are written in this form so that a caster whose triangles are
+  /// spread over processes answers a whole batch in one exchange (DistributedSkeleton.cpp). This
+  /// default casts the rays with parallelFor, serially when there are few.
+  virtual void CastRays(const std::vector<Ray>& rays, std::vector<double>& outDistances, const ParallelFor& parallelFor) const
+  {
+    outDistances.resize(rays.size());
+    const RangeBody cast = [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        outDistances[i] = this->ClosestValidHit(rays[i].Origin, rays[i].Direction);
+      }
+    };
+    constexpr std::size_t fewRays = 64; // below this, waking threads costs more than the rays
+    if (rays.size() < fewRays)
+    {
+      SerialFor(rays.size(), cast);
+    }
+    else
+    {
+      parallelFor(rays.size(), cast);
+    }
+  }
 
   /// Batch form, the one the SDF loop uses (one virtual call per origin, not per ray):
   /// directions is count x 3 (row-major), outDistances receives count values.
@@ -116,6 +148,23 @@ protected:
   RayCaster& operator=(const RayCaster&) = delete;
 };
 
+/// The ray from `from`, a point inside the volume, along `direction` (unit) that ExitDistance
+/// casts: HitRule::FirstHitLeaving, looked for no farther than maxDistance.
+inline Ray ExitRay(const Eigen::Vector3d& from, const Eigen::Vector3d& direction,
+  double maxDistance = std::numeric_limits<double>::infinity())
+{
+  Ray ray;
+  for (int c = 0; c < 3; ++c)
+  {
+    ray.Origin.Point[c] = from(c);
+    ray.Origin.Normal[c] = direction(c); // any non-zero normal: under FirstHitLeaving only its presence counts
+    ray.Direction[c] = direction(c);
+  }
+  ray.Origin.MaxDistance = maxDistance;
+  ray.Origin.Rule = HitRule::FirstHitLeaving;
+  return ray;
+}
+
 /// Distance along `direction` (unit) at which a ray from `from`, a point inside the volume,
 /// first leaves it (HitRule::FirstHitLeaving), looked for no farther than maxDistance; +inf
 /// when it does not (it meets nothing, or enters first). The skeleton's clearance tests (the
@@ -123,49 +172,74 @@ protected:
 inline double ExitDistance(const RayCaster& caster, const Eigen::Vector3d& from, const Eigen::Vector3d& direction,
   double maxDistance = std::numeric_limits<double>::infinity())
 {
-  RayOrigin origin;
-  for (int c = 0; c < 3; ++c)
-  {
-    origin.Point[c] = from(c);
-    origin.Normal[c] = direction(c); // any non-zero normal: under FirstHitLeaving only its presence counts
-  }
-  origin.MaxDistance = maxDistance;
-  origin.Rule = HitRule::FirstHitLeaving;
-  return caster.ClosestValidHit(origin, direction.data());
+  const Ray ray = ExitRay(from, direction, maxDistance);
+  return caster.ClosestValidHit(ray.Origin, ray.Direction);
 }
 
-/// True when the straight segment from a to b meets the surface of the mesh anywhere
-/// between its ends. Used by the skeleton to keep its paths inside one part of the volume:
-/// two parts that touch (a trunk resting on a foot) are close in space but not through the
-/// volume. Any surface counts, entered or left: posed characters often interpenetrate (a trunk
-/// pushed into a foot), and the union of their volumes must not join the two parts either.
-/// One or two rays from a: FirstHitLeaving returns the closest hit when it is a leaving one
-/// (the usual case from inside); otherwise the closest hit, if any, is an entering one, which
-/// SkipSameFacing with the origin normal along the ray finds (it skips the leaving hits).
+/// A straight segment from A to B, for SegmentsCrossSurface.
+struct Segment
+{
+  Eigen::Vector3d A;
+  Eigen::Vector3d B;
+};
+
+/// Per segment, true when it meets the surface of the mesh anywhere between its ends. Used by
+/// the skeleton to keep its paths inside one part of the volume: two parts that touch (a trunk
+/// resting on a foot) are close in space but not through the volume. Any surface counts,
+/// entered or left: posed characters often interpenetrate (a trunk pushed into a foot), and the
+/// union of their volumes must not join the two parts either.
+/// One or two rays from A, in two batches (CastRays): FirstHitLeaving returns the closest hit
+/// when it is a leaving one (the usual case from inside); otherwise the closest hit, if any, is
+/// an entering one, which SkipSameFacing with the origin normal along the ray finds (it skips
+/// the leaving hits). A segment of zero or non-finite length crosses nothing.
+inline std::vector<char> SegmentsCrossSurface(
+  const RayCaster& caster, const std::vector<Segment>& segments, const ParallelFor& parallelFor)
+{
+  std::vector<char> crossing(segments.size(), 0);
+  std::vector<double> lengths(segments.size(), 0.0);
+  std::vector<std::size_t> cast;
+  std::vector<Ray> rays;
+  for (std::size_t s = 0; s < segments.size(); ++s)
+  {
+    const double length = (segments[s].B - segments[s].A).norm();
+    if (!(length > 0) || !std::isfinite(length))
+    {
+      continue;
+    }
+    lengths[s] = length;
+    // Hits beyond the segment cannot make it cross: the search stops at its end (Embree's tfar).
+    cast.push_back(s);
+    rays.push_back(ExitRay(segments[s].A, (segments[s].B - segments[s].A) / length, length));
+  }
+  std::vector<double> distances;
+  caster.CastRays(rays, distances, parallelFor);
+  std::vector<std::size_t> entering;
+  std::vector<Ray> second;
+  for (std::size_t r = 0; r < cast.size(); ++r)
+  {
+    if (std::isfinite(distances[r]))
+    {
+      crossing[cast[r]] = distances[r] < lengths[cast[r]]; // the closest hit is this one
+    }
+    else
+    {
+      entering.push_back(cast[r]);
+      second.push_back(rays[r]);
+      second.back().Origin.Rule = HitRule::SkipSameFacing;
+    }
+  }
+  caster.CastRays(second, distances, parallelFor);
+  for (std::size_t r = 0; r < entering.size(); ++r)
+  {
+    crossing[entering[r]] = distances[r] < lengths[entering[r]];
+  }
+  return crossing;
+}
+
+/// SegmentsCrossSurface of the one segment from a to b.
 inline bool SegmentCrossesSurface(const RayCaster& caster, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
 {
-  const double length = (b - a).norm();
-  if (!(length > 0) || !std::isfinite(length))
-  {
-    return false;
-  }
-  const Eigen::Vector3d direction = (b - a) / length;
-  RayOrigin origin;
-  for (int c = 0; c < 3; ++c)
-  {
-    origin.Point[c] = a(c);
-    origin.Normal[c] = direction(c);
-  }
-  // Hits beyond the segment cannot make it cross: the search stops at its end (Embree's tfar).
-  origin.MaxDistance = length;
-  origin.Rule = HitRule::FirstHitLeaving;
-  const double closestLeaving = caster.ClosestValidHit(origin, direction.data());
-  if (std::isfinite(closestLeaving))
-  {
-    return closestLeaving < length; // the closest hit is this one
-  }
-  origin.Rule = HitRule::SkipSameFacing;
-  return caster.ClosestValidHit(origin, direction.data()) < length;
+  return SegmentsCrossSurface(caster, { Segment{ a, b } }, SerialFor)[0] != 0;
 }
 
 namespace raycasterdetail

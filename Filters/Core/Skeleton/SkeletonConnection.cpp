@@ -193,6 +193,18 @@ std::vector<Edge> NearestNeighborEdges(const SkeletonPointTree& tree, const Proj
   return edges;
 }
 
+/// The straight segments of the edges between positions' rows.
+std::vector<Segment> EdgeSegments(const PointMatrix& positions, const std::vector<Edge>& edges)
+{
+  std::vector<Segment> segments;
+  segments.reserve(edges.size());
+  for (const Edge& edge : edges)
+  {
+    segments.push_back(Segment{ positions.row(edge.first).transpose(), positions.row(edge.second).transpose() });
+  }
+  return segments;
+}
+
 /// Stage 1, the inside test: leaves out every edge whose straight segment meets the surface.
 void DropSurfaceCrossings(const RayCaster& volume, const PointMatrix& positions,
   const ParallelFor& parallelFor, std::vector<Edge>& edges)
@@ -200,14 +212,7 @@ void DropSurfaceCrossings(const RayCaster& volume, const PointMatrix& positions,
   // Each edge once (most are in both end points' lists), tested in parallel.
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  std::vector<char> crossing(edges.size(), 0);
-  parallelFor(edges.size(), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t e = begin; e < end; ++e)
-    {
-      crossing[e] = SegmentCrossesSurface(volume, positions.row(edges[e].first).transpose(),
-        positions.row(edges[e].second).transpose());
-    }
-  });
+  const std::vector<char> crossing = SegmentsCrossSurface(volume, EdgeSegments(positions, edges), parallelFor);
   std::size_t kept = 0;
   for (std::size_t e = 0; e < edges.size(); ++e)
   {
@@ -242,12 +247,16 @@ CloudNeighborGraph NeighborGraphOnCloud(const SkeletonPointTree& tree, const Pro
   // points' neighbours are all its own), not a gap: steps 5 and 6 may walk it.
   if (volume)
   {
-    bridges.erase(std::remove_if(bridges.begin(), bridges.end(),
-                    [&](const Edge& bridge) {
-                      return !SegmentCrossesSurface(*volume, cloud.Positions.row(bridge.first).transpose(),
-                        cloud.Positions.row(bridge.second).transpose());
-                    }),
-      bridges.end());
+    const std::vector<char> crossing = SegmentsCrossSurface(*volume, EdgeSegments(cloud.Positions, bridges), parallelFor);
+    std::size_t kept = 0;
+    for (std::size_t b = 0; b < bridges.size(); ++b)
+    {
+      if (crossing[b])
+      {
+        bridges[kept++] = bridges[b];
+      }
+    }
+    bridges.resize(kept);
   }
   std::sort(bridges.begin(), bridges.end());
   return MakeGraph(cloud.Positions, std::move(edges), bridges);
@@ -715,35 +724,47 @@ std::vector<double> SheetFactors(const ProjectedCloud& cloud, const ThinnedCloud
   {
     throw Error("skeleton: the thinned cloud's local spread does not match the cloud");
   }
-  parallelFor(count, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
+  // The rays of every sheet point in one batch (a volume over processes answers it in one
+  // exchange), each point's clearance the shortest of its own.
+  std::vector<std::size_t> sheetPoints;
+  std::vector<Ray> fan;
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const auto row = static_cast<Eigen::Index>(i);
+    const Eigen::Vector3d spread = thinned.LocalSpread.row(row).transpose();
+    const double radius = cloud.Radius[i];
+    if (!(radius > 0.0) || !(spread(2) > 0.0) || spread(1) < lineSpread * spread(2) ||
+      spread(0) > flatSpread * spread(1))
     {
-      const auto row = static_cast<Eigen::Index>(i);
-      const Eigen::Vector3d spread = thinned.LocalSpread.row(row).transpose();
-      const double radius = cloud.Radius[i];
-      if (!(radius > 0.0) || !(spread(2) > 0.0) || spread(1) < lineSpread * spread(2) ||
-        spread(0) > flatSpread * spread(1))
-      {
-        continue; // undefined, a line (a tube's axis) or a blob: Euclidean lengths
-      }
-      const Eigen::Vector3d normal = thinned.LocalNormal.row(row).transpose();
-      const Eigen::Vector3d first = Perpendicular(normal);
-      const Eigen::Vector3d second = normal.cross(first);
-      const double reach = radius * reachRadii;
-      double clearance = reach;
-      const Eigen::Vector3d position = cloud.Positions.row(row).transpose();
-      for (int k = 0; k < rays; ++k)
-      {
-        const double angle = 2.0 * 3.14159265358979323846 * k / rays;
-        const Eigen::Vector3d direction = std::cos(angle) * first + std::sin(angle) * second;
-        clearance = std::min(clearance, ExitDistance(volume, position, direction, reach));
-      }
-      if (clearance > 0.0)
-      {
-        factor[i] = std::clamp(std::pow(radius / clearance, exponent), smallestFactor, 1.0);
-      }
+      continue; // undefined, a line (a tube's axis) or a blob: Euclidean lengths
     }
-  });
+    const Eigen::Vector3d normal = thinned.LocalNormal.row(row).transpose();
+    const Eigen::Vector3d first = Perpendicular(normal);
+    const Eigen::Vector3d second = normal.cross(first);
+    const Eigen::Vector3d position = cloud.Positions.row(row).transpose();
+    sheetPoints.push_back(i);
+    for (int k = 0; k < rays; ++k)
+    {
+      const double angle = 2.0 * 3.14159265358979323846 * k / rays;
+      fan.push_back(ExitRay(position, std::cos(angle) * first + std::sin(angle) * second, radius * reachRadii));
+    }
+  }
+  std::vector<double> exits;
+  volume.CastRays(fan, exits, parallelFor);
+  for (std::size_t s = 0; s < sheetPoints.size(); ++s)
+  {
+    const std::size_t i = sheetPoints[s];
+    const double radius = cloud.Radius[i];
+    double clearance = radius * reachRadii;
+    for (int k = 0; k < rays; ++k)
+    {
+      clearance = std::min(clearance, exits[s * rays + static_cast<std::size_t>(k)]);
+    }
+    if (clearance > 0.0)
+    {
+      factor[i] = std::clamp(std::pow(radius / clearance, exponent), smallestFactor, 1.0);
+    }
+  }
   return factor;
 }
 

@@ -445,17 +445,22 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
   // near the nodes of a tail hanging against it).
   if (volume)
   {
-    parallelFor(n, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
+    std::vector<std::size_t> tested;
+    std::vector<Segment> toNodes;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      if (!uncovered[i] && nearestNode[i] >= 0 && cloud.Radius[i] > 0.0)
       {
-        if (!uncovered[i] && nearestNode[i] >= 0 && cloud.Radius[i] > 0.0 &&
-          SegmentCrossesSurface(*volume, cloud.Positions.row(static_cast<Eigen::Index>(i)).transpose(),
-            graph.NodePositions.row(nearestNode[i]).transpose()))
-        {
-          uncovered[i] = 1;
-        }
+        tested.push_back(i);
+        toNodes.push_back(Segment{ cloud.Positions.row(static_cast<Eigen::Index>(i)).transpose(),
+          graph.NodePositions.row(nearestNode[i]).transpose() });
       }
-    });
+    }
+    const std::vector<char> crossing = SegmentsCrossSurface(*volume, toNodes, parallelFor);
+    for (std::size_t t = 0; t < tested.size(); ++t)
+    {
+      uncovered[tested[t]] = crossing[t];
+    }
   }
 
   if (std::none_of(uncovered.begin(), uncovered.end(), [](char u) { return u != 0; }))

@@ -88,6 +88,8 @@ private:
     std::vector<std::int64_t> chain;
     std::vector<std::int64_t> nearby;
     std::vector<std::pair<std::int64_t, double>> cone;
+    std::vector<std::int64_t> ahead;
+    std::vector<Segment> steps;
     const std::int64_t component = ComponentOf(seed);
     std::int64_t end = seed;
     while (true)
@@ -95,9 +97,8 @@ private:
       const Eigen::Vector3d origin = PositionOf(end);
       Tree->RadiusSearch(
         origin, Options.StepFactor * Cloud.Radius[Thinned.Thinned[end]], nearby);
-      cone.clear();
-      std::int64_t next = -1;
-      double nextDistance = std::numeric_limits<double>::infinity();
+      ahead.clear();
+      steps.clear();
       for (const std::int64_t q : nearby)
       {
         if (Clustered[q] || ComponentOf(q) != component)
@@ -112,12 +113,27 @@ private:
         {
           continue;
         }
-        if (Volume && SegmentCrossesSurface(*Volume, origin, PositionOf(q)))
+        ahead.push_back(q);
+        steps.push_back(Segment{ origin, PositionOf(q) });
+      }
+      // The inside tests of one step in one batch (a volume over processes answers it in one
+      // exchange).
+      const std::vector<char> crossing =
+        Volume ? SegmentsCrossSurface(*Volume, steps, SerialFor) : std::vector<char>(ahead.size(), 0);
+      cone.clear();
+      std::int64_t next = -1;
+      double nextDistance = std::numeric_limits<double>::infinity();
+      for (std::size_t a = 0; a < ahead.size(); ++a)
+      {
+        if (crossing[a])
         {
           continue; // close in space, but another part
         }
-        cone.emplace_back(q, along);
-        // nearby is in ascending index order, so strict '<' breaks ties by lower index.
+        const std::int64_t q = ahead[a];
+        const Eigen::Vector3d offset = PositionOf(q) - origin;
+        cone.emplace_back(q, offset.dot(direction));
+        // ahead is in ascending index order, so strict '<' breaks ties by lower index.
+        const double distance = offset.norm();
         if (distance < nextDistance)
         {
           next = q;

@@ -203,21 +203,63 @@ BoneSmoothingResult SmoothBones(
   {
     for (std::size_t i = 1; i < path.size(); ++i)
     {
-      const auto a = static_cast<std::size_t>(path[i - 1]), b = static_cast<std::size_t>(path[i]);
-      if (!volume || !SegmentCrossesSurface(*volume, original[a], original[b]))
+      edges.emplace_back(static_cast<std::size_t>(path[i - 1]), static_cast<std::size_t>(path[i]));
+    }
+  }
+  if (volume)
+  {
+    std::vector<Segment> asTheyAre;
+    for (const auto& [a, b] : edges)
+    {
+      asTheyAre.push_back(Segment{ original[a], original[b] });
+    }
+    const std::vector<char> crossing = SegmentsCrossSurface(*volume, asTheyAre, SerialFor);
+    std::size_t kept = 0;
+    for (std::size_t e = 0; e < edges.size(); ++e)
+    {
+      if (!crossing[e])
       {
-        edges.emplace_back(a, b);
+        edges[kept++] = edges[e];
       }
     }
+    edges.resize(kept);
   }
   constexpr int halvings = 4;
   std::vector<char> held(n, 0);
   for (int round = 0; volume; ++round)
   {
-    bool changed = false;
-    for (const auto& [a, b] : edges)
+    // Every edge tested at the round's positions in one batch (a volume over processes answers
+    // it in one exchange); an edge with an end already held back in this round is tested
+    // again, at its end's new position, as the edges are taken in order.
+    std::vector<std::size_t> tested;
+    std::vector<Segment> atRoundStart;
+    for (std::size_t e = 0; e < edges.size(); ++e)
     {
-      if ((share[a] == 0.0 && share[b] == 0.0) || !SegmentCrossesSurface(*volume, at(a), at(b)))
+      const auto [a, b] = edges[e];
+      if (share[a] > 0.0 || share[b] > 0.0) // both ends at rest stay so: the edge is skipped
+      {
+        tested.push_back(e);
+        atRoundStart.push_back(Segment{ at(a), at(b) });
+      }
+    }
+    const std::vector<char> crossingOfTested = SegmentsCrossSurface(*volume, atRoundStart, SerialFor);
+    std::vector<char> crossingAtStart(edges.size(), 0);
+    for (std::size_t t = 0; t < tested.size(); ++t)
+    {
+      crossingAtStart[tested[t]] = crossingOfTested[t];
+    }
+    std::vector<char> heldThisRound(n, 0);
+    bool changed = false;
+    for (std::size_t e = 0; e < edges.size(); ++e)
+    {
+      const auto [a, b] = edges[e];
+      if (share[a] == 0.0 && share[b] == 0.0)
+      {
+        continue;
+      }
+      const bool crossing =
+        heldThisRound[a] || heldThisRound[b] ? SegmentCrossesSurface(*volume, at(a), at(b)) : crossingAtStart[e] != 0;
+      if (!crossing)
       {
         continue;
       }
@@ -227,6 +269,7 @@ BoneSmoothingResult SmoothBones(
         {
           share[node] = round < halvings ? 0.5 * share[node] : 0.0;
           held[node] = 1;
+          heldThisRound[node] = 1;
           changed = true;
         }
       }

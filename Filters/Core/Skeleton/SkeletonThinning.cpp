@@ -10,6 +10,7 @@
 #include <functional>
 #include <iterator>
 #include <memory>
+#include <numeric>
 
 namespace shapediameter
 {
@@ -95,15 +96,45 @@ Projection ProjectOntoRegressionLine(const SkeletonPointTree& tree,
   return { moved, axis, std::clamp(confidence, 0.0, 1.0), eigenvalues, solver.eigenvectors().col(0).normalized() };
 }
 
-/// Whether no surface lies within `reach` of `centre` along the axes and the diagonals.
-bool BallFits(const RayCaster& volume, const Eigen::Vector3d& centre, double reach)
+/// Per centre, whether no surface lies within its reach along the axes and the diagonals.
+/// One batch of rays per direction, each for the centres that still fit: the rays a test that
+/// stops at the first exit casts (the batches let a volume over processes answer each in one
+/// exchange).
+std::vector<char> BallsFit(const RayCaster& volume, const std::vector<Eigen::Vector3d>& centres,
+  const std::vector<double>& reaches, const ParallelFor& parallelFor)
 {
   constexpr double d = 0.57735026918962576; // 1 / sqrt(3)
   static const Eigen::Vector3d directions[14] = { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 },
     { 0, 0, -1 }, { d, d, d }, { d, d, -d }, { d, -d, d }, { d, -d, -d }, { -d, d, d }, { -d, d, -d }, { -d, -d, d },
     { -d, -d, -d } };
-  return std::none_of(std::begin(directions), std::end(directions),
-    [&](const Eigen::Vector3d& direction) { return std::isfinite(ExitDistance(volume, centre, direction, reach)); });
+  std::vector<char> fits(centres.size(), 1);
+  std::vector<std::size_t> open(centres.size());
+  std::iota(open.begin(), open.end(), std::size_t(0));
+  std::vector<Ray> rays;
+  std::vector<double> exits;
+  for (const Eigen::Vector3d& direction : directions)
+  {
+    rays.clear();
+    for (const std::size_t c : open)
+    {
+      rays.push_back(ExitRay(centres[c], direction, reaches[c]));
+    }
+    volume.CastRays(rays, exits, parallelFor);
+    std::size_t stillOpen = 0;
+    for (std::size_t r = 0; r < open.size(); ++r)
+    {
+      if (std::isfinite(exits[r]))
+      {
+        fits[open[r]] = 0;
+      }
+      else
+      {
+        open[stillOpen++] = open[r];
+      }
+    }
+    open.resize(stillOpen);
+  }
+  return fits;
 }
 
 } // namespace
@@ -204,15 +235,14 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
   }
   if (volume && options.MinimumClearance > 0.0)
   {
-    std::vector<char> fits(candidates.size(), 0);
-    parallelFor(candidates.size(), [&](std::size_t begin, std::size_t end) {
-      for (std::size_t c = begin; c < end; ++c)
-      {
-        const auto k = static_cast<std::size_t>(candidates[c]);
-        fits[c] = BallFits(*volume, cloud.Positions.row(static_cast<Eigen::Index>(k)).transpose(),
-          options.MinimumClearance * cloud.Radius[k]);
-      }
-    });
+    std::vector<Eigen::Vector3d> centres;
+    std::vector<double> reaches;
+    for (const std::int64_t k : candidates)
+    {
+      centres.emplace_back(cloud.Positions.row(static_cast<Eigen::Index>(k)).transpose());
+      reaches.push_back(options.MinimumClearance * cloud.Radius[static_cast<std::size_t>(k)]);
+    }
+    const std::vector<char> fits = BallsFit(*volume, centres, reaches, parallelFor);
     std::size_t kept = 0;
     for (std::size_t c = 0; c < candidates.size(); ++c)
     {

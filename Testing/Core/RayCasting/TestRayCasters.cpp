@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <string>
 #include <limits>
 #include <memory>
@@ -271,6 +272,48 @@ TEST_P(RayCasterContract, SegmentCrossesSurfaceSeesEverySurfaceBetweenTheEnds)
   EXPECT_FALSE(SegmentCrossesSurface(*spheres, Eigen::Vector3d(0, -2, 0), Eigen::Vector3d(0, -3, 0)));
 }
 
+TEST_P(RayCasterContract, SegmentBatchesAnswerEachSegment)
+{
+  // The cases above in one batch, in an order that mixes segments needing one ray, two rays
+  // (the closest hit enters) and none (zero length): each answer lands on its own segment.
+  const auto stacked = MakeCaster(GetParam(), StackedTriangles());
+  const auto along = [](double z0, double z1) { return Segment{ Eigen::Vector3d(0, 0, z0), Eigen::Vector3d(0, 0, z1) }; };
+  const std::vector<Segment> segments{ along(1.2, 1.8), along(1.5, 2.5), along(1.5, 1.5), along(0.5, 1.5),
+    along(3.5, 4.5), along(2.5, 1.5), along(0.5, 3.5), along(1.8, 1.2) };
+  const std::vector<char> expected{ 0, 1, 0, 1, 0, 1, 1, 0 };
+  EXPECT_EQ(SegmentsCrossSurface(*stacked, segments, ThreadedFor(3)), expected);
+  EXPECT_TRUE(SegmentsCrossSurface(*stacked, {}, SerialFor).empty());
+}
+
+TEST_P(RayCasterContract, CastRaysMatchesSingleRaysWhateverTheThreads)
+{
+  const TestMesh mesh = testshapes::Concatenate(testshapes::MakeIcosphere(6, 1.0),
+    testshapes::Transformed(testshapes::MakeIcosphere(6, 1.0), Eigen::Matrix3d::Identity(), Eigen::Vector3d(1.5, 0, 0)));
+  const auto caster = MakeCaster(GetParam(), mesh);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 300; ++i) // more than CastRays's few rays cast serially
+  {
+    const double angle = 0.1 * i;
+    const Eigen::Vector3d from(0.01 * (i % 250) - 0.5, 0.3 * std::sin(angle), 0.2 * std::cos(3 * angle));
+    const Eigen::Vector3d direction = Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.3 * std::cos(2 * angle)).normalized();
+    rays.push_back(ExitRay(from, direction, i % 3 == 0 ? 0.8 : kInfinity));
+    rays.back().Origin.Rule = i % 2 == 0 ? HitRule::FirstHitLeaving : HitRule::SkipSameFacing;
+  }
+  std::vector<double> serial, threaded;
+  caster->CastRays(rays, serial, SerialFor);
+  caster->CastRays(rays, threaded, ThreadedFor(3));
+  ASSERT_EQ(serial.size(), rays.size());
+  int hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i)
+  {
+    EXPECT_EQ(serial[i], caster->ClosestValidHit(rays[i].Origin, rays[i].Direction)) << i;
+    EXPECT_EQ(threaded[i], serial[i]) << i;
+    hits += std::isfinite(serial[i]) ? 1 : 0;
+  }
+  EXPECT_GT(hits, 100);
+  EXPECT_LT(hits, 300); // some rays stop short (MaxDistance) or enter first
+}
+
 INSTANTIATE_TEST_SUITE_P(BothCasters, RayCasterContract,
   ::testing::Values(CasterKind::Embree, CasterKind::BruteForce),
   [](const ::testing::TestParamInfo<CasterKind>& info) {
@@ -400,6 +443,109 @@ TEST(RayCasters, EmbreeCompactBvhGivesTheSameHits)
     }
   }
   EXPECT_GT(hits, 9 * origins.Points.rows() / 10);
+}
+
+/// The triangles of `mesh` whose index passes `keep`, with only the points they use.
+TestMesh TrianglesWhere(const TestMesh& mesh, const std::function<bool(Eigen::Index)>& keep)
+{
+  std::vector<Eigen::Index> newIndex(static_cast<std::size_t>(mesh.Points.rows()), -1);
+  std::vector<Eigen::Index> kept, usedPoints;
+  for (Eigen::Index t = 0; t < mesh.Triangles.rows(); ++t)
+  {
+    if (!keep(t))
+    {
+      continue;
+    }
+    kept.push_back(t);
+    for (int c = 0; c < 3; ++c)
+    {
+      auto& index = newIndex[static_cast<std::size_t>(mesh.Triangles(t, c))];
+      if (index < 0)
+      {
+        index = static_cast<Eigen::Index>(usedPoints.size());
+        usedPoints.push_back(mesh.Triangles(t, c));
+      }
+    }
+  }
+  TestMesh piece;
+  piece.Points.resize(static_cast<Eigen::Index>(usedPoints.size()), 3);
+  for (std::size_t p = 0; p < usedPoints.size(); ++p)
+  {
+    piece.Points.row(static_cast<Eigen::Index>(p)) = mesh.Points.row(usedPoints[p]);
+  }
+  piece.Triangles.resize(static_cast<Eigen::Index>(kept.size()), 3);
+  for (std::size_t k = 0; k < kept.size(); ++k)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      piece.Triangles(static_cast<Eigen::Index>(k), c) = newIndex[static_cast<std::size_t>(mesh.Triangles(kept[k], c))];
+    }
+  }
+  return piece;
+}
+
+TEST(RayCasters, EmbreePiecesMergedByOrderAnswerAsTheWholeMesh)
+{
+  // The skeleton's volume over processes: each process casts against its own triangles (with
+  // the whole mesh's centre), and the answer of the lowest order is the whole mesh's. Pieces
+  // are slabs across x (as the reader's spatial pieces); some triangles in two pieces.
+  // Far from the origin, where a piece's own centre would round its vertices differently.
+  const TestMesh mesh = testshapes::Transformed(testshapes::Concatenate(testshapes::MakeIcosphere(10, 1.0),
+                                                  testshapes::MakeCapsule(0.3, 2.0, 20, 6, 8)),
+    Eigen::Matrix3d::Identity(), Eigen::Vector3d(1e4, 3e3, -2e4));
+  EmbreeRayCasterOptions options;
+  options.BuildQuality = EmbreeBuildQuality::Low;
+  options.Compact = true;
+  const EmbreeRayCaster whole(mesh.Points, mesh.Triangles, options);
+  options.Centre = { 0.5 * (mesh.Points.colwise().maxCoeff() + mesh.Points.colwise().minCoeff()).transpose()(0),
+    0.5 * (mesh.Points.colwise().maxCoeff() + mesh.Points.colwise().minCoeff()).transpose()(1),
+    0.5 * (mesh.Points.colwise().maxCoeff() + mesh.Points.colwise().minCoeff()).transpose()(2) };
+  std::vector<std::unique_ptr<EmbreeRayCaster>> pieces;
+  const double left = mesh.Points.col(0).minCoeff(), width = mesh.Points.col(0).maxCoeff() - left;
+  for (Eigen::Index piece = 0; piece < 3; ++piece)
+  {
+    const TestMesh own = TrianglesWhere(mesh, [&](Eigen::Index t) {
+      const double x = mesh.Points(mesh.Triangles(t, 0), 0);
+      return static_cast<Eigen::Index>(std::min(2.0, 3 * (x - left) / width)) == piece || t % 7 == piece;
+    });
+    pieces.push_back(std::make_unique<EmbreeRayCaster>(own.Points, own.Triangles, options));
+  }
+  std::vector<Ray> rays;
+  const Eigen::Vector3d centre(1e4, 3e3, -2e4);
+  for (int i = 0; i < 2000; ++i)
+  {
+    const double angle = 0.37 * i;
+    const Eigen::Vector3d from = centre + Eigen::Vector3d(0.002 * (i % 700) - 0.7, 0.4 * std::sin(1.3 * angle), 0.4 * std::cos(angle));
+    const Eigen::Vector3d direction =
+      Eigen::Vector3d(std::cos(angle), std::sin(angle) * std::cos(0.5 * angle), std::sin(0.7 * angle)).normalized();
+    rays.push_back(ExitRay(from, direction, i % 5 == 0 ? 0.5 : kInfinity));
+    rays.back().Origin.Rule = i % 2 == 0 ? HitRule::FirstHitLeaving : HitRule::SkipSameFacing;
+  }
+  std::vector<double> expected, distances;
+  whole.CastRays(rays, expected, ThreadedFor(2));
+  std::vector<double> merged(rays.size(), kInfinity);
+  std::vector<float> lowest(rays.size(), std::numeric_limits<float>::infinity()), order;
+  for (const auto& piece : pieces)
+  {
+    piece->CastRaysWithOrder(rays, distances, order, ThreadedFor(2));
+    for (std::size_t i = 0; i < rays.size(); ++i)
+    {
+      if (order[i] < lowest[i])
+      {
+        lowest[i] = order[i];
+        merged[i] = distances[i];
+      }
+    }
+  }
+  int hits = 0, entering = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i)
+  {
+    EXPECT_EQ(merged[i], expected[i]) << "ray " << i;
+    hits += std::isfinite(expected[i]) ? 1 : 0;
+    entering += std::isfinite(lowest[i]) && !std::isfinite(expected[i]) ? 1 : 0;
+  }
+  EXPECT_GT(hits, 800);
+  EXPECT_GT(entering, 50); // first hits that enter (FirstHitLeaving) or only skipped ones
 }
 
 TEST(RayCasters, MaxDistanceStopsTheSearchForBothCasters)
