@@ -6,6 +6,9 @@
 #include "Skeleton/SkeletonLink.h"
 #include "Skeleton/SkeletonSampling.h"
 
+#include <algorithm>
+#include <limits>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -70,8 +73,51 @@ enum LinkCommand : int
   PartBonesCommand = 3,
   RenameBonesCommand = 4,
   NodesOfOwnBonesCommand = 5,
-  DoneCommand = 6
+  DoneCommand = 6,
+  CastRaysCommand = 7
 };
+
+/// What a process answers the first process's commands with: its own faces (the link's steps)
+/// and its own triangles' volume (the skeleton's rays).
+struct OwnShare
+{
+  FaceLink& Faces;
+  const EmbreeRayCaster& Volume;
+  const ParallelFor& Parallel;
+};
+
+/// A ray in a command: point, normal, direction, minimum and maximum distance, rule.
+constexpr std::size_t RayWidth = 12;
+
+void PutRay(const Ray& ray, std::vector<double>& message)
+{
+  if (ray.Origin.SourceTriangle >= 0)
+  {
+    throw Error("skeleton: a ray of the volume over processes has a source triangle");
+  }
+  message.insert(message.end(), ray.Origin.Point, ray.Origin.Point + 3);
+  message.insert(message.end(), ray.Origin.Normal, ray.Origin.Normal + 3);
+  message.insert(message.end(), ray.Direction, ray.Direction + 3);
+  message.insert(message.end(), { ray.Origin.MinDistance, ray.Origin.MaxDistance,
+                                  ray.Origin.Rule == HitRule::SkipSameFacing ? 1.0 : 0.0 });
+}
+
+std::vector<Ray> TakeRays(const std::vector<double>& message, std::size_t at)
+{
+  std::vector<Ray> rays((message.size() - at) / RayWidth);
+  for (Ray& ray : rays)
+  {
+    const double* values = message.data() + at;
+    std::copy(values, values + 3, ray.Origin.Point);
+    std::copy(values + 3, values + 6, ray.Origin.Normal);
+    std::copy(values + 6, values + 9, ray.Direction);
+    ray.Origin.MinDistance = values[9];
+    ray.Origin.MaxDistance = values[10];
+    ray.Origin.Rule = values[11] != 0.0 ? HitRule::SkipSameFacing : HitRule::FirstHitLeaving;
+    at += RayWidth;
+  }
+  return rays;
+}
 
 /// What the link reads of the graph: node positions, components and bones, and the bone count.
 void PutGraph(const SkeletonGraph& graph, std::vector<double>& message)
@@ -126,13 +172,26 @@ void PutIds(const std::vector<std::int64_t>& ids, std::vector<double>& message)
   message.insert(message.end(), ids.begin(), ids.end());
 }
 
-/// One command run on a process's own faces; returns its reply.
-std::vector<double> RunLinkCommand(FaceLink& faces, const std::vector<double>& command)
+/// One command run on a process's own faces or triangles; returns its reply.
+std::vector<double> RunCommand(const OwnShare& own, const std::vector<double>& command)
 {
   std::size_t at = 1;
   std::vector<double> reply;
+  FaceLink& faces = own.Faces;
   switch (static_cast<int>(command.at(0)))
   {
+    case CastRaysCommand:
+    {
+      // Per ray, the order of the closest hit among the own triangles and its answer.
+      std::vector<double> distances;
+      std::vector<float> order;
+      own.Volume.CastRaysWithOrder(TakeRays(command, at), distances, order, own.Parallel);
+      for (std::size_t r = 0; r < distances.size(); ++r)
+      {
+        reply.insert(reply.end(), { static_cast<double>(order[r]), distances[r] });
+      }
+      break;
+    }
     case LargestFacesCommand:
     {
       const std::vector<std::int64_t> hasNode = TakeIds(command, at);
@@ -172,14 +231,103 @@ std::vector<double> RunLinkCommand(FaceLink& faces, const std::vector<double>& c
   return reply;
 }
 
+/// On the first process: a command sent to every process (the first included), each process's
+/// reply in process order.
+class CommandsToEveryProcess
+{
+public:
+  CommandsToEveryProcess(const OwnShare& own, const ProcessGroup& group)
+    : Own(own)
+    , Group(group)
+  {
+  }
+
+  std::vector<std::vector<double>> Run(const std::vector<double>& command) const
+  {
+    const std::vector<double> own = this->Group.ScatterFromFirst([&](int) { return command; });
+    return this->Group.GatherOnFirst(RunCommand(this->Own, own));
+  }
+
+private:
+  const OwnShare& Own;
+  const ProcessGroup& Group;
+};
+
+/// The volume over processes, as the first process's ComputeSkeletonOfSamples casts through it:
+/// each batch of rays sent to every process, cast against its own triangles, and each ray's
+/// answer taken from the process whose closest hit Embree ranks first (the whole mesh's
+/// answer, EmbreeRayCaster::CastRaysWithOrder; equal orders: the lowest process's).
+class VolumeOverProcesses final : public RayCaster
+{
+public:
+  VolumeOverProcesses(const CommandsToEveryProcess& commands, std::size_t triangles, double diagonal)
+    : Commands(commands)
+    , Triangles(triangles)
+    , Diagonal(diagonal)
+  {
+  }
+
+  double ClosestValidHit(const RayOrigin& origin, const double direction[3]) const override
+  {
+    Ray ray;
+    ray.Origin = origin;
+    std::copy(direction, direction + 3, ray.Direction);
+    std::vector<double> distance;
+    this->CastRays({ ray }, distance, SerialFor);
+    return distance[0];
+  }
+
+  void CastRays(const std::vector<Ray>& rays, std::vector<double>& outDistances, const ParallelFor&) const override
+  {
+    // Batches of bounded size: the messages and the first process's copies of them stay small.
+    constexpr std::size_t batch = 16384;
+    outDistances.assign(rays.size(), std::numeric_limits<double>::infinity());
+    std::vector<float> lowest(rays.size(), std::numeric_limits<float>::infinity());
+    for (std::size_t begin = 0; begin < rays.size(); begin += batch)
+    {
+      const std::size_t end = std::min(rays.size(), begin + batch);
+      std::vector<double> command{ CastRaysCommand };
+      command.reserve(1 + RayWidth * (end - begin));
+      for (std::size_t r = begin; r < end; ++r)
+      {
+        PutRay(rays[r], command);
+      }
+      for (const std::vector<double>& reply : this->Commands.Run(command))
+      {
+        if (reply.size() != 2 * (end - begin))
+        {
+          throw Error("skeleton: a process answered " + std::to_string(reply.size() / 2) + " of " +
+            std::to_string(end - begin) + " rays");
+        }
+        for (std::size_t r = begin; r < end; ++r)
+        {
+          const auto order = static_cast<float>(reply[2 * (r - begin)]);
+          if (order < lowest[r])
+          {
+            lowest[r] = order;
+            outDistances[r] = reply[2 * (r - begin) + 1];
+          }
+        }
+      }
+    }
+  }
+
+  std::size_t GetNumberOfTriangles() const override { return this->Triangles; }
+  double GetBoundingBoxDiagonal() const override { return this->Diagonal; }
+
+private:
+  const CommandsToEveryProcess& Commands;
+  std::size_t Triangles;
+  double Diagonal;
+};
+
 /// The link over processes, as the first process's ComputeSkeleton drives it: each step sent to
 /// every process (the first included), run on its own faces, the replies completed here.
 class LinkOverProcesses final : public SurfaceLink
 {
 public:
-  LinkOverProcesses(FaceLink& ownFaces, const ProcessGroup& group)
-    : OwnFaces(ownFaces)
-    , Group(group)
+  explicit LinkOverProcesses(const CommandsToEveryProcess& commands)
+    : Commands(commands)
   {
   }
 
@@ -248,19 +396,15 @@ public:
   }
 
 private:
-  std::vector<std::vector<double>> Run(const std::vector<double>& command)
-  {
-    const std::vector<double> own = this->Group.ScatterFromFirst([&](int) { return command; });
-    return this->Group.GatherOnFirst(RunLinkCommand(this->OwnFaces, own));
-  }
+  std::vector<std::vector<double>> Run(const std::vector<double>& command) { return this->Commands.Run(command); }
 
-  FaceLink& OwnFaces;
-  const ProcessGroup& Group;
+  const CommandsToEveryProcess& Commands;
 };
 
-/// On every process but the first: the link's commands run on the own faces until the first
-/// process is done; returns the Done command (status, then the asked triangles).
-std::vector<double> ServeLink(FaceLink& ownFaces, const ProcessGroup& group)
+/// On every process but the first: the link's and the volume's commands run on the own faces
+/// and triangles until the first process is done; returns the Done command (status, then the
+/// asked triangles).
+std::vector<double> ServeCommands(const OwnShare& own, const ProcessGroup& group)
 {
   while (true)
   {
@@ -273,7 +417,7 @@ std::vector<double> ServeLink(FaceLink& ownFaces, const ProcessGroup& group)
     {
       return command;
     }
-    group.GatherOnFirst(RunLinkCommand(ownFaces, command));
+    group.GatherOnFirst(RunCommand(own, command));
   }
 }
 
@@ -332,6 +476,7 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
   whole.Columns = GatherTriangleColumnsOnFirst(
     columns, whole.ProcessTriangles, static_cast<std::size_t>(whole.Triangles.rows()), group);
   std::vector<double> prepared;
+  double wholeDiagonal = 0.0;
   if (first)
   {
     if (withParts)
@@ -353,8 +498,13 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
         }
       }
     }
+    // The whole mesh's bounding box: its centre to every process, whose volume's vertices are
+    // translated by it as the whole mesh's would be (EmbreeRayCasterOptions::Centre).
+    const Eigen::RowVector3d lowest = whole.Points.colwise().minCoeff(), highest = whole.Points.colwise().maxCoeff();
+    const Eigen::RowVector3d centre = 0.5 * (highest + lowest);
+    wholeDiagonal = (highest - lowest).norm();
     prepared = group.ScatterFromFirst([&](int process) {
-      std::vector<double> rows;
+      std::vector<double> rows{ centre(0), centre(1), centre(2) };
       for (const std::int64_t w : whole.ProcessTriangles[static_cast<std::size_t>(process)])
       {
         const auto t = static_cast<std::size_t>(w);
@@ -370,11 +520,14 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
     prepared = group.ScatterFromFirst([](int) { return std::vector<double>(); });
   }
   constexpr std::size_t PreparedWidth = 5; // flip, component, part, counts, index in the whole mesh
-  if (prepared.size() != PreparedWidth * ownCount)
+  if (prepared.size() != 3 + PreparedWidth * ownCount)
   {
     throw Error("skeleton: the first process sent " + std::to_string(prepared.size()) + " link values for " +
       std::to_string(ownCount) + " triangles");
   }
+  EmbreeRayCasterOptions volumeOptions = SkeletonVolumeOptions();
+  volumeOptions.Centre = { prepared[0], prepared[1], prepared[2] };
+  prepared.erase(prepared.begin(), prepared.begin() + 3);
   TriangleMatrix orientedOwn = input.Triangles;
   std::vector<std::uint8_t> ownFlip(ownCount);
   std::vector<std::int64_t> ownComponent(ownCount), ownPart(withParts ? ownCount : 0);
@@ -398,6 +551,11 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
   ApplyFlips(orientedOwn, ownFlip);
   FaceLink ownFaces(input.Points, orientedOwn, input.TriangleSdf, PointMatrix(0, 3), std::move(ownComponent),
     std::move(ownPart), std::move(ownCounts), std::move(ownWholeIndex), parallelFor);
+  // The own triangles' volume; on the first process once the whole mesh is freed (below).
+  std::unique_ptr<EmbreeRayCaster> ownVolume;
+  const auto buildOwnVolume = [&]() {
+    ownVolume = std::make_unique<EmbreeRayCaster>(input.Points, orientedOwn, volumeOptions);
+  };
 
   // 4. The skeleton on the first process, its link's steps run on every process's faces.
   DistributedSkeletonResult result;
@@ -416,8 +574,14 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
     whole.Columns = {};
     wholeComponent = {};
     wholeParts = {};
-    const EmbreeRayCaster volume(std::move(whole.Points), std::move(whole.Triangles), SkeletonVolumeOptions());
-    LinkOverProcesses link(ownFaces, group);
+    const auto wholeTriangles = static_cast<std::size_t>(whole.Triangles.rows());
+    whole.Points = PointMatrix();
+    whole.Triangles = TriangleMatrix();
+    buildOwnVolume();
+    const OwnShare own{ ownFaces, *ownVolume, parallelFor };
+    const CommandsToEveryProcess commands(own, group);
+    const VolumeOverProcesses volume(commands, wholeTriangles, wholeDiagonal);
+    LinkOverProcesses link(commands);
     SkeletonResult skeleton =
       ComputeSkeletonOfSamples(sampled, volume, options, parallelFor, progress, [&]() -> SurfaceLink& { return link; });
     result.Aborted = skeleton.Aborted;
@@ -433,7 +597,8 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
   }
   else
   {
-    done = ServeLink(ownFaces, group);
+    buildOwnVolume();
+    done = ServeCommands(OwnShare{ ownFaces, *ownVolume, parallelFor }, group);
   }
   if (done.size() < 2 || done[1] != Computed)
   {

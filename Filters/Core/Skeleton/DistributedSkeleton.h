@@ -18,14 +18,21 @@
 //        every process, per triangle of its share, the triangle's flip, component, part, index
 //        in the whole mesh and whether it counts in the link's sums (a cell several processes
 //        hold counts on the lowest); every process winds its triangles as the whole mesh does;
-//     4. it samples the mesh (SampleSkeletonSurface), frees it once it is copied into the
-//        volume's BVH (the whole mesh is not needed past the sampling, and this process peaks
-//        while the BVH is built) and computes the rest of the skeleton
-//        (ComputeSkeletonOfSamples); the surface link's steps (SkeletonLink.h) run on every
-//        process's own triangles (LinkOverProcesses: each step sent to every process, which
-//        serves them until the first is done), the first process completing each step's
-//        result: the largest face per component without samples (ties: the lowest face), the
-//        area per (part, bone) as exact sums;
+//     4. it samples the mesh (SampleSkeletonSurface), frees it and computes the rest of the
+//        skeleton (ComputeSkeletonOfSamples) through two things spread over the processes:
+//        - the volume: every process builds the BVH of its own triangles, wound as the whole
+//          mesh's and translated by the whole mesh's centre (sent with step 3); each batch of
+//          the skeleton's rays (RayCaster::CastRays) goes to every process, and each ray's
+//          answer is the one whose closest hit Embree ranks first (CastRaysWithOrder; equal
+//          orders: the lowest process's), the whole mesh's own answer (but for a ray whose two
+//          closest triangles lie at the very same single-precision distance, where either
+//          BVH's traversal order decides). No process holds the whole mesh's BVH;
+//        - the surface link's steps (SkeletonLink.h) run on every process's own triangles
+//          (LinkOverProcesses), the first process completing each step's result: the largest
+//          face per component without samples (ties: the lowest face), the area per (part,
+//          bone) as exact sums.
+//        Both are commands every other process serves until the first is done: one exchange per
+//        batch of rays (at most 16,384 rays), per growth step and per link step;
 //     5. it asks for the cell id and cloud label of the cloud points' source triangles (a
 //        gather of at most NumberOfSamples pairs): the whole mesh needs neither.
 //   The triangles of a cell are those the adapter makes of it (Triangulate), which depend on
@@ -33,9 +40,10 @@
 //   and every process's projected centres and areas are the whole mesh's bits.
 //
 // Why not more distributed
-//   Orientation, components, sampling and the volume's BVH are whole-surface: the first
-//   process holds the mesh, its BVH and the skeleton's working set, but not the VTK surface
-//   with its arrays, nor the faces' link (docs/distributed.md: the plan for the rest).
+//   Orientation, components and sampling are whole-surface: the first process holds the mesh
+//   until it is sampled and the skeleton's working set (at most NumberOfSamples points), but
+//   not the VTK surface with its arrays, the volume's BVH, nor the faces' link
+//   (docs/distributed.md: the plan for the rest).
 //
 // Contract
 //   Every process calls ComputeSkeletonOverProcesses at the same point (the group's

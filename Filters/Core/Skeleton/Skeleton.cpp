@@ -336,7 +336,7 @@ SkeletonResult ComputeSkeletonOfSamples(const SampledSurface& surface, const Ray
     return AbortedResult();
   }
   const std::vector<PolySegment> segments =
-    GrowPolySegments(cloud, thinned, pointComponent, options.Segments, &volume);
+    GrowPolySegments(cloud, thinned, pointComponent, options.Segments, &volume, parallelFor);
   if (progress && !progress(0.7))
   {
     return AbortedResult();

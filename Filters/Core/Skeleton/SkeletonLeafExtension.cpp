@@ -49,11 +49,19 @@ struct LeafExit
   double Distance = 0.0;     ///< from Tip to the surface along Direction
 };
 
-/// The branch's direction at leaf v (from its node about 2 r back) and where its line leaves the
-/// volume; false when the leaf has no direction, the line does not leave the volume, or the exit
-/// surface is met at more than the angle whose cosine is minimumCosine.
-bool FindHeadOnExit(const SkeletonGraph& graph, const std::vector<std::vector<std::int64_t>>& adjacency,
-  std::int64_t leaf, const RayCaster& volume, double minimumCosine, LeafExit& found)
+/// A leaf's branch line and the two rays beside it whose exits give the exit surface's normal.
+struct LeafLine
+{
+  std::int64_t Leaf = -1;
+  Eigen::Vector3d Tip;
+  Eigen::Vector3d Direction; ///< unit, along the branch towards the leaf and beyond
+  Eigen::Vector3d Side;      ///< tip offset of the first ray beside the line
+  Eigen::Vector3d Other;     ///< tip offset of the second
+};
+
+/// The branch's direction at leaf v (from its node about 2 r back); false when it has none.
+bool FindLeafLine(const SkeletonGraph& graph, const std::vector<std::vector<std::int64_t>>& adjacency,
+  std::int64_t leaf, LeafLine& line)
 {
   const auto position = [&graph](std::int64_t node) -> Eigen::Vector3d {
     return graph.NodePositions.row(node).transpose();
@@ -81,28 +89,27 @@ bool FindHeadOnExit(const SkeletonGraph& graph, const std::vector<std::vector<st
     return false;
   }
   direction.normalize();
-
-  const double exit = ExitDistance(volume, tip, direction);
-  if (!std::isfinite(exit))
-  {
-    return false;
-  }
   const Eigen::Vector3d side = direction.unitOrthogonal();
-  const Eigen::Vector3d other = direction.cross(side);
-  const double exitSide = ExitDistance(volume, tip + 0.25 * radius * side, direction);
-  const double exitOther = ExitDistance(volume, tip + 0.25 * radius * other, direction);
-  if (!std::isfinite(exitSide) || !std::isfinite(exitOther))
+  line = LeafLine{ leaf, tip, direction, 0.25 * radius * side, 0.25 * radius * direction.cross(side) };
+  return true;
+}
+
+/// Where the line leaves the volume (exit along it, exitSide and exitOther beside it), when it
+/// meets that exit head-on: the exit surface within the angle whose cosine is minimumCosine.
+bool IsHeadOnExit(const LeafLine& line, double exit, double exitSide, double exitOther, double minimumCosine)
+{
+  if (!std::isfinite(exit) || !std::isfinite(exitSide) || !std::isfinite(exitOther))
   {
     return false;
   }
-  const Eigen::Vector3d exitPoint = tip + exit * direction;
-  const Eigen::Vector3d normal = (tip + 0.25 * radius * side + exitSide * direction - exitPoint)
-                                   .cross(tip + 0.25 * radius * other + exitOther * direction - exitPoint);
+  const Eigen::Vector3d& direction = line.Direction;
+  const Eigen::Vector3d exitPoint = line.Tip + exit * direction;
+  const Eigen::Vector3d normal = (line.Tip + line.Side + exitSide * direction - exitPoint)
+                                   .cross(line.Tip + line.Other + exitOther * direction - exitPoint);
   if (!(normal.norm() > 0.0) || std::abs(normal.normalized().dot(direction)) < minimumCosine)
   {
     return false;
   }
-  found = LeafExit{ tip, direction, exit };
   return true;
 }
 
@@ -134,14 +141,30 @@ std::vector<std::pair<std::int64_t, LeafExit>> HeadOnLeafExits(
   }
   const double minimumCosine = std::cos(maximumExitAngle * 3.14159265358979323846 / 180.0);
   const std::vector<std::vector<std::int64_t>> adjacency = NodeAdjacency(graph);
+  // Every leaf's three rays in one batch (a volume over processes answers it in one exchange).
+  std::vector<LeafLine> lines;
+  std::vector<Ray> rays;
   for (std::size_t v = 0; v < adjacency.size(); ++v)
   {
-    const auto leaf = static_cast<std::int64_t>(v);
-    LeafExit exit;
+    LeafLine line;
     if (adjacency[v].size() == 1 && graph.NodeRadius[v] > 0.0 &&
-      FindHeadOnExit(graph, adjacency, leaf, volume, minimumCosine, exit))
+      FindLeafLine(graph, adjacency, static_cast<std::int64_t>(v), line))
     {
-      exits.emplace_back(leaf, exit);
+      lines.push_back(line);
+      for (const Eigen::Vector3d& offset : { Eigen::Vector3d::Zero().eval(), line.Side, line.Other })
+      {
+        rays.push_back(ExitRay(line.Tip + offset, line.Direction));
+      }
+    }
+  }
+  std::vector<double> distances;
+  volume.CastRays(rays, distances, SerialFor);
+  for (std::size_t l = 0; l < lines.size(); ++l)
+  {
+    const double exit = distances[3 * l];
+    if (IsHeadOnExit(lines[l], exit, distances[3 * l + 1], distances[3 * l + 2], minimumCosine))
+    {
+      exits.emplace_back(lines[l].Leaf, LeafExit{ lines[l].Tip, lines[l].Direction, exit });
     }
   }
   return exits;

@@ -31,7 +31,7 @@ class SegmentGrower
 public:
   SegmentGrower(const ProjectedCloud& cloud, const ThinnedCloud& thinned,
     const std::vector<std::int64_t>& pointComponent, const SkeletonSegmentOptions& options,
-    const RayCaster* volume)
+    const RayCaster* volume, const ParallelFor& parallelFor)
     : Cloud(cloud)
     , Thinned(thinned)
     , PointComponent(pointComponent)
@@ -46,6 +46,10 @@ public:
       Positions.row(static_cast<Eigen::Index>(t)) = thinned.Positions.row(thinned.Thinned[t]);
     }
     Tree = std::make_unique<SkeletonPointTree>(Positions);
+    if (volume)
+    {
+      TestPossibleSteps(*volume, parallelFor);
+    }
   }
 
   /// Segments as indices into T, in seed order, before the MinimumNodes filter.
@@ -77,6 +81,64 @@ public:
   }
 
 private:
+  /// The inside test of every step the growth may take, in one batch (a volume over processes
+  /// answers it in one exchange): from each point t of T to every point q near it (within t's
+  /// step, same component) in the cone about t's axis, either way, whose own axis lies within
+  /// the tolerance of t's. The growth's direction at t is always plus or minus t's axis, so
+  /// these are all the steps it can test; which it does depends on what is clustered by then.
+  void TestPossibleSteps(const RayCaster& volume, const ParallelFor& parallelFor)
+  {
+    const std::size_t count = Clustered.size();
+    PossibleSteps.assign(count, {});
+    std::vector<Segment> steps;
+    std::vector<std::int64_t> nearby;
+    for (std::size_t t = 0; t < count; ++t)
+    {
+      const auto from = static_cast<std::int64_t>(t);
+      const Eigen::Vector3d origin = PositionOf(from);
+      const Eigen::Vector3d axis = AxisOf(from);
+      Tree->RadiusSearch(origin, Options.StepFactor * Cloud.Radius[Thinned.Thinned[from]], nearby);
+      for (const std::int64_t q : nearby)
+      {
+        const Eigen::Vector3d offset = PositionOf(q) - origin;
+        const double distance = offset.norm();
+        // |along| as GrowSide's along for either sign of the direction (a negation is exact).
+        if (ComponentOf(q) != ComponentOf(from) || !(distance > 0.0) ||
+          std::abs(offset.dot(axis)) < CosTolerance * distance || std::abs(AxisOf(q).dot(axis)) < CosTolerance)
+        {
+          continue;
+        }
+        PossibleSteps[t].push_back(q);
+        steps.push_back(Segment{ origin, PositionOf(q) });
+      }
+    }
+    const std::vector<char> crossing = SegmentsCrossSurface(volume, steps, parallelFor);
+    StepCrossing.assign(count, {});
+    std::size_t at = 0;
+    for (std::size_t t = 0; t < count; ++t)
+    {
+      StepCrossing[t].assign(crossing.begin() + static_cast<std::ptrdiff_t>(at),
+        crossing.begin() + static_cast<std::ptrdiff_t>(at + PossibleSteps[t].size()));
+      at += PossibleSteps[t].size();
+    }
+  }
+
+  /// Whether the step from `from` to `to` (one GrowSide takes) meets the surface.
+  bool StepCrossesSurface(std::int64_t from, std::int64_t to) const
+  {
+    if (!Volume)
+    {
+      return false;
+    }
+    const std::vector<std::int64_t>& possible = PossibleSteps[static_cast<std::size_t>(from)];
+    const auto found = std::lower_bound(possible.begin(), possible.end(), to); // nearby lists ascend
+    if (found == possible.end() || *found != to)
+    {
+      throw Error("skeleton: a growth step that was not tested through the volume");
+    }
+    return StepCrossing[static_cast<std::size_t>(from)][static_cast<std::size_t>(found - possible.begin())] != 0;
+  }
+
   Eigen::Vector3d PositionOf(std::int64_t t) const { return Positions.row(t).transpose(); }
   Eigen::Vector3d AxisOf(std::int64_t t) const
   {
@@ -88,8 +150,6 @@ private:
     std::vector<std::int64_t> chain;
     std::vector<std::int64_t> nearby;
     std::vector<std::pair<std::int64_t, double>> cone;
-    std::vector<std::int64_t> ahead;
-    std::vector<Segment> steps;
     const std::int64_t component = ComponentOf(seed);
     std::int64_t end = seed;
     while (true)
@@ -97,8 +157,9 @@ private:
       const Eigen::Vector3d origin = PositionOf(end);
       Tree->RadiusSearch(
         origin, Options.StepFactor * Cloud.Radius[Thinned.Thinned[end]], nearby);
-      ahead.clear();
-      steps.clear();
+      cone.clear();
+      std::int64_t next = -1;
+      double nextDistance = std::numeric_limits<double>::infinity();
       for (const std::int64_t q : nearby)
       {
         if (Clustered[q] || ComponentOf(q) != component)
@@ -113,27 +174,12 @@ private:
         {
           continue;
         }
-        ahead.push_back(q);
-        steps.push_back(Segment{ origin, PositionOf(q) });
-      }
-      // The inside tests of one step in one batch (a volume over processes answers it in one
-      // exchange).
-      const std::vector<char> crossing =
-        Volume ? SegmentsCrossSurface(*Volume, steps, SerialFor) : std::vector<char>(ahead.size(), 0);
-      cone.clear();
-      std::int64_t next = -1;
-      double nextDistance = std::numeric_limits<double>::infinity();
-      for (std::size_t a = 0; a < ahead.size(); ++a)
-      {
-        if (crossing[a])
+        if (StepCrossesSurface(end, q))
         {
           continue; // close in space, but another part
         }
-        const std::int64_t q = ahead[a];
-        const Eigen::Vector3d offset = PositionOf(q) - origin;
-        cone.emplace_back(q, offset.dot(direction));
-        // ahead is in ascending index order, so strict '<' breaks ties by lower index.
-        const double distance = offset.norm();
+        cone.emplace_back(q, along);
+        // nearby is in ascending index order, so strict '<' breaks ties by lower index.
         if (distance < nextDistance)
         {
           next = q;
@@ -168,13 +214,15 @@ private:
   PointMatrix Positions;
   std::vector<char> Clustered;
   std::unique_ptr<SkeletonPointTree> Tree;
+  std::vector<std::vector<std::int64_t>> PossibleSteps; // per point of T, ascending
+  std::vector<std::vector<char>> StepCrossing;          // per possible step
 };
 
 } // namespace
 
 std::vector<PolySegment> GrowPolySegments(const ProjectedCloud& cloud,
   const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
-  const SkeletonSegmentOptions& options, const RayCaster* volume)
+  const SkeletonSegmentOptions& options, const RayCaster* volume, const ParallelFor& parallelFor)
 {
   ValidateSegmentOptions(options);
   std::vector<PolySegment> result;
@@ -182,7 +230,7 @@ std::vector<PolySegment> GrowPolySegments(const ProjectedCloud& cloud,
   {
     return result;
   }
-  SegmentGrower grower(cloud, thinned, pointComponent, options, volume);
+  SegmentGrower grower(cloud, thinned, pointComponent, options, volume, parallelFor);
   const std::vector<std::vector<std::int64_t>> segments = grower.GrowAll();
 
   // Keep segments with enough nodes; a component whose segments are all short keeps its
