@@ -51,6 +51,21 @@ const ProcessGroup& SingleProcess()
   return single;
 }
 
+void GatherOnFirstInTurn(const std::function<std::vector<double>()>& mine,
+  const std::function<void(std::size_t process, std::vector<double>&& values)>& take, const ProcessGroup& group)
+{
+  const std::size_t processes = group.AllGather({ 0.0 }).size();
+  for (std::size_t p = 0; p < processes; ++p)
+  {
+    std::vector<std::vector<double>> gathered =
+      group.GatherOnFirst(static_cast<std::size_t>(group.Rank()) == p ? mine() : std::vector<double>());
+    if (group.Rank() == 0)
+    {
+      take(p, std::move(gathered.at(p)));
+    }
+  }
+}
+
 double SumOverProcesses(const ExactSum& local, const ProcessGroup& group)
 {
   ExactSum all;

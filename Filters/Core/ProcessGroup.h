@@ -71,6 +71,15 @@ const ProcessGroup& SingleProcess();
 /// The exact sum over the processes of each one's `local` sum, correctly rounded.
 double SumOverProcesses(const ExactSum& local, const ProcessGroup& group);
 
+/**
+ * Every process's values on the first process, one process at a time, so that the first never
+ * holds more than one process's at once: in process order, the process whose turn it is calls
+ * `mine` and sends what it returns; the first process passes each to `take(process, values)`
+ * (not called on the others). One GatherOnFirst per process.
+ */
+void GatherOnFirstInTurn(const std::function<std::vector<double>()>& mine,
+  const std::function<void(std::size_t process, std::vector<double>&& values)>& take, const ProcessGroup& group);
+
 /// The minimum and maximum of every process's `values` (+inf and -inf when there are none).
 std::pair<double, double> RangeOverProcesses(const std::vector<double>& values, const ProcessGroup& group);
 

@@ -282,6 +282,31 @@ TEST(ProcessGroup, GatherOnFirstAndScatterFromFirstKeepProcessOrder)
   EXPECT_EQ(partsMade, (std::vector<int>{ 1, 1, 1 }));
 }
 
+TEST(ProcessGroup, GatherOnFirstInTurnTakesOneProcessAtATimeInOrder)
+{
+  // Each process makes its values once, at its turn; the first takes them in process order.
+  std::vector<int> made(3, 0);
+  std::vector<std::size_t> taken;
+  std::mutex mutex;
+  OnThreads(3, [&](int rank, const ProcessGroup& group) {
+    GatherOnFirstInTurn(
+      [&]() {
+        std::lock_guard<std::mutex> lock(mutex);
+        ++made[static_cast<std::size_t>(rank)];
+        return std::vector<double>(static_cast<std::size_t>(rank) + 1, 10.0 * rank);
+      },
+      [&](std::size_t process, std::vector<double>&& values) {
+        std::lock_guard<std::mutex> lock(mutex);
+        EXPECT_EQ(rank, 0) << "taken on the first process only";
+        EXPECT_EQ(values, std::vector<double>(process + 1, 10.0 * static_cast<double>(process)));
+        taken.push_back(process);
+      },
+      group);
+  });
+  EXPECT_EQ(made, (std::vector<int>{ 1, 1, 1 }));
+  EXPECT_EQ(taken, (std::vector<std::size_t>{ 0, 1, 2 }));
+}
+
 TEST(ProcessGroup, OrderStatisticsCoverTheWholeRangeOfDoubles)
 {
   const double largest = std::numeric_limits<double>::max();

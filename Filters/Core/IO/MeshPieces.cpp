@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "IO/MeshPieces.h"
 
+#include "Release.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -465,8 +467,8 @@ MeshPiece ReadPiece(OFFTextSource& source, int piece, int pieces, PieceOrder ord
       AppendTuple(result.Mesh.Points, whole.Points, v, 3);
     }
   }
-  faces.Flags = {};
-  whole.Points = {};
+  Release(faces.Flags);
+  Release(whole.Points);
   for (std::int64_t& vertex : result.Mesh.FaceConnectivity)
   {
     vertex = std::lower_bound(result.GlobalPointIds.begin(), result.GlobalPointIds.end(), vertex) -

@@ -2,6 +2,7 @@
 #include "Mesh/TrianglesOverProcesses.h"
 
 #include "GatheredOrder.h"
+#include "Release.h"
 
 #include <algorithm>
 #include <functional>
@@ -108,8 +109,8 @@ GatheredOrder AssemblePoints(const std::vector<std::vector<double>>& points, Who
       }
     }
   }
-  pointOrder.Index = {};
-  pointOrder.Used = {};
+  Release(pointOrder.Index);
+  Release(pointOrder.Used);
   return pointOrder;
 }
 
@@ -125,7 +126,7 @@ struct CellLayout
 CellLayout LayOutCells(const std::vector<std::vector<double>>& cells)
 {
   CellLayout layout{ OrderGatheredIds(cells, CellWidth), {} };
-  layout.Order.IndexOfId = {};
+  Release(layout.Order.IndexOfId);
   const std::size_t cellCount = layout.Order.Ids.size();
   std::vector<std::int64_t>& first = layout.FirstTriangle;
   first.assign(cellCount + 1, 0);
@@ -244,12 +245,12 @@ WholeTriangles GatherTrianglesOnFirst(const TriangleShare& share, const ProcessG
   };
   {
     const std::vector<std::vector<double>> points = group.GatherOnFirst(rows.Points);
-    rows.Points = {};
+    Release(rows.Points);
     laidOut([&] { pointOrder = AssemblePoints(points, whole); });
   }
   {
     const std::vector<std::vector<double>> cellRows = group.GatherOnFirst(rows.Cells);
-    rows.Cells = {};
+    Release(rows.Cells);
     laidOut([&] { cells = LayOutCells(cellRows); });
   }
   // The triangles (the largest field) one process at a time, each laid out before the next
@@ -262,7 +263,7 @@ WholeTriangles GatherTrianglesOnFirst(const TriangleShare& share, const ProcessG
     const std::vector<std::vector<double>> triangles = group.GatherOnFirst(sending ? rows.Triangles : std::vector<double>());
     if (sending)
     {
-      rows.Triangles = {};
+      Release(rows.Triangles);
     }
     laidOut([&] { AssembleTrianglesOf(p, triangles[p], pointOrder, cells, share.Columns.size(), whole); });
   }
@@ -283,39 +284,34 @@ std::vector<std::vector<double>> GatherTriangleColumnsOnFirst(const std::vector<
     throw Error("triangles over processes: the share's columns differ in length");
   }
   const bool first = group.Rank() == 0;
-  const std::size_t processes = group.AllGather({ 0.0 }).size();
   const std::vector<std::int64_t> none;
   std::vector<std::vector<double>> whole(first ? columns.size() : 0, std::vector<double>(first ? wholeTriangles : 0));
   std::vector<std::uint8_t> written(first ? wholeTriangles : 0, 0);
   std::string problem;
-  for (std::size_t p = 0; p < processes; ++p)
-  {
+  const auto rowsOfOwnTriangles = [&]() {
+    // Triangle by triangle, its columns side by side.
     std::vector<double> rows;
-    if (static_cast<std::size_t>(group.Rank()) == p)
+    rows.reserve(own * columns.size());
+    for (std::size_t t = 0; t < own; ++t)
     {
-      // Triangle by triangle, its columns side by side.
-      rows.reserve(own * columns.size());
-      for (std::size_t t = 0; t < own; ++t)
+      for (const std::vector<double>* column : columns)
       {
-        for (const std::vector<double>* column : columns)
-        {
-          rows.push_back((*column)[t]);
-        }
+        rows.push_back((*column)[t]);
       }
     }
-    const std::vector<std::vector<double>> gathered = group.GatherOnFirst(rows);
-    rows = {};
-    if (!first || !problem.empty())
-    {
-      continue;
-    }
-    const std::vector<double>& values = gathered[p];
+    return rows;
+  };
+  GatherOnFirstInTurn(rowsOfOwnTriangles, [&](std::size_t p, std::vector<double>&& values) {
     const std::vector<std::int64_t>& triangles = p < processTriangles.size() ? processTriangles[p] : none;
+    if (!problem.empty())
+    {
+      return;
+    }
     if (values.size() != triangles.size() * columns.size())
     {
       problem = "triangles over processes: process " + std::to_string(p) + " sent " + std::to_string(values.size()) +
         " column values for " + std::to_string(triangles.size()) + " triangles";
-      continue;
+      return;
     }
     for (std::size_t t = 0; t < triangles.size(); ++t)
     {
@@ -323,7 +319,7 @@ std::vector<std::vector<double>> GatherTriangleColumnsOnFirst(const std::vector<
       if (w >= wholeTriangles)
       {
         problem = "triangles over processes: a process's triangle is outside the whole mesh";
-        break;
+        return;
       }
       if (written[w])
       {
@@ -335,7 +331,7 @@ std::vector<std::vector<double>> GatherTriangleColumnsOnFirst(const std::vector<
         whole[c][w] = values[columns.size() * t + c];
       }
     }
-  }
+  }, group);
   if (!problem.empty())
   {
     throw Error(problem);

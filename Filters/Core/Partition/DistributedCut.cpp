@@ -3,6 +3,7 @@
 
 #include "ExactSum.h"
 #include "Partition/CoarseningCells.h"
+#include "Release.h"
 #include "UnionFind.h"
 
 #include <algorithm>
@@ -270,7 +271,7 @@ ClusterTable JoinClusters(std::vector<std::vector<double>> messages)
       components.Unite(static_cast<std::int64_t>(a), static_cast<std::int64_t>(b));
     }
   }
-  cross = {};
+  Release(cross);
   // Clusters numbered by their lowest face id, as the serial cut numbers them by their
   // lowest face.
   std::vector<std::int64_t> lowest(nodes, std::numeric_limits<std::int64_t>::max());
@@ -852,7 +853,7 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
     pairMessage.Put(static_cast<double>(b));
     pairMessage.PutParts(sum);
   }
-  links = {};
+  Release(links);
   PartitionEnergy coarse;
   {
     std::vector<std::vector<double>> costs = group.GatherOnFirst(costMessage.Values);
@@ -944,8 +945,8 @@ CutOverProcessesResult MinimizeMultilevelOverProcesses(const CutShare& share, co
       }
     }
   }
-  members = {};
-  localCluster = {};
+  Release(members);
+  Release(localCluster);
   for (int ring = 1; ring < multilevel.BandRings; ++ring)
   {
     std::vector<std::size_t> next;

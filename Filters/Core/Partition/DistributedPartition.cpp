@@ -3,9 +3,10 @@
 
 #include "ExactSum.h"
 #include "GatheredOrder.h"
+#include "Mesh/FaceGraph.h"
 #include "Partition/CoarseningCells.h"
 #include "Partition/DistributedCut.h"
-#include "Mesh/FaceGraph.h"
+#include "Release.h"
 
 #include <algorithm>
 #include <array>
@@ -281,7 +282,7 @@ WholeGraph GatherWholeGraph(const OwnRows& rows, const ProcessGroup& group)
     }
     return index;
   });
-  whole.Order.IndexOfId = {};
+  Release(whole.Order.IndexOfId);
   const auto same = [](double value) { return value; };
   whole.NormalAngles = WholeEntryField<double>(group.GatherOnFirst(rows.NormalAngles), degrees, whole, same);
   whole.EdgeLengths = WholeEntryField<double>(group.GatherOnFirst(rows.EdgeLengths), degrees, whole, same);
@@ -578,9 +579,9 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
     }
   }
   std::vector<std::vector<double>> gathered = group.GatherOnFirst(rows);
-  rows = {};
+  Release(rows);
   const std::vector<std::vector<double>> sides = group.GatherOnFirst(openSides);
-  openSides = {};
+  Release(openSides);
 
   // The model and the surface's area on the first process (the serial steps 2 and the
   // weights' sums, on the values and areas in the whole surface's order).
@@ -605,7 +606,7 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
         wholeAreas[w] = gathered[p][3 * i + 2];
       }
     }
-    gathered = {};
+    Release(gathered);
     const double totalArea = std::accumulate(wholeAreas.begin(), wholeAreas.end(), 0.0);
     if (!haloProblem.empty())
     {
@@ -622,6 +623,12 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
       firstResult.Model = input.FamilyModel ? *input.FamilyModel : FitClusterModel(valueView, wholeAreas, options);
       const GaussianMixtureModel& model = firstResult.Model;
       const bool go = ownedOnce && totalArea > 0.0 && std::isfinite(totalArea) && model.ComponentCount() >= 2;
+      if (go)
+      {
+        // The values are not held through the cut: their histogram (step 8) needs only them and
+        // the model.
+        firstResult.Histogram = MixtureHistogram(model, valueView, options.HistogramBins);
+      }
       decision = { static_cast<double>(go ? Go : Gather), totalArea, static_cast<double>(model.ComponentCount()) };
       decision.insert(decision.end(), model.Means.begin(), model.Means.end());
       decision.insert(decision.end(), model.Sigmas.begin(), model.Sigmas.end());
@@ -629,6 +636,9 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
     }
   }
   decision = group.ScatterFromFirst([&](int) { return decision; });
+  // The areas come back with the segments' rows after the cut.
+  Release(wholeValues);
+  Release(wholeAreas);
   const int status = static_cast<int>(decision.at(0));
   if (status == HaloProblem)
   {
@@ -659,20 +669,20 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
     return std::nullopt;
   }
   const CutShare& cut = *shareEnergy;
-  // The segments' rows (step 6 on the first process): each own face's label (filled in after
-  // the cut), degree and neighbours' ids in the graph's order; then the graph is freed.
-  std::vector<double> adjacency;
-  std::vector<std::size_t> labelSlot;
+  // The segments' rows (step 6 on the first process), then the graph is freed: per own face
+  // its label (filled in after the cut), area and degree, and apart its neighbours' ids in the
+  // graph's order.
+  std::vector<double> segmentHeads, segmentNeighbors;
   for (std::size_t f = 0; f < graph.FaceCount(); ++f)
   {
     if (share.Own[f])
     {
-      labelSlot.push_back(adjacency.size());
-      adjacency.push_back(0.0);
-      adjacency.push_back(static_cast<double>(graph.NeighborEnd(static_cast<std::int64_t>(f)) - graph.NeighborBegin(static_cast<std::int64_t>(f))));
-      for (std::int64_t e = graph.NeighborBegin(static_cast<std::int64_t>(f)); e < graph.NeighborEnd(static_cast<std::int64_t>(f)); ++e)
+      const auto face = static_cast<std::int64_t>(f);
+      segmentHeads.insert(segmentHeads.end(),
+        { 0.0, graph.Areas[f], static_cast<double>(graph.NeighborEnd(face) - graph.NeighborBegin(face)) });
+      for (std::int64_t e = graph.NeighborBegin(face); e < graph.NeighborEnd(face); ++e)
       {
-        adjacency.push_back(static_cast<double>(share.GlobalIds[static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)])]));
+        segmentNeighbors.push_back(static_cast<double>(share.GlobalIds[static_cast<std::size_t>(graph.Neighbors[static_cast<std::size_t>(e)])]));
       }
     }
   }
@@ -691,56 +701,66 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
   }
   const double energy = EnergyOverProcesses(cut, labels.Labels, group);
 
-  // Segments, levels and the histogram on the first process, from the labels and the
-  // adjacency of every own face (ids only).
+  // Segments and levels on the first process, from the labels, areas and adjacency (ids only)
+  // of every own face, one process's at a time.
   for (std::size_t f = 0, own = 0; f < share.Own.size(); ++f)
   {
     if (share.Own[f])
     {
-      adjacency[labelSlot[own++]] = labels.Labels[f];
+      segmentHeads[3 * own++] = labels.Labels[f];
     }
   }
-  std::vector<std::vector<double>> gatheredAdjacency = group.GatherOnFirst(adjacency);
-  adjacency = {};
-  if (first)
-  {
-    const std::size_t n = order.Ids.size();
-    std::vector<int> wholeLabels(n, 0);
-    std::vector<std::int64_t> offsets(n + 1, 0);
-    for (std::size_t p = 0; p < gatheredAdjacency.size(); ++p)
-    {
-      std::size_t at = 0;
-      for (std::size_t i = 0; i < order.Index[p].size(); ++i)
+  const std::size_t n = order.Ids.size();
+  std::vector<int> wholeLabels(first ? n : 0, 0);
+  std::vector<std::int64_t> offsets(first ? n + 1 : 0, 0);
+  wholeAreas.assign(first ? n : 0, 0.0);
+  GatherOnFirstInTurn([&]() { return std::move(segmentHeads); },
+    [&](std::size_t process, std::vector<double>&& heads) {
+      if (heads.size() != 3 * order.Index[process].size())
       {
-        const auto w = static_cast<std::size_t>(order.Index[p][i]);
-        wholeLabels[w] = static_cast<int>(gatheredAdjacency[p][at]);
-        const auto degree = static_cast<std::size_t>(gatheredAdjacency[p][at + 1]);
-        offsets[w + 1] = static_cast<std::int64_t>(degree);
-        at += 2 + degree;
+        throw Error("partition: process " + std::to_string(process) + " sent " + std::to_string(heads.size() / 3) +
+          " segment rows for " + std::to_string(order.Index[process].size()) + " faces");
       }
-    }
-    std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-    std::vector<std::int64_t> flat(static_cast<std::size_t>(offsets[n]));
-    for (std::size_t p = 0; p < gatheredAdjacency.size(); ++p)
-    {
-      std::size_t at = 0;
-      for (std::size_t i = 0; i < order.Index[p].size(); ++i)
+      for (std::size_t i = 0; i < order.Index[process].size(); ++i)
       {
-        auto entry = static_cast<std::size_t>(offsets[static_cast<std::size_t>(order.Index[p][i])]);
-        const auto degree = static_cast<std::size_t>(gatheredAdjacency[p][at + 1]);
-        at += 2;
-        for (std::size_t d = 0; d < degree; ++d)
+        const auto w = static_cast<std::size_t>(order.Index[process][i]);
+        wholeLabels[w] = static_cast<int>(heads[3 * i]);
+        wholeAreas[w] = heads[3 * i + 1];
+        offsets[w + 1] = static_cast<std::int64_t>(heads[3 * i + 2]);
+      }
+    },
+    group);
+  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+  std::vector<std::int64_t> flat(first ? static_cast<std::size_t>(offsets[n]) : 0);
+  GatherOnFirstInTurn([&]() { return std::move(segmentNeighbors); },
+    [&](std::size_t process, std::vector<double>&& neighbors) {
+      std::size_t expected = 0;
+      for (const std::int64_t w : order.Index[process])
+      {
+        expected += static_cast<std::size_t>(offsets[static_cast<std::size_t>(w) + 1] - offsets[static_cast<std::size_t>(w)]);
+      }
+      if (neighbors.size() != expected)
+      {
+        throw Error("partition: process " + std::to_string(process) + " sent " + std::to_string(neighbors.size()) +
+          " neighbours where its faces' degrees add up to " + std::to_string(expected));
+      }
+      std::size_t at = 0;
+      for (const std::int64_t w : order.Index[process])
+      {
+        for (auto entry = offsets[static_cast<std::size_t>(w)]; entry < offsets[static_cast<std::size_t>(w) + 1]; ++entry)
         {
-          const std::int64_t index = order.IndexOf(static_cast<std::int64_t>(gatheredAdjacency[p][at++]));
+          const std::int64_t index = order.IndexOf(static_cast<std::int64_t>(neighbors[at++]));
           if (index < 0)
           {
             throw Error("partition: a neighbour of an own face is no process's own face");
           }
-          flat[entry++] = index;
+          flat[static_cast<std::size_t>(entry)] = index;
         }
       }
-      gatheredAdjacency[p] = {};
-    }
+    },
+    group);
+  if (first)
+  {
     DualGraphView view;
     view.Offsets = offsets.data();
     view.Neighbors = flat.data();
@@ -754,8 +774,6 @@ std::optional<PartitionResult> PartitionWithCutOnEveryProcess(const PartitionInp
     {
       firstResult.LabelBands.push_back(band);
     }
-    const Eigen::Map<const Eigen::VectorXd> valueView(wholeValues.data(), static_cast<Eigen::Index>(wholeValues.size()));
-    firstResult.Histogram = MixtureHistogram(firstResult.Model, valueView, options.HistogramBins);
     firstResult.Timings.CutMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
   for (Eigen::Index f = 0; f < posteriors.rows(); ++f)
@@ -813,10 +831,10 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
   if (group.Rank() == 0 && whole.HaloProblem.empty())
   {
     const auto releaseEdgeGeometry = [&whole] {
-      whole.NormalAngles = {};
-      whole.EdgeLengths = {};
-      whole.Concave = {};
-      whole.Centers = {};
+      Release(whole.NormalAngles);
+      Release(whole.EdgeLengths);
+      Release(whole.Concave);
+      Release(whole.Centers);
     };
     if (progress && !progress(0.1))
     {
@@ -830,7 +848,7 @@ PartitionResult PartitionOverProcesses(const PartitionInput& input, const Partit
     }
     // What the other processes do not need, before the parts are made (the edge geometry
     // already, unless the refinement read it).
-    whole.Neighbors = {};
+    Release(whole.Neighbors);
     releaseEdgeGeometry();
   }
   PartitionResult result = ResultOfShare(group.ScatterFromFirst([&](int process) {

@@ -3,6 +3,7 @@
 
 #include "Mesh/Orientation.h"
 #include "Mesh/TrianglesOverProcesses.h"
+#include "Release.h"
 #include "Skeleton/SkeletonLink.h"
 #include "Skeleton/SkeletonSampling.h"
 
@@ -463,7 +464,7 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
   {
     // What the skeleton does not read is freed before it runs, on the process where it peaks:
     // the cells' ids and the cloud labels are asked of the owners for the cloud's sources only.
-    whole.TriangleCellId = {};
+    Release(whole.TriangleCellId);
     flip = OrientOutward(whole.Points, whole.Triangles).Flip;
     ApplyFlips(whole.Triangles, flip);
     wholeComponent = LabelFaceComponents(whole.Triangles, static_cast<std::size_t>(whole.Points.rows()));
@@ -545,7 +546,7 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
     ownCounts[t] = row[3] != 0.0 ? 1 : 0;
     ownWholeIndex[t] = static_cast<std::int64_t>(row[4]);
   }
-  prepared = {};
+  Release(prepared);
   // The own triangles wound as in the whole mesh: the same corners in the same order, so the
   // projected centres and areas are the whole mesh's bits.
   ApplyFlips(orientedOwn, ownFlip);
@@ -570,10 +571,10 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
     const SampledSurface sampled = SampleSkeletonSurface(
       whole.Points, whole.Triangles, whole.Columns[0], PointMatrix(0, 3), wholeComponent, wholeParts, options.Sampling);
     sources = RequestSources(sampled.Cloud.SourceFace, whole.ProcessTriangles);
-    whole.ProcessTriangles = {};
-    whole.Columns = {};
-    wholeComponent = {};
-    wholeParts = {};
+    Release(whole.ProcessTriangles);
+    Release(whole.Columns);
+    Release(wholeComponent);
+    Release(wholeParts);
     const auto wholeTriangles = static_cast<std::size_t>(whole.Triangles.rows());
     whole.Points = PointMatrix();
     whole.Triangles = TriangleMatrix();
