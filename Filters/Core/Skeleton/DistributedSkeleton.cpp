@@ -257,7 +257,10 @@ private:
 /// The volume over processes, as the first process's ComputeSkeletonOfSamples casts through it:
 /// each batch of rays sent to every process, cast against its own triangles, and each ray's
 /// answer taken from the process whose closest hit Embree ranks first (the whole mesh's
-/// answer, EmbreeRayCaster::CastRaysWithOrder; equal orders: the lowest process's).
+/// answer, EmbreeRayCaster::CastRaysWithOrder; equal orders: the lowest process's). Unlike
+/// RayCaster's other implementations it must be called from one thread (each call is an
+/// exchange with every process): the skeleton's steps cast through CastRays from their own
+/// thread, never from inside a parallel loop.
 class VolumeOverProcesses final : public RayCaster
 {
 public:
