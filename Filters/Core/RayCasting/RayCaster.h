@@ -105,7 +105,7 @@ public:
   /// Many rays, each from its own origin: outDistances[i] is ClosestValidHit of rays[i]. The
   /// skeleton's volume tests are written in this form so that a caster whose triangles are
   /// spread over processes answers a whole batch in one exchange (DistributedSkeleton.cpp). This
-  /// default casts the rays with parallelFor, serially when there are few.
+  /// default casts the rays with parallelFor, serially when there are fewer than 512.
   virtual void CastRays(const std::vector<Ray>& rays, std::vector<double>& outDistances, const ParallelFor& parallelFor) const
   {
     outDistances.resize(rays.size());
@@ -115,7 +115,9 @@ public:
         outDistances[i] = this->ClosestValidHit(rays[i].Origin, rays[i].Direction);
       }
     };
-    constexpr std::size_t fewRays = 64; // below this, waking threads costs more than the rays
+    // Below this many rays starting a parallel loop costs more than the rays (the VTK adapters'
+    // loops start a thread each, to report progress; a ray costs a few microseconds).
+    constexpr std::size_t fewRays = 512;
     if (rays.size() < fewRays)
     {
       SerialFor(rays.size(), cast);
@@ -136,6 +138,11 @@ public:
       outDistances[i] = this->ClosestValidHit(origin, directions + 3 * i);
     }
   }
+
+  /// True when every call is an exchange between processes rather than a traversal (the
+  /// skeleton's volume over processes): a caller then tests up front, in one batch, what it may
+  /// need instead of one ray at a time as it goes.
+  virtual bool PrefersFewLargeBatches() const { return false; }
 
   virtual std::size_t GetNumberOfTriangles() const = 0;
   /// Length of the diagonal of the mesh's axis-aligned bounding box (0 when empty); the
@@ -199,6 +206,8 @@ inline std::vector<char> SegmentsCrossSurface(
   std::vector<double> lengths(segments.size(), 0.0);
   std::vector<std::size_t> cast;
   std::vector<Ray> rays;
+  cast.reserve(segments.size());
+  rays.reserve(segments.size());
   for (std::size_t s = 0; s < segments.size(); ++s)
   {
     const double length = (segments[s].B - segments[s].A).norm();

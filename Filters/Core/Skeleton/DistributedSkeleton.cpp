@@ -316,6 +316,7 @@ public:
     }
   }
 
+  bool PrefersFewLargeBatches() const override { return true; }
   std::size_t GetNumberOfTriangles() const override { return this->Triangles; }
   double GetBoundingBoxDiagonal() const override { return this->Diagonal; }
 

@@ -728,6 +728,7 @@ std::vector<double> SheetFactors(const ProjectedCloud& cloud, const ThinnedCloud
   // exchange), each point's clearance the shortest of its own.
   std::vector<std::size_t> sheetPoints;
   std::vector<Ray> fan;
+  fan.reserve(rays * count);
   for (std::size_t i = 0; i < count; ++i)
   {
     const auto row = static_cast<Eigen::Index>(i);

@@ -447,6 +447,8 @@ std::size_t ReachUncoveredParts(SkeletonGraph& graph, const ProjectedCloud& clou
   {
     std::vector<std::size_t> tested;
     std::vector<Segment> toNodes;
+    tested.reserve(n);
+    toNodes.reserve(n);
     for (std::size_t i = 0; i < n; ++i)
     {
       if (!uncovered[i] && nearestNode[i] >= 0 && cloud.Radius[i] > 0.0)

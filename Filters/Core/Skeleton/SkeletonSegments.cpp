@@ -46,7 +46,7 @@ public:
       Positions.row(static_cast<Eigen::Index>(t)) = thinned.Positions.row(thinned.Thinned[t]);
     }
     Tree = std::make_unique<SkeletonPointTree>(Positions);
-    if (volume)
+    if (volume && volume->PrefersFewLargeBatches())
     {
       TestPossibleSteps(*volume, parallelFor);
     }
@@ -81,8 +81,8 @@ public:
   }
 
 private:
-  /// The inside test of every step the growth may take, in one batch (a volume over processes
-  /// answers it in one exchange): from each point t of T to every point q near it (within t's
+  /// For a volume over processes (one exchange per call): the inside test of every step the
+  /// growth may take, in one batch: from each point t of T to every point q near it (within t's
   /// step, same component) in the cone about t's axis, either way, whose own axis lies within
   /// the tolerance of t's. The growth's direction at t is always plus or minus t's axis, so
   /// these are all the steps it can test; which it does depends on what is clustered by then.
@@ -123,12 +123,17 @@ private:
     }
   }
 
-  /// Whether the step from `from` to `to` (one GrowSide takes) meets the surface.
+  /// Whether the step from `from` to `to` (one GrowSide takes) meets the surface: tested now,
+  /// or looked up among the possible steps tested up front.
   bool StepCrossesSurface(std::int64_t from, std::int64_t to) const
   {
     if (!Volume)
     {
       return false;
+    }
+    if (PossibleSteps.empty())
+    {
+      return SegmentCrossesSurface(*Volume, PositionOf(from), PositionOf(to));
     }
     const std::vector<std::int64_t>& possible = PossibleSteps[static_cast<std::size_t>(from)];
     const auto found = std::lower_bound(possible.begin(), possible.end(), to); // nearby lists ascend

@@ -13,12 +13,13 @@
 //       surface (SegmentCrossesSurface, RayCaster.h): a segment does not jump between two
 //       parts that touch or interpenetrate (a trunk resting on a foot). Deviation: the paper
 //       has no such test; without it, segments and connecting paths through touching parts
-//       merged a foot with the trunk in some elephant poses (docs/skeleton.md). Since the
-//       direction at e is always plus or minus e's regression line, every step the growth may
-//       test is known before it starts (q near e, in the cone either way, its line within the
-//       angle of e's): they are tested in one batch first (RayCaster::CastRays, which a volume
-//       spread over processes answers in one exchange instead of one per growth step). Ours,
-//       not the paper's; the segments are the same.
+//       merged a foot with the trunk in some elephant poses (docs/skeleton.md). For a volume
+//       where every call is an exchange between processes (RayCaster::PrefersFewLargeBatches),
+//       the steps are tested before the growth starts, in one batch: the direction at e is
+//       always plus or minus e's regression line, so every step the growth may test is known
+//       (q near e, in the cone either way, its line within the angle of e's). Ours, not the
+//       paper's; the segments are the same either way (serially, testing them all costs more
+//       rays than the growth casts).
 //   The nearest such q becomes the new end; the other cone points that q has passed (their
 //   projection on d is not beyond q's) are clustered into the segment without becoming nodes.
 //   The direction becomes q's regression line, oriented along d. A side stops when the cone is
@@ -80,8 +81,9 @@ void ValidateSegmentOptions(const SkeletonSegmentOptions& options);
 
 /// Step 3: grows poly-segments through T, most confident seeds first.
 /// pointComponent: surface component of each cloud point, or empty for a single component.
-/// volume: the mesh's ray caster for the inside test of a growth step, or null for none; every
-/// step the growth may take is tested before it starts, with parallelFor.
+/// volume: the mesh's ray caster for the inside test of a growth step, or null for none; when it
+/// PrefersFewLargeBatches, every step the growth may take is tested before it starts, with
+/// parallelFor.
 std::vector<PolySegment> GrowPolySegments(const ProjectedCloud& cloud,
   const ThinnedCloud& thinned, const std::vector<std::int64_t>& pointComponent,
   const SkeletonSegmentOptions& options, const RayCaster* volume = nullptr,
