@@ -32,7 +32,8 @@
 //          face per component without samples (ties: the lowest face), the area per (part,
 //          bone) as exact sums.
 //        Both are commands every other process serves until the first is done: one exchange per
-//        batch of rays (at most 16,384 rays), per growth step and per link step;
+//        batch of rays (at most 16,384 rays; the volume PrefersFewLargeBatches, so the growth
+//        tests all its possible steps in one batch) and per link step, about 30 in all;
 //     5. it asks for the cell id and cloud label of the cloud points' source triangles (a
 //        gather of at most NumberOfSamples pairs): the whole mesh needs neither.
 //   The triangles of a cell are those the adapter makes of it (Triangulate), which depend on
