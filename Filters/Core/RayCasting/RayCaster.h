@@ -203,7 +203,6 @@ inline std::vector<char> SegmentsCrossSurface(
   const RayCaster& caster, const std::vector<Segment>& segments, const ParallelFor& parallelFor)
 {
   std::vector<char> crossing(segments.size(), 0);
-  std::vector<double> lengths(segments.size(), 0.0);
   std::vector<std::size_t> cast;
   std::vector<Ray> rays;
   cast.reserve(segments.size());
@@ -215,8 +214,8 @@ inline std::vector<char> SegmentsCrossSurface(
     {
       continue;
     }
-    lengths[s] = length;
-    // Hits beyond the segment cannot make it cross: the search stops at its end (Embree's tfar).
+    // Hits beyond the segment cannot make it cross: the search stops at its end (Embree's tfar,
+    // the ray's MaxDistance, which is the segment's length below).
     cast.push_back(s);
     rays.push_back(ExitRay(segments[s].A, (segments[s].B - segments[s].A) / length, length));
   }
@@ -228,7 +227,7 @@ inline std::vector<char> SegmentsCrossSurface(
   {
     if (std::isfinite(distances[r]))
     {
-      crossing[cast[r]] = distances[r] < lengths[cast[r]]; // the closest hit is this one
+      crossing[cast[r]] = distances[r] < rays[r].Origin.MaxDistance; // the closest hit is this one
     }
     else
     {
@@ -240,7 +239,7 @@ inline std::vector<char> SegmentsCrossSurface(
   caster.CastRays(second, distances, parallelFor);
   for (std::size_t r = 0; r < entering.size(); ++r)
   {
-    crossing[entering[r]] = distances[r] < lengths[entering[r]];
+    crossing[entering[r]] = distances[r] < second[r].Origin.MaxDistance;
   }
   return crossing;
 }

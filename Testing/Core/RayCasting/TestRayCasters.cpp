@@ -498,9 +498,8 @@ TEST(RayCasters, EmbreePiecesMergedByOrderAnswerAsTheWholeMesh)
   options.BuildQuality = EmbreeBuildQuality::Low;
   options.Compact = true;
   const EmbreeRayCaster whole(mesh.Points, mesh.Triangles, options);
-  options.Centre = { 0.5 * (mesh.Points.colwise().maxCoeff() + mesh.Points.colwise().minCoeff()).transpose()(0),
-    0.5 * (mesh.Points.colwise().maxCoeff() + mesh.Points.colwise().minCoeff()).transpose()(1),
-    0.5 * (mesh.Points.colwise().maxCoeff() + mesh.Points.colwise().minCoeff()).transpose()(2) };
+  const Eigen::RowVector3d wholeCentre = 0.5 * (mesh.Points.colwise().maxCoeff() + mesh.Points.colwise().minCoeff());
+  options.Centre = { wholeCentre(0), wholeCentre(1), wholeCentre(2) };
   std::vector<std::unique_ptr<EmbreeRayCaster>> pieces;
   const double left = mesh.Points.col(0).minCoeff(), width = mesh.Points.col(0).maxCoeff() - left;
   for (Eigen::Index piece = 0; piece < 3; ++piece)
