@@ -43,12 +43,14 @@
 #include "Mesh/MeshTypes.h"
 #include "Parallel.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shapediameter
@@ -242,6 +244,74 @@ inline std::vector<char> SegmentsCrossSurface(
     crossing[entering[r]] = distances[r] < second[r].Origin.MaxDistance;
   }
   return crossing;
+}
+
+/// An axis-aligned box; empty (Low above High) until a point extends it.
+struct AxisBox
+{
+  Eigen::Vector3d Low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d High = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+
+  void Extend(const Eigen::Vector3d& point)
+  {
+    this->Low = this->Low.cwiseMin(point);
+    this->High = this->High.cwiseMax(point);
+  }
+  bool Empty() const { return !(this->Low.array() <= this->High.array()).all(); }
+};
+
+/// False only when the ray cannot meet anything inside `box`: no point of it between its origin
+/// and its MaxDistance (or beyond: 1e-5 of it, and `margin` farther) lies within `margin` of the
+/// box. A ray with a non-finite origin or direction may meet it (the caster decides). A caster
+/// of the box's triangles, whose single-precision hits lie within a small fraction of the mesh's
+/// size of the exact ones, has no hit for a ray this rejects when `margin` exceeds that
+/// fraction (VolumeOverProcesses sends each process only the rays that may meet its box).
+inline bool RayMayMeetBox(const Ray& ray, const AxisBox& box, double margin)
+{
+  if (box.Empty())
+  {
+    return false;
+  }
+  const double* origin = ray.Origin.Point;
+  const double* direction = ray.Direction;
+  if (!std::isfinite(origin[0]) || !std::isfinite(origin[1]) || !std::isfinite(origin[2]) ||
+    !std::isfinite(direction[0]) || !std::isfinite(direction[1]) || !std::isfinite(direction[2]))
+  {
+    return true;
+  }
+  const double length = std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2]);
+  double low = 0.0;
+  double high = std::numeric_limits<double>::infinity();
+  if (std::isfinite(ray.Origin.MaxDistance) && length > 0)
+  {
+    high = std::max(0.0, ray.Origin.MaxDistance) * (1 + 1e-5) + margin / length;
+  }
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const double from = box.Low(axis) - margin;
+    const double to = box.High(axis) + margin;
+    if (direction[axis] == 0.0)
+    {
+      if (origin[axis] < from || origin[axis] > to)
+      {
+        return false;
+      }
+      continue;
+    }
+    double enter = (from - origin[axis]) / direction[axis];
+    double leave = (to - origin[axis]) / direction[axis];
+    if (enter > leave)
+    {
+      std::swap(enter, leave);
+    }
+    low = std::max(low, enter);
+    high = std::min(high, leave);
+    if (low > high)
+    {
+      return false;
+    }
+  }
+  return true;
 }
 
 /// SegmentsCrossSurface of the one segment from a to b.

@@ -8,6 +8,7 @@
 #include "Skeleton/SkeletonSampling.h"
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -245,7 +246,13 @@ public:
 
   std::vector<std::vector<double>> Run(const std::vector<double>& command) const
   {
-    const std::vector<double> own = this->Group.ScatterFromFirst([&](int) { return command; });
+    return this->RunEach([&](int) { return command; });
+  }
+
+  /// Each process its own command.
+  std::vector<std::vector<double>> RunEach(const std::function<std::vector<double>(int)>& commandOf) const
+  {
+    const std::vector<double> own = this->Group.ScatterFromFirst(commandOf);
     return this->Group.GatherOnFirst(RunCommand(this->Own, own));
   }
 
@@ -255,8 +262,9 @@ private:
 };
 
 /// The volume over processes, as the first process's ComputeSkeletonOfSamples casts through it:
-/// each batch of rays sent to every process, cast against its own triangles, and each ray's
-/// answer taken from the process whose closest hit Embree ranks first (the whole mesh's
+/// each ray of a batch sent to every process whose own triangles' box it may meet
+/// (RayMayMeetBox; the others have no hit for it), cast against its own triangles, and each
+/// ray's answer taken from the process whose closest hit Embree ranks first (the whole mesh's
 /// answer, EmbreeRayCaster::CastRaysWithOrder; equal orders: the lowest process's). Unlike
 /// RayCaster's other implementations it must be called from one thread (each call is an
 /// exchange with every process): the skeleton's steps cast through CastRays from their own
@@ -264,8 +272,11 @@ private:
 class VolumeOverProcesses final : public RayCaster
 {
 public:
-  VolumeOverProcesses(const CommandsToEveryProcess& commands, std::size_t triangles, double diagonal)
+  /// `boxes`: per process, the box of its own triangles.
+  VolumeOverProcesses(
+    const CommandsToEveryProcess& commands, std::vector<AxisBox> boxes, std::size_t triangles, double diagonal)
     : Commands(commands)
+    , Boxes(std::move(boxes))
     , Triangles(triangles)
     , Diagonal(diagonal)
   {
@@ -287,29 +298,52 @@ public:
     constexpr std::size_t batch = 16384;
     outDistances.assign(rays.size(), std::numeric_limits<double>::infinity());
     std::vector<float> lowest(rays.size(), std::numeric_limits<float>::infinity());
+    std::vector<std::vector<std::size_t>> sent(this->Boxes.size());
     for (std::size_t begin = 0; begin < rays.size(); begin += batch)
     {
       const std::size_t end = std::min(rays.size(), begin + batch);
-      std::vector<double> command{ CastRaysCommand };
-      command.reserve(1 + RayWidth * (end - begin));
-      for (std::size_t r = begin; r < end; ++r)
+      for (std::size_t process = 0; process < sent.size(); ++process)
       {
-        PutRay(rays[r], command);
-      }
-      for (const std::vector<double>& reply : this->Commands.Run(command))
-      {
-        if (reply.size() != 2 * (end - begin))
-        {
-          throw Error("skeleton: a process answered " + std::to_string(reply.size() / 2) + " of " +
-            std::to_string(end - begin) + " rays");
-        }
+        sent[process].clear();
+        const AxisBox& box = this->Boxes[process];
+        const Eigen::Vector3d centre = 0.5 * (box.Low + box.High);
         for (std::size_t r = begin; r < end; ++r)
         {
-          const auto order = static_cast<float>(reply[2 * (r - begin)]);
-          if (order < lowest[r])
+          // Far above single precision's error on the hits (about 1e-7 of the coordinates
+          // measured from the whole mesh's centre).
+          const double margin = 1e-5 * (this->Diagonal + (Eigen::Vector3d(rays[r].Origin.Point) - centre).norm());
+          if (RayMayMeetBox(rays[r], box, margin))
           {
-            lowest[r] = order;
-            outDistances[r] = reply[2 * (r - begin) + 1];
+            sent[process].push_back(r);
+          }
+        }
+      }
+      const std::vector<std::vector<double>> replies = this->Commands.RunEach([&](int process) {
+        const std::vector<std::size_t>& own = sent[static_cast<std::size_t>(process)];
+        std::vector<double> command{ CastRaysCommand };
+        command.reserve(1 + RayWidth * own.size());
+        for (const std::size_t r : own)
+        {
+          PutRay(rays[r], command);
+        }
+        return command;
+      });
+      for (std::size_t process = 0; process < replies.size(); ++process)
+      {
+        const std::vector<double>& reply = replies[process];
+        const std::vector<std::size_t>& own = sent.at(process);
+        if (reply.size() != 2 * own.size())
+        {
+          throw Error("skeleton: a process answered " + std::to_string(reply.size() / 2) + " of " +
+            std::to_string(own.size()) + " rays");
+        }
+        for (std::size_t i = 0; i < own.size(); ++i)
+        {
+          const auto order = static_cast<float>(reply[2 * i]);
+          if (order < lowest[own[i]])
+          {
+            lowest[own[i]] = order;
+            outDistances[own[i]] = reply[2 * i + 1];
           }
         }
       }
@@ -322,6 +356,7 @@ public:
 
 private:
   const CommandsToEveryProcess& Commands;
+  std::vector<AxisBox> Boxes;
   std::size_t Triangles;
   double Diagonal;
 };
@@ -575,6 +610,17 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
     const SampledSurface sampled = SampleSkeletonSurface(
       whole.Points, whole.Triangles, whole.Columns[0], PointMatrix(0, 3), wholeComponent, wholeParts, options.Sampling);
     sources = RequestSources(sampled.Cloud.SourceFace, whole.ProcessTriangles);
+    std::vector<AxisBox> boxes(whole.ProcessTriangles.size());
+    for (std::size_t process = 0; process < boxes.size(); ++process)
+    {
+      for (const std::int64_t w : whole.ProcessTriangles[process])
+      {
+        for (int corner = 0; corner < 3; ++corner)
+        {
+          boxes[process].Extend(whole.Points.row(whole.Triangles(w, corner)).transpose());
+        }
+      }
+    }
     Release(whole.ProcessTriangles);
     Release(whole.Columns);
     Release(wholeComponent);
@@ -585,7 +631,7 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
     buildOwnVolume();
     const OwnShare own{ ownFaces, *ownVolume, parallelFor };
     const CommandsToEveryProcess commands(own, group);
-    const VolumeOverProcesses volume(commands, wholeTriangles, wholeDiagonal);
+    const VolumeOverProcesses volume(commands, std::move(boxes), wholeTriangles, wholeDiagonal);
     LinkOverProcesses link(commands);
     SkeletonResult skeleton =
       ComputeSkeletonOfSamples(sampled, volume, options, parallelFor, progress, [&]() -> SurfaceLink& { return link; });

@@ -21,8 +21,9 @@
 //     4. it samples the mesh (SampleSkeletonSurface), frees it and computes the rest of the
 //        skeleton (ComputeSkeletonOfSamples) through two things spread over the processes:
 //        - the volume: every process builds the BVH of its own triangles, wound as the whole
-//          mesh's and translated by the whole mesh's centre (sent with step 3); each batch of
-//          the skeleton's rays (RayCaster::CastRays) goes to every process, and each ray's
+//          mesh's and translated by the whole mesh's centre (sent with step 3); each ray of a
+//          batch of the skeleton's rays (RayCaster::CastRays) goes to every process whose own
+//          triangles' box it may meet (RayMayMeetBox: the others have no hit), and each ray's
 //          answer is the one whose closest hit Embree ranks first (CastRaysWithOrder; equal
 //          orders: the lowest process's), the whole mesh's own answer (but for a ray whose two
 //          closest triangles lie at the very same single-precision distance, where either

@@ -315,6 +315,75 @@ TEST_P(RayCasterContract, CastRaysMatchesSingleRaysWhateverTheThreads)
   RecordProperty("Hits", hits);
 }
 
+TEST_P(RayCasterContract, RaysRejectedByABoxNeverHitItsTriangles)
+{
+  // One piece of a larger mesh (a box, whose faces fill its bounding box's, far from the
+  // origin, as a process's own triangles are): rays from around it in every direction, some
+  // along an axis, some stopping short; every ray RayMayMeetBox rejects has no hit, and the
+  // test rejects most of the rays that cannot reach the piece.
+  const TestMesh piece = testshapes::Transformed(
+    testshapes::MakeBox(Eigen::Vector3d(2, 1.5, 1), 4), Eigen::Matrix3d::Identity(), Eigen::Vector3d(300, -200, 50));
+  const auto caster = MakeCaster(GetParam(), piece);
+  AxisBox box;
+  EXPECT_TRUE(box.Empty());
+  for (Eigen::Index p = 0; p < piece.Points.rows(); ++p)
+  {
+    box.Extend(piece.Points.row(p).transpose());
+  }
+  ASSERT_FALSE(box.Empty());
+  const Eigen::Vector3d centre(301, -199.25, 50.5);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 2000; ++i)
+  {
+    const double angle = 0.37 * i;
+    const Eigen::Vector3d from = centre + Eigen::Vector3d(3 * std::cos(angle), 2.5 * std::sin(1.3 * angle), 2 * std::cos(0.7 * angle));
+    Eigen::Vector3d direction = Eigen::Vector3d(std::cos(2.1 * angle), std::sin(0.9 * angle), std::cos(1.7 * angle)).normalized();
+    if (i % 7 == 0)
+    {
+      direction = Eigen::Vector3d::Unit(i % 3) * (i % 2 == 0 ? 1 : -1);
+    }
+    rays.push_back(ExitRay(from, direction, i % 4 == 0 ? 1.0 + 0.001 * (i % 1000) : kInfinity));
+    rays.back().Origin.Rule = HitRule::FirstHitLeaving;
+  }
+  // Every crossing of the surface counts: the closest leaving hit (FirstHitLeaving) or the
+  // closest entering one (SkipSameFacing with the direction as the normal).
+  std::vector<Ray> entering = rays;
+  for (Ray& ray : entering)
+  {
+    ray.Origin.Rule = HitRule::SkipSameFacing;
+  }
+  std::vector<double> leavingDistances, enteringDistances;
+  caster->CastRays(rays, leavingDistances, SerialFor);
+  caster->CastRays(entering, enteringDistances, SerialFor);
+  int rejected = 0, misses = 0;
+  const double margin = 1e-5 * (2 + 400);
+  for (std::size_t i = 0; i < rays.size(); ++i)
+  {
+    const bool hit = std::isfinite(leavingDistances[i]) || std::isfinite(enteringDistances[i]);
+    const bool mayMeet = RayMayMeetBox(rays[i], box, margin);
+    misses += hit ? 0 : 1;
+    rejected += mayMeet ? 0 : 1;
+    if (!mayMeet)
+    {
+      EXPECT_FALSE(hit) << i;
+    }
+  }
+  EXPECT_GT(rejected, 500);
+  EXPECT_GT(rejected, misses / 2);
+  RecordProperty("Rejected", rejected);
+
+  // Edges: a ray stopping just before the box is rejected, one reaching it is not; an empty box
+  // meets nothing; a non-finite ray is left to the caster.
+  const Ray towards = ExitRay(Eigen::Vector3d(290, -199.25, 50.5), Eigen::Vector3d(1, 0, 0), 9.99);
+  EXPECT_FALSE(RayMayMeetBox(towards, box, 1e-3));
+  EXPECT_TRUE(RayMayMeetBox(ExitRay(Eigen::Vector3d(290, -199.25, 50.5), Eigen::Vector3d(1, 0, 0), 10.01), box, 1e-3));
+  EXPECT_FALSE(RayMayMeetBox(ExitRay(Eigen::Vector3d(290, -199.25, 50.5), Eigen::Vector3d(-1, 0, 0), kInfinity), box, 1e-3));
+  EXPECT_FALSE(RayMayMeetBox(ExitRay(Eigen::Vector3d(290, -199.25, 51.1), Eigen::Vector3d(1, 0, 0), kInfinity), box, 1e-3));
+  EXPECT_TRUE(RayMayMeetBox(ExitRay(Eigen::Vector3d(290, -199.25, 50.9), Eigen::Vector3d(1, 0, 0), kInfinity), box, 1e-3));
+  EXPECT_FALSE(RayMayMeetBox(towards, AxisBox{}, 1e-3));
+  EXPECT_TRUE(RayMayMeetBox(ExitRay(Eigen::Vector3d(kInfinity, 0, 0), Eigen::Vector3d(1, 0, 0), kInfinity), box, 1e-3));
+}
+
 INSTANTIATE_TEST_SUITE_P(BothCasters, RayCasterContract,
   ::testing::Values(CasterKind::Embree, CasterKind::BruteForce),
   [](const ::testing::TestParamInfo<CasterKind>& info) {
