@@ -5,7 +5,9 @@
 #include "Mesh/TrianglesOverProcesses.h"
 #include "Release.h"
 #include "Skeleton/SkeletonLink.h"
+#include "Skeleton/SkeletonPointTree.h"
 #include "Skeleton/SkeletonSampling.h"
+#include "Skeleton/SkeletonThinning.h"
 
 #include <algorithm>
 #include <functional>
@@ -76,17 +78,23 @@ enum LinkCommand : int
   RenameBonesCommand = 4,
   NodesOfOwnBonesCommand = 5,
   DoneCommand = 6,
-  CastRaysCommand = 7
+  CastRaysCommand = 7,
+  RegressionCommand = 8
 };
 
-/// What a process answers the first process's commands with: its own faces (the link's steps)
-/// and its own triangles' volume (the skeleton's rays).
+/// What a process answers the first process's commands with: its own faces (the link's steps),
+/// its own triangles' volume (the skeleton's rays) and the tree of the cloud the thinning's MLS
+/// iterations query (sent with their first command; its rows are split over the processes).
 struct OwnShare
 {
   FaceLink& Faces;
   const EmbreeRayCaster& Volume;
   const ParallelFor& Parallel;
+  std::unique_ptr<SkeletonPointTree>& Cloud;
 };
+
+/// Per row of a RegressionCommand's reply: position, axis, confidence, spread, normal.
+constexpr std::size_t RegressionWidth = 13;
 
 /// A ray in a command: point, normal, direction, minimum and maximum distance, rule.
 constexpr std::size_t RayWidth = 12;
@@ -224,6 +232,45 @@ std::vector<double> RunCommand(const OwnShare& own, const std::vector<double>& c
     case RenameBonesCommand:
       faces.RenameBones(TakeIds(command, at));
       break;
+    case RegressionCommand:
+    {
+      // Minimum neighbours, the cloud's rows (none: unchanged), then per own row x y z h.
+      const double minimumNeighbors = command.at(at++);
+      const auto cloudRows = static_cast<Eigen::Index>(command.at(at++));
+      if (cloudRows > 0)
+      {
+        PointMatrix cloud(cloudRows, 3);
+        for (Eigen::Index i = 0; i < cloudRows; ++i, at += 3)
+        {
+          cloud.row(i) << command.at(at), command.at(at + 1), command.at(at + 2);
+        }
+        own.Cloud = std::make_unique<SkeletonPointTree>(cloud);
+      }
+      if (!own.Cloud)
+      {
+        throw Error("skeleton: an MLS step before its cloud");
+      }
+      const auto rows = static_cast<Eigen::Index>((command.size() - at) / 4);
+      PointMatrix positions(rows, 3);
+      std::vector<double> radii(static_cast<std::size_t>(rows));
+      for (Eigen::Index i = 0; i < rows; ++i, at += 4)
+      {
+        positions.row(i) << command[at], command[at + 1], command[at + 2];
+        radii[static_cast<std::size_t>(i)] = command[at + 3];
+      }
+      const RegressionProjections answers =
+        ProjectOntoRegressionLines(*own.Cloud, positions, radii, minimumNeighbors, own.Parallel);
+      reply.reserve(RegressionWidth * static_cast<std::size_t>(rows));
+      for (Eigen::Index i = 0; i < rows; ++i)
+      {
+        reply.insert(reply.end(), { answers.Positions(i, 0), answers.Positions(i, 1), answers.Positions(i, 2),
+                                    answers.Axis(i, 0), answers.Axis(i, 1), answers.Axis(i, 2),
+                                    answers.Confidence[static_cast<std::size_t>(i)], answers.Spread(i, 0),
+                                    answers.Spread(i, 1), answers.Spread(i, 2), answers.Normal(i, 0),
+                                    answers.Normal(i, 1), answers.Normal(i, 2) });
+      }
+      break;
+    }
     case NodesOfOwnBonesCommand:
       faces.LinkFacesToNodesOfTheirBones(TakeGraph(command, at));
       break;
@@ -359,6 +406,72 @@ private:
   std::vector<AxisBox> Boxes;
   std::size_t Triangles;
   double Diagonal;
+};
+
+/// The thinning's MLS iterations over processes: process p projects the p-th of as many equal
+/// ranges of the rows, against its own tree of the cloud (sent when it changes). Each row's
+/// answer depends on the row and the cloud alone, so the answers are this process's own.
+class RegressionOverProcesses final : public RegressionProjector
+{
+public:
+  RegressionOverProcesses(const CommandsToEveryProcess& commands, std::size_t processes)
+    : Commands(commands)
+    , Processes(processes)
+  {
+  }
+
+  RegressionProjections Project(const PointMatrix& cloud, bool cloudChanged, const PointMatrix& positions,
+    const std::vector<double>& radii, double minimumNeighbors) const override
+  {
+    const auto rows = static_cast<std::size_t>(positions.rows());
+    const auto firstRow = [&](std::size_t process) { return rows * process / this->Processes; };
+    const std::vector<std::vector<double>> replies = this->Commands.RunEach([&](int process) {
+      const auto p = static_cast<std::size_t>(process);
+      std::vector<double> command{ RegressionCommand, minimumNeighbors, cloudChanged ? static_cast<double>(cloud.rows()) : 0.0 };
+      command.reserve(command.size() + (cloudChanged ? 3 * static_cast<std::size_t>(cloud.rows()) : 0) +
+        4 * (firstRow(p + 1) - firstRow(p)));
+      for (Eigen::Index i = 0; cloudChanged && i < cloud.rows(); ++i)
+      {
+        command.insert(command.end(), { cloud(i, 0), cloud(i, 1), cloud(i, 2) });
+      }
+      for (std::size_t r = firstRow(p); r < firstRow(p + 1); ++r)
+      {
+        const auto i = static_cast<Eigen::Index>(r);
+        command.insert(command.end(), { positions(i, 0), positions(i, 1), positions(i, 2), radii[r] });
+      }
+      return command;
+    });
+    RegressionProjections answers;
+    answers.Positions.resize(positions.rows(), 3);
+    answers.Axis.resize(positions.rows(), 3);
+    answers.Confidence.resize(rows);
+    answers.Spread.resize(positions.rows(), 3);
+    answers.Normal.resize(positions.rows(), 3);
+    for (std::size_t process = 0; process < replies.size(); ++process)
+    {
+      const std::vector<double>& reply = replies[process];
+      const std::size_t begin = firstRow(process);
+      if (process >= this->Processes || reply.size() != RegressionWidth * (firstRow(process + 1) - begin))
+      {
+        throw Error("skeleton: a process answered " + std::to_string(reply.size() / RegressionWidth) +
+          " rows of an MLS step");
+      }
+      for (std::size_t r = begin, at = 0; r < firstRow(process + 1); ++r, at += RegressionWidth)
+      {
+        const auto i = static_cast<Eigen::Index>(r);
+        answers.Positions.row(i) << reply[at], reply[at + 1], reply[at + 2];
+        answers.Axis.row(i) << reply[at + 3], reply[at + 4], reply[at + 5];
+        answers.Confidence[r] = reply[at + 6];
+        answers.Spread.row(i) << reply[at + 7], reply[at + 8], reply[at + 9];
+        answers.Normal.row(i) << reply[at + 10], reply[at + 11], reply[at + 12];
+      }
+    }
+    return answers;
+  }
+
+private:
+  const CommandsToEveryProcess& Commands;
+  std::size_t Processes;
 };
 
 /// The link over processes, as the first process's ComputeSkeleton drives it: each step sent to
@@ -629,12 +742,15 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
     whole.Points = PointMatrix();
     whole.Triangles = TriangleMatrix();
     buildOwnVolume();
-    const OwnShare own{ ownFaces, *ownVolume, parallelFor };
+    std::unique_ptr<SkeletonPointTree> cloud;
+    const OwnShare own{ ownFaces, *ownVolume, parallelFor, cloud };
     const CommandsToEveryProcess commands(own, group);
+    const std::size_t processes = boxes.size();
     const VolumeOverProcesses volume(commands, std::move(boxes), wholeTriangles, wholeDiagonal);
     LinkOverProcesses link(commands);
-    SkeletonResult skeleton =
-      ComputeSkeletonOfSamples(sampled, volume, options, parallelFor, progress, [&]() -> SurfaceLink& { return link; });
+    const RegressionOverProcesses regression(commands, processes);
+    SkeletonResult skeleton = ComputeSkeletonOfSamples(
+      sampled, volume, options, parallelFor, progress, [&]() -> SurfaceLink& { return link; }, &regression);
     result.Aborted = skeleton.Aborted;
     result.Whole = std::move(skeleton);
     // Done: the status, then the share's triangles whose cell id (and cloud label) the first
@@ -649,7 +765,8 @@ DistributedSkeletonResult ComputeSkeletonOverProcesses(const SkeletonShareInput&
   else
   {
     buildOwnVolume();
-    done = ServeCommands(OwnShare{ ownFaces, *ownVolume, parallelFor }, group);
+    std::unique_ptr<SkeletonPointTree> cloud;
+    done = ServeCommands(OwnShare{ ownFaces, *ownVolume, parallelFor, cloud }, group);
   }
   if (done.size() < 2 || done[1] != Computed)
   {

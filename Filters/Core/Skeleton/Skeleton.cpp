@@ -319,7 +319,7 @@ SampledSurface SampleSkeletonSurface(PointsView points, TrianglesView triangles,
 
 SkeletonResult ComputeSkeletonOfSamples(const SampledSurface& surface, const RayCaster& volume,
   const SkeletonOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress,
-  const SurfaceLinkSource& link)
+  const SurfaceLinkSource& link, const RegressionProjector* projector)
 {
   if (progress && !progress(0.05))
   {
@@ -330,7 +330,7 @@ SkeletonResult ComputeSkeletonOfSamples(const SampledSurface& surface, const Ray
   // Thinning keeps only points whose medial ball fits; growth, connection and coverage move
   // only through the volume.
   const ThinnedCloud thinned =
-    ThinProjectedCloud(cloud, options.Thinning, parallelFor, SubProgress(progress, 0.05, 0.65), &volume);
+    ThinProjectedCloud(cloud, options.Thinning, parallelFor, SubProgress(progress, 0.05, 0.65), &volume, projector);
   if (thinned.Aborted)
   {
     return AbortedResult();

@@ -246,10 +246,11 @@ using SurfaceLinkSource = std::function<SurfaceLink&()>;
 /// through `link` (ComputeSkeleton: over the mesh's faces; a distributed run: over processes,
 /// DistributedSkeleton.cpp). The result's FaceNodeId and FaceBoneId stay empty (the link holds
 /// them). What the surface itself is no longer needed for: the process where a distributed
-/// skeleton peaks frees its whole mesh before it builds the volume.
+/// skeleton peaks frees its whole mesh before it builds the volume. `projector`: where step 2's
+/// MLS iterations run (ThinProjectedCloud; a distributed run: over processes), else here.
 SkeletonResult ComputeSkeletonOfSamples(const SampledSurface& surface, const RayCaster& volume,
   const SkeletonOptions& options, const ParallelFor& parallelFor, const ProgressCallback& progress,
-  const SurfaceLinkSource& link);
+  const SurfaceLinkSource& link, const RegressionProjector* projector = nullptr);
 
 /// The part link (exposed for tests): the bone of every face's part, a part being the faces
 /// with one label within one surface component (faceComponent: dense labels 0..), from the

@@ -10,6 +10,7 @@
 #include <functional>
 #include <iterator>
 #include <memory>
+#include <string>
 
 namespace shapediameter
 {
@@ -131,9 +132,38 @@ std::vector<char> BallsFit(const RayCaster& volume, const std::vector<Eigen::Vec
 
 } // namespace
 
+RegressionProjections ProjectOntoRegressionLines(const SkeletonPointTree& cloud, const PointMatrix& positions,
+  const std::vector<double>& radii, double minimumNeighbors, const ParallelFor& parallelFor)
+{
+  const Eigen::Index rows = positions.rows();
+  RegressionProjections out;
+  out.Positions.resize(rows, 3);
+  out.Axis.resize(rows, 3);
+  out.Confidence.assign(static_cast<std::size_t>(rows), 0.0);
+  out.Spread = PointMatrix::Zero(rows, 3);
+  out.Normal = PointMatrix::Zero(rows, 3);
+  parallelFor(static_cast<std::size_t>(rows), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+    {
+      const auto i = static_cast<Eigen::Index>(k);
+      const Projection projection =
+        ProjectOntoRegressionLine(cloud, positions.row(i).transpose(), radii[k], minimumNeighbors);
+      out.Positions.row(i) = projection.Position.transpose();
+      out.Axis.row(i) = projection.Axis.transpose();
+      out.Confidence[k] = projection.Confidence;
+      if (projection.Normal.allFinite())
+      {
+        out.Spread.row(i) = projection.Spread.transpose();
+        out.Normal.row(i) = projection.Normal.transpose();
+      }
+    }
+  });
+  return out;
+}
+
 ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
   const SkeletonThinningOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress, const RayCaster* volume)
+  const ProgressCallback& progress, const RayCaster* volume, const RegressionProjector* projector)
 {
   ValidateThinningOptions(options);
   ThinnedCloud result;
@@ -155,46 +185,73 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
     return result;
   };
 
-  std::unique_ptr<SkeletonPointTree> tree = std::make_unique<SkeletonPointTree>(cloud.Positions);
-  PointMatrix nextPositions(rows, 3);
-  const std::size_t blocks = std::min<std::size_t>(16, count);
-  const std::size_t blockSize = (count + blocks - 1) / blocks;
+  std::vector<double> radii(count);
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    radii[k] = options.NeighborhoodScale * cloud.Radius[k];
+  }
   const auto minimumNeighbors = static_cast<double>(options.MinimumNeighbors);
+  const double steps = options.NumberOfIterations + 1.0;
+  std::unique_ptr<SkeletonPointTree> tree;
   for (int iteration = 0; iteration < options.NumberOfIterations; ++iteration)
   {
-    if (options.ContractCloud && iteration > 0)
+    const bool cloudChanged = iteration == 0 || options.ContractCloud;
+    RegressionProjections step;
+    if (projector)
     {
-      tree = std::make_unique<SkeletonPointTree>(result.Positions);
-    }
-    for (std::size_t blockBegin = 0; blockBegin < count; blockBegin += blockSize)
-    {
-      const std::size_t blockEnd = std::min(count, blockBegin + blockSize);
-      parallelFor(blockEnd - blockBegin, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t k = blockBegin + begin; k < blockBegin + end; ++k)
-        {
-          const auto i = static_cast<Eigen::Index>(k);
-          const Projection projection = ProjectOntoRegressionLine(*tree,
-            result.Positions.row(i).transpose(), options.NeighborhoodScale * cloud.Radius[k],
-            minimumNeighbors);
-          nextPositions.row(i) = projection.Position.transpose();
-          result.Axis.row(i) = projection.Axis.transpose();
-          result.Confidence[k] = projection.Confidence;
-          if (iteration == 0 && projection.Normal.allFinite())
-          {
-            result.LocalSpread.row(i) = projection.Spread.transpose();
-            result.LocalNormal.row(i) = projection.Normal.transpose();
-          }
-        }
-      });
-      const double done = (static_cast<double>(iteration) +
-                            static_cast<double>(blockEnd) / static_cast<double>(count)) /
-        (options.NumberOfIterations + 1.0);
-      if (progress && !progress(done))
+      step = projector->Project(result.Positions, cloudChanged, result.Positions, radii, minimumNeighbors);
+      if (progress && !progress((iteration + 1.0) / steps))
       {
         return abortedResult();
       }
     }
-    result.Positions.swap(nextPositions);
+    else
+    {
+      if (cloudChanged)
+      {
+        tree = std::make_unique<SkeletonPointTree>(result.Positions);
+      }
+      step.Positions.resize(rows, 3);
+      step.Axis.resize(rows, 3);
+      step.Confidence.resize(count);
+      step.Spread.resize(rows, 3);
+      step.Normal.resize(rows, 3);
+      // In blocks, for progress and abort between them.
+      const std::size_t blocks = std::min<std::size_t>(16, count);
+      const std::size_t blockSize = (count + blocks - 1) / blocks;
+      for (std::size_t blockBegin = 0; blockBegin < count; blockBegin += blockSize)
+      {
+        const auto blockRows = static_cast<Eigen::Index>(std::min(count, blockBegin + blockSize) - blockBegin);
+        const auto first = static_cast<Eigen::Index>(blockBegin);
+        const std::vector<double> blockRadii(radii.begin() + first, radii.begin() + first + blockRows);
+        RegressionProjections block = ProjectOntoRegressionLines(
+          *tree, result.Positions.middleRows(first, blockRows), blockRadii, minimumNeighbors, parallelFor);
+        step.Positions.middleRows(first, blockRows) = block.Positions;
+        step.Axis.middleRows(first, blockRows) = block.Axis;
+        std::copy(block.Confidence.begin(), block.Confidence.end(), step.Confidence.begin() + first);
+        step.Spread.middleRows(first, blockRows) = block.Spread;
+        step.Normal.middleRows(first, blockRows) = block.Normal;
+        const double done = (iteration + static_cast<double>(first + blockRows) / static_cast<double>(count)) / steps;
+        if (progress && !progress(done))
+        {
+          return abortedResult();
+        }
+      }
+    }
+    if (step.Positions.rows() != rows || step.Axis.rows() != rows || step.Confidence.size() != count ||
+      step.Spread.rows() != rows || step.Normal.rows() != rows)
+    {
+      throw Error("skeleton: the MLS step answered " + std::to_string(step.Positions.rows()) + " of " +
+        std::to_string(rows) + " points");
+    }
+    result.Positions = std::move(step.Positions);
+    result.Axis = std::move(step.Axis);
+    result.Confidence = std::move(step.Confidence);
+    if (iteration == 0)
+    {
+      result.LocalSpread = std::move(step.Spread);
+      result.LocalNormal = std::move(step.Normal);
+    }
   }
 
   // The threshold, lowered so that at least MinimumConfidentShare of the defined points pass.

@@ -92,6 +92,8 @@
 namespace shapediameter
 {
 
+class SkeletonPointTree;
+
 struct SkeletonThinningOptions
 {
   /// Projection iterations (paper: "2 to 4"). SkeletonIterationsRange [1, 100].
@@ -156,11 +158,44 @@ struct ThinnedCloud
 /// Throws Error if an option is outside its documented range.
 void ValidateThinningOptions(const SkeletonThinningOptions& options);
 
+/// One MLS iteration's answers for some points, row by row: the projection onto the regression
+/// line (the point itself where the line is undefined), its unit axis and confidence (zero
+/// where undefined), and the principal variances and smallest axis (ThinnedCloud's LocalSpread
+/// and LocalNormal; zero where undefined).
+struct RegressionProjections
+{
+  PointMatrix Positions;
+  PointMatrix Axis;
+  std::vector<double> Confidence;
+  PointMatrix Spread;
+  PointMatrix Normal;
+};
+
+/// One MLS iteration for each row of `positions`, with neighbourhood radius `radii[row]` over
+/// the points of `cloud` (the tree of P, or of P's moved points under ContractCloud). Rows are
+/// independent: any split of them gives the same answers.
+RegressionProjections ProjectOntoRegressionLines(const SkeletonPointTree& cloud, const PointMatrix& positions,
+  const std::vector<double>& radii, double minimumNeighbors, const ParallelFor& parallelFor);
+
+/// Runs the MLS iterations elsewhere: the distributed skeleton splits the rows over processes
+/// (DistributedSkeleton.cpp). Must answer as ProjectOntoRegressionLines over a tree of `cloud`.
+class RegressionProjector
+{
+public:
+  virtual ~RegressionProjector() = default;
+  /// `cloudChanged`: false when `cloud` holds the same points as in the previous call.
+  virtual RegressionProjections Project(const PointMatrix& cloud, bool cloudChanged, const PointMatrix& positions,
+    const std::vector<double>& radii, double minimumNeighbors) const = 0;
+};
+
 /// Step 2: MLS projection, confidence and epsilon-thinning of P; with `volume` (the surface),
-/// only points whose medial ball fits are eligible for T (MinimumClearance).
+/// only points whose medial ball fits are eligible for T (MinimumClearance). With `projector`,
+/// each iteration's projections come from it (one call per iteration, progress after each)
+/// instead of from this process's loop (progress after each of 16 blocks of points).
 /// progress receives fractions in [0, 1] of this step; returning false aborts.
 ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
   const SkeletonThinningOptions& options, const ParallelFor& parallelFor,
-  const ProgressCallback& progress = {}, const RayCaster* volume = nullptr);
+  const ProgressCallback& progress = {}, const RayCaster* volume = nullptr,
+  const RegressionProjector* projector = nullptr);
 
 } // namespace shapediameter

@@ -4,12 +4,14 @@
 #include "RayCasting/EmbreeRayCaster.h"
 #include "SDF/SDF.h"
 #include "Skeleton/Skeleton.h"
+#include "Skeleton/SkeletonPointTree.h"
 #include "TestShapes.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 
 namespace
@@ -191,6 +193,106 @@ TEST(SkeletonThinning, PointsLinedUpAlongABoxsEdgesAreNotInT)
   SkeletonThinningOptions off = options;
   off.MinimumClearance = 0.0;
   EXPECT_EQ(ThinProjectedCloud(cloud, off, SerialFor, {}, &volume).Thinned, plain.Thinned);
+}
+
+/// A projector that splits the rows into `parts` uneven ranges, each projected against its own
+/// tree of the cloud, as the distributed skeleton's processes do; counts its calls and the
+/// clouds it was sent.
+class SplitProjector final : public RegressionProjector
+{
+public:
+  explicit SplitProjector(std::size_t parts)
+    : Parts(parts)
+  {
+  }
+
+  RegressionProjections Project(const PointMatrix& cloud, bool cloudChanged, const PointMatrix& positions,
+    const std::vector<double>& radii, double minimumNeighbors) const override
+  {
+    ++this->Calls;
+    if (cloudChanged || this->Trees.empty())
+    {
+      ++this->Clouds;
+      this->Trees.clear();
+      for (std::size_t part = 0; part < this->Parts; ++part)
+      {
+        this->Trees.push_back(std::make_unique<SkeletonPointTree>(cloud));
+      }
+    }
+    const auto rows = static_cast<std::size_t>(positions.rows());
+    RegressionProjections all;
+    all.Positions.resize(positions.rows(), 3);
+    all.Axis.resize(positions.rows(), 3);
+    all.Confidence.resize(rows);
+    all.Spread.resize(positions.rows(), 3);
+    all.Normal.resize(positions.rows(), 3);
+    for (std::size_t part = 0; part < this->Parts; ++part)
+    {
+      // Uneven: the square of the share.
+      const auto bound = [&](std::size_t p) { return rows * p * p / (this->Parts * this->Parts); };
+      const auto first = static_cast<Eigen::Index>(bound(part));
+      const auto count = static_cast<Eigen::Index>(bound(part + 1)) - first;
+      const RegressionProjections some = ProjectOntoRegressionLines(*this->Trees[part],
+        positions.middleRows(first, count), std::vector<double>(radii.begin() + first, radii.begin() + first + count),
+        minimumNeighbors, ThreadedFor(2));
+      all.Positions.middleRows(first, count) = some.Positions;
+      all.Axis.middleRows(first, count) = some.Axis;
+      std::copy(some.Confidence.begin(), some.Confidence.end(), all.Confidence.begin() + first);
+      all.Spread.middleRows(first, count) = some.Spread;
+      all.Normal.middleRows(first, count) = some.Normal;
+    }
+    return all;
+  }
+
+  std::size_t Parts;
+  mutable std::vector<std::unique_ptr<SkeletonPointTree>> Trees;
+  mutable int Calls = 0;
+  mutable int Clouds = 0;
+};
+
+TEST(SkeletonThinning, ProjectionsSplitOverRowsAnswerAsOneLoop)
+{
+  // The MLS iterations of a box's cloud (lines, sheets and undefined points), split over
+  // processes as the distributed skeleton does: the same cloud, bit for bit, with the cloud
+  // fixed (sent once) and contracted (sent every iteration); progress once per iteration.
+  const TestMesh box = MakeBox(Eigen::Vector3d(2.0, 1.5, 1.0), 12);
+  const std::vector<double> sdf =
+    ComputeFaceShapeDiameter(box.Points, box.Triangles, ShapeDiameterOptions(), SerialFor).Values;
+  const ProjectedCloud cloud = SampleProjectedCloud(box.Points, box.Triangles, sdf, PointMatrix(), {});
+  ASSERT_GT(cloud.Size(), 500u);
+  for (const bool contract : { false, true })
+  {
+    SkeletonThinningOptions options;
+    options.ContractCloud = contract;
+    const ThinnedCloud here = ThinProjectedCloud(cloud, options, SerialFor);
+    const SplitProjector split(3);
+    std::vector<double> fractions;
+    const ThinnedCloud over = ThinProjectedCloud(cloud, options, SerialFor,
+      [&](double fraction) {
+        fractions.push_back(fraction);
+        return true;
+      },
+      nullptr, &split);
+    EXPECT_EQ(split.Calls, options.NumberOfIterations);
+    EXPECT_EQ(split.Clouds, contract ? options.NumberOfIterations : 1);
+    const std::vector<double> expectedFractions{ 0.25, 0.5, 0.75, 1.0 }; // 3 iterations, then the thinning
+    EXPECT_EQ(fractions, expectedFractions);
+    EXPECT_TRUE(over.Positions == here.Positions) << contract;
+    EXPECT_TRUE(over.Axis == here.Axis);
+    EXPECT_EQ(over.Confidence, here.Confidence);
+    EXPECT_TRUE(over.LocalSpread == here.LocalSpread);
+    EXPECT_TRUE(over.LocalNormal == here.LocalNormal);
+    EXPECT_EQ(over.Thinned, here.Thinned);
+    EXPECT_GT(std::count(here.Confidence.begin(), here.Confidence.end(), 0.0), 0) << "undefined points too";
+    ASSERT_FALSE(here.Thinned.empty());
+    // An abort after the first iteration stops there.
+    split.Calls = 0;
+    const ThinnedCloud stopped =
+      ThinProjectedCloud(cloud, options, SerialFor, [&](double) { return false; }, nullptr, &split);
+    EXPECT_TRUE(stopped.Aborted);
+    EXPECT_EQ(split.Calls, 1);
+    EXPECT_TRUE(stopped.Thinned.empty());
+  }
 }
 
 } // namespace
