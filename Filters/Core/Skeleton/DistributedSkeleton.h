@@ -19,7 +19,7 @@
 //        in the whole mesh and whether it counts in the link's sums (a cell several processes
 //        hold counts on the lowest); every process winds its triangles as the whole mesh does;
 //     4. it samples the mesh (SampleSkeletonSurface), frees it and computes the rest of the
-//        skeleton (ComputeSkeletonOfSamples) through two things spread over the processes:
+//        skeleton (ComputeSkeletonOfSamples) through three things spread over the processes:
 //        - the volume: every process builds the BVH of its own triangles, wound as the whole
 //          mesh's and translated by the whole mesh's centre (sent with step 3); each ray of a
 //          batch of the skeleton's rays (RayCaster::CastRays) goes to every process whose own
@@ -31,10 +31,15 @@
 //        - the surface link's steps (SkeletonLink.h) run on every process's own triangles
 //          (LinkOverProcesses), the first process completing each step's result: the largest
 //          face per component without samples (ties: the lowest face), the area per (part,
-//          bone) as exact sums.
-//        Both are commands every other process serves until the first is done: one exchange per
-//        batch of rays (at most 16,384 rays; the volume PrefersFewLargeBatches, so the growth
-//        tests all its possible steps in one batch) and per link step, about 30 in all;
+//          bone) as exact sums;
+//        - the thinning's MLS iterations (RegressionOverProcesses): the cloud goes to every
+//          process once, each builds its own tree of it and projects an equal range of the
+//          points (ProjectOntoRegressionLines: a point's answer depends on it and the cloud
+//          alone, so it is the serial one).
+//        All three are commands every other process serves until the first is done: one
+//        exchange per batch of rays (at most 16,384 rays; the volume PrefersFewLargeBatches, so
+//        the growth tests all its possible steps in one batch), per link step and per MLS
+//        iteration, about 35 in all;
 //     5. it asks for the cell id and cloud label of the cloud points' source triangles (a
 //        gather of at most NumberOfSamples pairs): the whole mesh needs neither.
 //   The triangles of a cell are those the adapter makes of it (Triangulate), which depend on
