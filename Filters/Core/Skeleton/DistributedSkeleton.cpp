@@ -441,12 +441,7 @@ public:
       }
       return command;
     });
-    RegressionProjections answers;
-    answers.Positions.resize(positions.rows(), 3);
-    answers.Axis.resize(positions.rows(), 3);
-    answers.Confidence.resize(rows);
-    answers.Spread.resize(positions.rows(), 3);
-    answers.Normal.resize(positions.rows(), 3);
+    RegressionProjections answers = RegressionProjections::Zero(positions.rows());
     for (std::size_t process = 0; process < replies.size(); ++process)
     {
       const std::vector<double>& reply = replies[process];

@@ -136,12 +136,7 @@ RegressionProjections ProjectOntoRegressionLines(const SkeletonPointTree& cloud,
   const std::vector<double>& radii, double minimumNeighbors, const ParallelFor& parallelFor)
 {
   const Eigen::Index rows = positions.rows();
-  RegressionProjections out;
-  out.Positions.resize(rows, 3);
-  out.Axis.resize(rows, 3);
-  out.Confidence.assign(static_cast<std::size_t>(rows), 0.0);
-  out.Spread = PointMatrix::Zero(rows, 3);
-  out.Normal = PointMatrix::Zero(rows, 3);
+  RegressionProjections out = RegressionProjections::Zero(rows);
   parallelFor(static_cast<std::size_t>(rows), [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k)
     {
@@ -196,7 +191,7 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
   for (int iteration = 0; iteration < options.NumberOfIterations; ++iteration)
   {
     const bool cloudChanged = iteration == 0 || options.ContractCloud;
-    RegressionProjections step;
+    RegressionProjections step = RegressionProjections::Zero(projector ? 0 : rows);
     if (projector)
     {
       step = projector->Project(result.Positions, cloudChanged, result.Positions, radii, minimumNeighbors);
@@ -211,11 +206,6 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
       {
         tree = std::make_unique<SkeletonPointTree>(result.Positions);
       }
-      step.Positions.resize(rows, 3);
-      step.Axis.resize(rows, 3);
-      step.Confidence.resize(count);
-      step.Spread.resize(rows, 3);
-      step.Normal.resize(rows, 3);
       // In blocks, for progress and abort between them.
       const std::size_t blocks = std::min<std::size_t>(16, count);
       const std::size_t blockSize = (count + blocks - 1) / blocks;

@@ -164,6 +164,13 @@ void ValidateThinningOptions(const SkeletonThinningOptions& options);
 /// and LocalNormal; zero where undefined).
 struct RegressionProjections
 {
+  /// `rows` rows of zeros.
+  static RegressionProjections Zero(Eigen::Index rows)
+  {
+    return { PointMatrix::Zero(rows, 3), PointMatrix::Zero(rows, 3), std::vector<double>(static_cast<std::size_t>(rows), 0.0),
+      PointMatrix::Zero(rows, 3), PointMatrix::Zero(rows, 3) };
+  }
+
   PointMatrix Positions;
   PointMatrix Axis;
   std::vector<double> Confidence;

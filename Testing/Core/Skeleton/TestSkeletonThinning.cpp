@@ -220,12 +220,7 @@ public:
       }
     }
     const auto rows = static_cast<std::size_t>(positions.rows());
-    RegressionProjections all;
-    all.Positions.resize(positions.rows(), 3);
-    all.Axis.resize(positions.rows(), 3);
-    all.Confidence.resize(rows);
-    all.Spread.resize(positions.rows(), 3);
-    all.Normal.resize(positions.rows(), 3);
+    RegressionProjections all = RegressionProjections::Zero(positions.rows());
     for (std::size_t part = 0; part < this->Parts; ++part)
     {
       // Uneven: the square of the share.
