@@ -130,7 +130,9 @@
  * and `SDFSegment` per triangle, and its points (about 70 bytes per triangle;
  * Filters/Core/Skeleton/DistributedSkeleton.h). Process 0 builds the whole triangle mesh in
  * the global ids' order, orients it and computes the skeleton (ports 0 and 2, on process 0
- * only); every process links its own cells to it (port 1), process 0 completing the link's
+ * only), every process casting the skeleton's rays that may meet its own triangles and
+ * projecting its share of the thinning's MLS points; every process links its own cells to it
+ * (port 1), process 0 completing the link's
  * sums; process 0 asks the owners of the projected points' source cells for their ids and
  * `SDFCluster`: the serial result bit for bit. Other
  * pieces are collected on process 0 whole (Filters/DistributedSupport.h).
