@@ -37,8 +37,8 @@
  * Memory per rank: a piece reads the file a few MB at a time (`shapediameter::ReadOFFPiece`)
  * and holds, besides its own piece, every point (3 doubles per vertex, for the face
  * centroids), one byte per vertex and, while it chooses its faces, two 8-byte Morton keys per
- * face; never the file's text or the whole mesh's faces. It reads the file 3 times (4 for
- * NOFF/COFF; 2-3 with `SpatialPieces` off), where one piece (a serial run) reads and parses
+ * face; never the file's text or the whole mesh's faces. It reads the file 2 times (3 for
+ * NOFF/COFF; the same with `SpatialPieces` off), where one piece (a serial run) reads and parses
  * the whole file once (`ReadOFFFile`). The pieces, global ids and errors are exactly those of
  * splitting the whole parsed mesh. The output then also
  * carries the GlobalIds attributes `GlobalPointIds` (point data) and `GlobalCellIds` (cell

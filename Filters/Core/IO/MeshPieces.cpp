@@ -60,9 +60,10 @@ Vector3 Centroid(const double* points, const std::int64_t* vertices, std::size_t
   return centroid;
 }
 
-/// The Morton curve through the face centroids: the bounding cube of all centroids (Add),
-/// then the key of each (Key). The one definition of the order MortonFaceOrder and
-/// ReadOFFPiece share.
+/// The Morton curve through the face centroids over the bounding cube of the mesh's points:
+/// every point first (Add; an OFF file lists them before the faces, so a reader knows the
+/// cube when the faces come), then the key of each face's centroid (Key). The one definition
+/// of the order MortonFaceOrder and ReadOFFPiece share.
 class MortonCurve
 {
 public:
@@ -72,18 +73,24 @@ public:
     this->High.fill(-std::numeric_limits<double>::infinity());
   }
 
-  void Add(const Vector3& centroid)
+  void Add(const double* point)
   {
     for (int axis = 0; axis < 3; ++axis)
     {
-      this->Low[axis] = std::min(this->Low[axis], centroid[axis]);
-      this->High[axis] = std::max(this->High[axis], centroid[axis]);
+      this->Low[axis] = std::min(this->Low[axis], point[axis]);
+      this->High[axis] = std::max(this->High[axis], point[axis]);
     }
   }
 
-  /// 21 bits per axis over the bounding cube of the centroids added.
-  std::uint64_t Key(const Vector3& centroid)
+  /// 21 bits per axis over the bounding cube of the points added (all of them before the first
+  /// key); a face without vertices: 0.
+  std::uint64_t Key(const double* points, const std::int64_t* vertices, std::size_t size)
   {
+    if (size == 0)
+    {
+      return 0;
+    }
+    const Vector3 centroid = Centroid(points, vertices, size);
     if (!this->Scaled)
     {
       // One scale for all axes (a cube), so the curve's cells are cubes and pieces stay round.
@@ -138,23 +145,18 @@ std::pair<std::size_t, std::size_t> PiecePositions(std::size_t faceCount, int pi
 std::vector<std::int64_t> MortonFaceOrder(const OFFMesh& mesh)
 {
   const std::size_t faceCount = mesh.FaceCount();
-  std::vector<Vector3> centroids(faceCount, Vector3{ 0.0, 0.0, 0.0 });
   MortonCurve curve;
-  for (std::size_t f = 0; f < faceCount; ++f)
+  for (std::size_t v = 0; v < mesh.VertexCount(); ++v)
   {
-    const auto begin = static_cast<std::size_t>(mesh.FaceOffsets[f]);
-    const auto end = static_cast<std::size_t>(mesh.FaceOffsets[f + 1]);
-    if (begin != end)
-    {
-      centroids[f] = Centroid(mesh.Points.data(), mesh.FaceConnectivity.data() + begin, end - begin);
-      curve.Add(centroids[f]);
-    }
+    curve.Add(mesh.Points.data() + 3 * v);
   }
   std::vector<std::pair<std::uint64_t, std::int64_t>> keyed(faceCount);
   for (std::size_t f = 0; f < faceCount; ++f)
   {
-    const bool hasVertices = mesh.FaceOffsets[f] != mesh.FaceOffsets[f + 1];
-    keyed[f] = { hasVertices ? curve.Key(centroids[f]) : 0, static_cast<std::int64_t>(f) };
+    const auto begin = static_cast<std::size_t>(mesh.FaceOffsets[f]);
+    const auto end = static_cast<std::size_t>(mesh.FaceOffsets[f + 1]);
+    keyed[f] = { curve.Key(mesh.Points.data(), mesh.FaceConnectivity.data() + begin, end - begin),
+      static_cast<std::int64_t>(f) };
   }
   std::sort(keyed.begin(), keyed.end());
   std::vector<std::int64_t> order(faceCount);
@@ -255,56 +257,39 @@ MeshPiece ExtractFacePiece(const OFFMesh& mesh, int piece, int pieces, PieceOrde
 namespace
 {
 
-/// Pass 1 of ReadOFFPiece: every point, and the bounding box of the face centroids.
-class PointsAndCentroids : public OFFElementVisitor
+/// Pass 1 of ReadOFFPiece: every point and, for spatial pieces, each face's key on the curve
+/// (the points, and so the curve's cube, come before the faces).
+class PointsAndKeys : public OFFElementVisitor
 {
 public:
-  explicit PointsAndCentroids(bool centroids)
-    : Centroids(centroids)
+  explicit PointsAndKeys(bool keys)
+    : WithKeys(keys)
   {
   }
-  void Counts(std::int64_t vertices, std::int64_t) override
+  void Counts(std::int64_t vertices, std::int64_t faces) override
   {
     this->Points.resize(3 * static_cast<std::size_t>(vertices));
+    this->Keys.resize(this->WithKeys ? static_cast<std::size_t>(faces) : 0);
   }
   void Vertex(std::int64_t v, const double* point, const double*, const std::uint8_t*) override
   {
     std::copy(point, point + 3, this->Points.begin() + 3 * v);
+    this->Curve.Add(point);
   }
-  void Face(std::int64_t, const std::int64_t* vertices, std::size_t size, const std::uint8_t*) override
+  void Face(std::int64_t f, const std::int64_t* vertices, std::size_t size, const std::uint8_t*) override
   {
-    if (this->Centroids)
+    if (this->WithKeys)
     {
-      this->Curve.Add(Centroid(this->Points.data(), vertices, size));
+      this->Keys[static_cast<std::size_t>(f)] = this->Curve.Key(this->Points.data(), vertices, size);
     }
   }
 
   std::vector<double> Points;
-  MortonCurve Curve;
+  std::vector<std::uint64_t> Keys;
 
 private:
-  bool Centroids;
-};
-
-/// Pass 2 (spatial pieces): each face's key on the curve.
-class FaceKeys : public OFFElementVisitor
-{
-public:
-  FaceKeys(const std::vector<double>& points, MortonCurve& curve, std::size_t faces)
-    : Points(points)
-    , Curve(curve)
-    , Keys(faces)
-  {
-  }
-  void Vertex(std::int64_t, const double*, const double*, const std::uint8_t*) override {}
-  void Face(std::int64_t f, const std::int64_t* vertices, std::size_t size, const std::uint8_t*) override
-  {
-    this->Keys[static_cast<std::size_t>(f)] = this->Curve.Key(Centroid(this->Points.data(), vertices, size));
-  }
-
-  const std::vector<double>& Points;
-  MortonCurve& Curve;
-  std::vector<std::uint64_t> Keys;
+  bool WithKeys;
+  MortonCurve Curve;
 };
 
 using KeyedFace = std::pair<std::uint64_t, std::int64_t>;
@@ -431,7 +416,7 @@ private:
 MeshPiece ReadPiece(OFFTextSource& source, int piece, int pieces, PieceOrder order, std::size_t chunkBytes)
 {
   const bool spatial = order == PieceOrder::Spatial;
-  PointsAndCentroids whole(spatial);
+  PointsAndKeys whole(spatial);
   const OFFLayout layout = ScanOFF(source, whole, chunkBytes);
   CheckPieceRequest(piece, pieces);
   const auto faceCount = static_cast<std::size_t>(layout.FaceCount);
@@ -441,10 +426,9 @@ MeshPiece ReadPiece(OFFTextSource& source, int piece, int pieces, PieceOrder ord
   std::function<bool(std::int64_t)> selected;
   if (spatial)
   {
-    FaceKeys keys(whole.Points, whole.Curve, faceCount);
-    RescanOFF(source, layout, OFFSection::Faces, keys, chunkBytes);
-    selected = [bits = SpatialSelection(keys.Keys, first, end)](std::int64_t f)
+    selected = [bits = SpatialSelection(whole.Keys, first, end)](std::int64_t f)
     { return static_cast<bool>(bits[static_cast<std::size_t>(f)]); };
+    Release(whole.Keys);
   }
   else
   {
