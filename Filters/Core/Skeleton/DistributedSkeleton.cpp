@@ -258,8 +258,9 @@ std::vector<double> RunCommand(const OwnShare& own, const std::vector<double>& c
         positions.row(i) << command[at], command[at + 1], command[at + 2];
         radii[static_cast<std::size_t>(i)] = command[at + 3];
       }
-      const RegressionProjections answers =
-        ProjectOntoRegressionLines(*own.Cloud, positions, radii, minimumNeighbors, own.Parallel);
+      RegressionProjections answers = RegressionProjections::Zero(rows);
+      ProjectOntoRegressionLines(
+        *own.Cloud, positions, radii, minimumNeighbors, 0, static_cast<std::size_t>(rows), answers, own.Parallel);
       reply.reserve(RegressionWidth * static_cast<std::size_t>(rows));
       for (Eigen::Index i = 0; i < rows; ++i)
       {

@@ -132,13 +132,12 @@ std::vector<char> BallsFit(const RayCaster& volume, const std::vector<Eigen::Vec
 
 } // namespace
 
-RegressionProjections ProjectOntoRegressionLines(const SkeletonPointTree& cloud, const PointMatrix& positions,
-  const std::vector<double>& radii, double minimumNeighbors, const ParallelFor& parallelFor)
+void ProjectOntoRegressionLines(const SkeletonPointTree& cloud, const PointMatrix& positions,
+  const std::vector<double>& radii, double minimumNeighbors, std::size_t first, std::size_t end,
+  RegressionProjections& out, const ParallelFor& parallelFor)
 {
-  const Eigen::Index rows = positions.rows();
-  RegressionProjections out = RegressionProjections::Zero(rows);
-  parallelFor(static_cast<std::size_t>(rows), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k)
+  parallelFor(end - first, [&](std::size_t begin, std::size_t stop) {
+    for (std::size_t k = first + begin; k < first + stop; ++k)
     {
       const auto i = static_cast<Eigen::Index>(k);
       const Projection projection =
@@ -153,7 +152,6 @@ RegressionProjections ProjectOntoRegressionLines(const SkeletonPointTree& cloud,
       }
     }
   });
-  return out;
 }
 
 ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
@@ -191,10 +189,16 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
   for (int iteration = 0; iteration < options.NumberOfIterations; ++iteration)
   {
     const bool cloudChanged = iteration == 0 || options.ContractCloud;
-    RegressionProjections step = RegressionProjections::Zero(projector ? 0 : rows);
+    RegressionProjections step;
     if (projector)
     {
       step = projector->Project(result.Positions, cloudChanged, result.Positions, radii, minimumNeighbors);
+      if (step.Positions.rows() != rows || step.Axis.rows() != rows || step.Confidence.size() != count ||
+        step.Spread.rows() != rows || step.Normal.rows() != rows)
+      {
+        throw Error("skeleton: the MLS step answered " + std::to_string(step.Positions.rows()) + " of " +
+          std::to_string(rows) + " points");
+      }
       if (progress && !progress((iteration + 1.0) / steps))
       {
         return abortedResult();
@@ -206,33 +210,21 @@ ThinnedCloud ThinProjectedCloud(const ProjectedCloud& cloud,
       {
         tree = std::make_unique<SkeletonPointTree>(result.Positions);
       }
+      step = RegressionProjections::Zero(rows);
       // In blocks, for progress and abort between them.
       const std::size_t blocks = std::min<std::size_t>(16, count);
       const std::size_t blockSize = (count + blocks - 1) / blocks;
       for (std::size_t blockBegin = 0; blockBegin < count; blockBegin += blockSize)
       {
-        const auto blockRows = static_cast<Eigen::Index>(std::min(count, blockBegin + blockSize) - blockBegin);
-        const auto first = static_cast<Eigen::Index>(blockBegin);
-        const std::vector<double> blockRadii(radii.begin() + first, radii.begin() + first + blockRows);
-        RegressionProjections block = ProjectOntoRegressionLines(
-          *tree, result.Positions.middleRows(first, blockRows), blockRadii, minimumNeighbors, parallelFor);
-        step.Positions.middleRows(first, blockRows) = block.Positions;
-        step.Axis.middleRows(first, blockRows) = block.Axis;
-        std::copy(block.Confidence.begin(), block.Confidence.end(), step.Confidence.begin() + first);
-        step.Spread.middleRows(first, blockRows) = block.Spread;
-        step.Normal.middleRows(first, blockRows) = block.Normal;
-        const double done = (iteration + static_cast<double>(first + blockRows) / static_cast<double>(count)) / steps;
+        const std::size_t blockEnd = std::min(count, blockBegin + blockSize);
+        ProjectOntoRegressionLines(
+          *tree, result.Positions, radii, minimumNeighbors, blockBegin, blockEnd, step, parallelFor);
+        const double done = (iteration + static_cast<double>(blockEnd) / static_cast<double>(count)) / steps;
         if (progress && !progress(done))
         {
           return abortedResult();
         }
       }
-    }
-    if (step.Positions.rows() != rows || step.Axis.rows() != rows || step.Confidence.size() != count ||
-      step.Spread.rows() != rows || step.Normal.rows() != rows)
-    {
-      throw Error("skeleton: the MLS step answered " + std::to_string(step.Positions.rows()) + " of " +
-        std::to_string(rows) + " points");
     }
     result.Positions = std::move(step.Positions);
     result.Axis = std::move(step.Axis);

@@ -178,11 +178,14 @@ struct RegressionProjections
   PointMatrix Normal;
 };
 
-/// One MLS iteration for each row of `positions`, with neighbourhood radius `radii[row]` over
-/// the points of `cloud` (the tree of P, or of P's moved points under ContractCloud). Rows are
-/// independent: any split of them gives the same answers.
-RegressionProjections ProjectOntoRegressionLines(const SkeletonPointTree& cloud, const PointMatrix& positions,
-  const std::vector<double>& radii, double minimumNeighbors, const ParallelFor& parallelFor);
+/// One MLS iteration for the rows [first, end) of `positions`, with neighbourhood radius
+/// `radii[row]` over the points of `cloud` (the tree of P, or of P's moved points under
+/// ContractCloud), written into the same rows of `out` (RegressionProjections::Zero of as many
+/// rows; undefined spreads and normals are left as they are). Rows are independent: any split
+/// of them gives the same answers.
+void ProjectOntoRegressionLines(const SkeletonPointTree& cloud, const PointMatrix& positions,
+  const std::vector<double>& radii, double minimumNeighbors, std::size_t first, std::size_t end,
+  RegressionProjections& out, const ParallelFor& parallelFor);
 
 /// Runs the MLS iterations elsewhere: the distributed skeleton splits the rows over processes
 /// (DistributedSkeleton.cpp). Must answer as ProjectOntoRegressionLines over a tree of `cloud`.

@@ -225,16 +225,8 @@ public:
     {
       // Uneven: the square of the share.
       const auto bound = [&](std::size_t p) { return rows * p * p / (this->Parts * this->Parts); };
-      const auto first = static_cast<Eigen::Index>(bound(part));
-      const auto count = static_cast<Eigen::Index>(bound(part + 1)) - first;
-      const RegressionProjections some = ProjectOntoRegressionLines(*this->Trees[part],
-        positions.middleRows(first, count), std::vector<double>(radii.begin() + first, radii.begin() + first + count),
-        minimumNeighbors, ThreadedFor(2));
-      all.Positions.middleRows(first, count) = some.Positions;
-      all.Axis.middleRows(first, count) = some.Axis;
-      std::copy(some.Confidence.begin(), some.Confidence.end(), all.Confidence.begin() + first);
-      all.Spread.middleRows(first, count) = some.Spread;
-      all.Normal.middleRows(first, count) = some.Normal;
+      ProjectOntoRegressionLines(
+        *this->Trees[part], positions, radii, minimumNeighbors, bound(part), bound(part + 1), all, ThreadedFor(2));
     }
     return all;
   }
